@@ -1,0 +1,217 @@
+"""The hook gripper of the paper (Sec. 2.1): a Franka hand with one straight rod and one L rod.
+
+This module is the single source of truth for the gripper's geometry. The Drake model
+(``models/hook_gripper.sdf``) is generated from it (:mod:`gbh_drake.gripper_model`) and a test
+checks that the file on disk and this module agree, so the gripper that collides in simulation
+is the gripper the algorithm reasons about.
+
+Frame G (the "gripper" frame), all lengths in metres:
+
+* origin at the palm centre, where both fingers leave the hand;
+* ``+z_G`` from the palm toward the fingertips (the approach direction);
+* ``+y_G`` the closing axis, from the L rod toward the straight rod;
+* ``+x_G = y_G x z_G`` the palm's thickness direction.
+
+Each finger sits at ``|y| = q`` where ``q`` is one finger's joint position (half the opening
+``w = 2 q``). The straight rod runs from ``p4 = (0, q, 0)`` to its tip ``p2 = (0, q, l_f)``; the L rod
+from ``p5 = (0, -q, 0)`` to the bend ``p3 = (0, -q, l_f)`` and then along ``+y_G`` to the bar tip
+``p1 = (0, l_h - q, l_f)``. The hand's ends are ``p7`` (palm centre, the origin) and ``p6`` (the
+wrist end of the hand, on ``-z_G``). So, with the paper's definitions,
+
+* ``n1 = unit(p6 - p7) = -z_G`` (from the fingertips back toward the wrist: a top-down approach has
+  ``n1 = +z_W``, which is what makes ``S_alpha`` reward it);
+* ``n2 = unit(p1 - p3) = +y_G``;
+* ``p_M = (p1 + p2) / 2 = (0, l_h / 2, l_f)`` for every opening, because the fingers move
+  symmetrically.
+
+The fingers close until the bar tip meets the straight rod's inner face; the closed loop
+(palm, two rods, bar) then cages whatever passes through it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Keypoint names in the paper's order.
+KEYPOINT_NAMES = ("p1", "p2", "p3", "p4", "p5", "p6", "p7", "pM")
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned box in frame G: ``center`` (3,) and ``half_extents`` (3,), metres."""
+
+    name: str
+    center: tuple[float, float, float]
+    half_extents: tuple[float, float, float]
+
+    @property
+    def size(self) -> np.ndarray:
+        return 2.0 * np.asarray(self.half_extents)
+
+
+@dataclass(frozen=True)
+class HookGripperGeometry:
+    """Dimensions of the hook gripper (paper Sec. 2.1 and Fig. 3). Metres, kilograms.
+
+    The paper's values: ``finger_length = l_f = 0.08``, ``max_opening = l_w = 0.08``,
+    ``bar_length = l_h = 0.03``. The rest describes our model of the hardware.
+    """
+
+    finger_length: float = 0.08
+    """l_f: length of both rods from the palm to the tip (z_G)."""
+    max_opening: float = 0.08
+    """l_w: largest distance between the two rods' centre lines (y_G)."""
+    bar_length: float = 0.03
+    """l_h: horizontal part of the L rod, from the L rod's centre line to the bar tip p1 (y_G)."""
+    rod_width: float = 0.008
+    """Side of the square cross-section of both rods and the bar."""
+    hand_half_extents: tuple[float, float, float] = (0.0316, 0.104, 0.0422)
+    """Half extents of the Franka hand body (x_G, y_G, z_G); it lies entirely on z_G < 0."""
+    palm_offset_in_hand: float = 0.0584
+    """Distance from the Franka hand frame's origin (the flange) to the palm along z, i.e. the
+    translation of G in the ``panda_hand`` frame (the fingers' joint origin in Franka's model)."""
+    hand_mass: float = 0.73
+    finger_mass: float = 0.05
+
+    # ---- openings -------------------------------------------------------------------------
+    @property
+    def q_open(self) -> float:
+        """One finger's joint position when fully open (half of l_w)."""
+        return 0.5 * self.max_opening
+
+    @property
+    def q_closed(self) -> float:
+        """One finger's joint position when the bar tip touches the straight rod's inner face.
+
+        The bar tip is at y = l_h - q and the straight rod's inner face at y = q - rod_width / 2.
+        """
+        return 0.5 * (self.bar_length + 0.5 * self.rod_width)
+
+    def check_opening(self, q: float) -> float:
+        q = float(q)
+        if not (self.q_closed - 1e-9 <= q <= self.q_open + 1e-9):
+            raise ValueError(
+                f"finger position q={q:.4f} m outside [{self.q_closed:.4f}, {self.q_open:.4f}]"
+            )
+        return q
+
+    # ---- keypoints --------------------------------------------------------------------------
+    def keypoints_G(self, q: float | None = None) -> dict[str, np.ndarray]:
+        """Keypoints p1..p7 and pM in frame G for finger position ``q`` (default: fully open)."""
+        q = self.q_open if q is None else self.check_opening(q)
+        lf, lh = self.finger_length, self.bar_length
+        hand_back = -2.0 * self.hand_half_extents[2]
+        p = {
+            "p1": np.array([0.0, lh - q, lf]),
+            "p2": np.array([0.0, q, lf]),
+            "p3": np.array([0.0, -q, lf]),
+            "p4": np.array([0.0, q, 0.0]),
+            "p5": np.array([0.0, -q, 0.0]),
+            "p6": np.array([0.0, 0.0, hand_back]),
+            "p7": np.zeros(3),
+        }
+        p["pM"] = 0.5 * (p["p1"] + p["p2"])
+        return p
+
+    @property
+    def n1_G(self) -> np.ndarray:
+        """n1 = unit(p6 - p7) in G: from the palm toward the wrist, -z_G."""
+        p = self.keypoints_G()
+        d = p["p6"] - p["p7"]
+        return d / np.linalg.norm(d)
+
+    @property
+    def n2_G(self) -> np.ndarray:
+        """n2 = unit(p1 - p3) in G: along the bar toward its tip, +y_G."""
+        p = self.keypoints_G()
+        d = p["p1"] - p["p3"]
+        return d / np.linalg.norm(d)
+
+    # ---- solid model --------------------------------------------------------------------------
+    def hand_box(self) -> Box:
+        hx, hy, hz = self.hand_half_extents
+        return Box("hand", (0.0, 0.0, -hz), (hx, hy, hz))
+
+    def straight_finger_boxes(self) -> list[Box]:
+        """Boxes of the straight finger in its own finger frame F (= G shifted by +q along y_G)."""
+        r = 0.5 * self.rod_width
+        lf = self.finger_length
+        # The rod reaches r beyond the tip keypoint so that the bar (centred at z = l_f) closes
+        # flush against it.
+        return [Box("straight_rod", (0.0, 0.0, 0.5 * (lf + r)), (r, r, 0.5 * (lf + r)))]
+
+    def l_finger_boxes(self) -> list[Box]:
+        """Boxes of the L finger in its own finger frame F (= G shifted by -q along y_G)."""
+        r = 0.5 * self.rod_width
+        lf, lh = self.finger_length, self.bar_length
+        return [
+            Box("l_rod", (0.0, 0.0, 0.5 * (lf + r)), (r, r, 0.5 * (lf + r))),
+            # From the rod's outer face (y = -r) to the bar tip (y = l_h).
+            Box("bar", (0.0, 0.5 * (lh - r), lf), (r, 0.5 * (lh + r), r)),
+        ]
+
+    def solid_boxes_G(self, q: float | None = None) -> list[Box]:
+        """The gripper's solid model in G at finger position ``q``: hand, rods and bar."""
+        q = self.q_open if q is None else self.check_opening(q)
+        boxes = [self.hand_box()]
+        for b in self.straight_finger_boxes():
+            c = np.asarray(b.center) + (0.0, q, 0.0)
+            boxes.append(Box(b.name, tuple(c), b.half_extents))
+        for b in self.l_finger_boxes():
+            c = np.asarray(b.center) + (0.0, -q, 0.0)
+            boxes.append(Box(b.name, tuple(c), b.half_extents))
+        return boxes
+
+    def count_points_inside(
+        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0
+    ) -> int:
+        """Number of points ``p_GQ`` (n, 3) in G that lie inside the solid model (grown by margin)."""
+        return int(self.points_inside_mask(p_GQ, q, margin).sum())
+
+    def points_inside_mask(
+        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0
+    ) -> np.ndarray:
+        """Boolean mask (n,) of the points ``p_GQ`` (n, 3) inside the solid model (grown by margin)."""
+        p = np.asarray(p_GQ, dtype=float).reshape(-1, 3)
+        inside = np.zeros(len(p), dtype=bool)
+        for b in self.solid_boxes_G(q):
+            d = np.abs(p - np.asarray(b.center)) <= np.asarray(b.half_extents) + margin
+            inside |= d.all(axis=1)
+        return inside
+
+    def loop_polygon_G(self, q: float | None = None) -> np.ndarray:
+        """The closed loop formed by palm, straight rod, bar and L rod, as a polygon (4, 3) in G.
+
+        Vertices along the centre lines: p5 -> p4 -> p2 -> p3 (the bar closes p2-p3 when the
+        gripper is closed). Used to check that a grasp's loop links a ring (the cage)."""
+        p = self.keypoints_G(self.q_closed if q is None else q)
+        return np.stack([p["p5"], p["p4"], p["p2"], p["p3"]])
+
+
+#: The gripper used throughout the project (paper dimensions).
+HOOK_GRIPPER = HookGripperGeometry()
+
+
+def keypoints_W(X_WG: np.ndarray, q: float | None = None, geometry: HookGripperGeometry =
+                HOOK_GRIPPER) -> dict[str, np.ndarray]:
+    """Keypoints in world W for the gripper pose ``X_WG`` (4, 4 homogeneous matrix)."""
+    X = np.asarray(X_WG, dtype=float)
+    return {k: X[:3, :3] @ v + X[:3, 3] for k, v in geometry.keypoints_G(q).items()}
+
+
+def transform_points(X_AB: np.ndarray, p_BQ: np.ndarray) -> np.ndarray:
+    """Express points ``p_BQ`` (n, 3) given in frame B in frame A, with ``X_AB`` (4, 4)."""
+    X = np.asarray(X_AB, dtype=float)
+    return np.asarray(p_BQ, dtype=float).reshape(-1, 3) @ X[:3, :3].T + X[:3, 3]
+
+
+def invert_transform(X_AB: np.ndarray) -> np.ndarray:
+    """``X_BA`` from ``X_AB`` (4, 4 homogeneous rigid transform)."""
+    X = np.asarray(X_AB, dtype=float)
+    R, p = X[:3, :3], X[:3, 3]
+    out = np.eye(4)
+    out[:3, :3] = R.T
+    out[:3, 3] = -R.T @ p
+    return out

@@ -1,0 +1,1 @@
+"""gbh_drake.systems."""
