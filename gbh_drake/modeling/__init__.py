@@ -1,0 +1,1 @@
+"""Drake model files: the package map, the hook gripper's SDF, object and table models."""

@@ -1,0 +1,45 @@
+"""Where Drake finds this project's models, offline.
+
+Two packages are registered:
+
+* ``gbh_drake``: the repository's ``models/`` folder (the arm URDF, the gripper and table SDFs);
+* ``pybullet_data``: the data folder of the installed ``pybullet`` wheel, which ships Franka's
+  visual and collision meshes (Apache-2.0). It is located with importlib, never downloaded.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+from pydrake.multibody.parsing import PackageMap, Parser
+
+from gbh_drake import MODELS_DIR
+
+
+def pybullet_data_dir() -> Path:
+    """The ``pybullet_data`` folder of the installed pybullet wheel."""
+    spec = importlib.util.find_spec("pybullet_data")
+    if spec is None or not spec.submodule_search_locations:
+        raise RuntimeError(
+            "the Python package 'pybullet' (which ships pybullet_data/franka_panda meshes) is "
+            "not installed; run the README's setup command"
+        )
+    return Path(next(iter(spec.submodule_search_locations)))
+
+
+def add_packages(package_map: PackageMap) -> PackageMap:
+    """Registers ``gbh_drake`` and ``pybullet_data`` in ``package_map`` (idempotent)."""
+    for name, path in (("gbh_drake", MODELS_DIR), ("pybullet_data", pybullet_data_dir())):
+        if not package_map.Contains(name):
+            package_map.Add(name, str(path))
+    return package_map
+
+
+def make_parser(plant, **kwargs) -> Parser:
+    """A ``Parser`` for ``plant`` that resolves ``package://gbh_drake`` and ``package://pybullet_data``.
+
+    Never resolves ``package://drake_models`` (it downloads at run time)."""
+    parser = Parser(plant, **kwargs)
+    add_packages(parser.package_map())
+    return parser

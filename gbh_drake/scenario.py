@@ -1,0 +1,206 @@
+"""Scenario files: one YAML file describes one run (robot, table, object, cameras, simulation).
+
+The schema is the :class:`Scenario` dataclass; loading uses Drake's ``yaml_load_typed`` (so typos
+fail loudly) after a field-by-field check that names the file, the field and the line of any
+problem (:class:`ScenarioError`). Drake's own config structs are reused where they exist
+(``MultibodyPlantConfig``, ``SimulatorConfig``, ``VisualizationConfig``, ``CameraConfig``,
+``schema.Transform`` for poses, which also takes distributions such as ``!UniformVector``, sampled
+from the scenario's ``seed``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pydrake.common.schema import Transform
+from pydrake.common.yaml import yaml_load_typed
+from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
+from pydrake.multibody.plant import MultibodyPlantConfig
+from pydrake.systems.analysis import SimulatorConfig
+from pydrake.systems.sensors import CameraConfig
+from pydrake.visualization import VisualizationConfig
+
+from gbh_drake.yaml_check import YamlFieldError, check_yaml_against_schema
+
+#: Franka's "ready" pose, the gripper pointing down over the table (rad).
+DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
+
+
+#: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
+DEFAULT_DIRECTIVES = """
+directives:
+- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
+- add_weld: {parent: world, child: panda::panda_link0}
+- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
+- add_weld:
+    parent: panda::panda_link8
+    child: hook_gripper::panda_hand
+    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
+- add_model: {name: table, file: "package://gbh_drake/table.sdf"}
+- add_weld:
+    parent: world
+    child: table::table_top
+    X_PC: {translation: [0.35, 0, 0]}
+"""
+
+
+def default_directives() -> list[ModelDirective]:
+    return LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
+
+
+class ScenarioError(ValueError):
+    """A scenario file is invalid; the message names the file and the field."""
+
+
+@dataclass
+class ObjectConfig:
+    """The object to pick."""
+
+    name: str = "mug"
+    """A named object of the object set (``gbh objects list``); ignored when ``mesh`` is set."""
+    mesh: str = ""
+    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file. Metres
+    after ``scale``; its frame O has z up and the object rests on z = 0."""
+    scale: float = 1.0
+    """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
+    density: float = 0.0
+    """kg/m^3 for mass and inertia; 0 uses the named object's own density (or 600 for a mesh)."""
+    pose: Transform = field(
+        default_factory=lambda: Transform(translation=[0.55, 0.0, 0.0])
+    )
+    """X_WO, the object's pose on the table (W: world, z up, table top at z = 0). Takes Drake's
+    distributions (``!UniformVector``, ``!Rpy {deg: !UniformVector ...}``), sampled from ``seed``."""
+    drop_height: float = 0.002
+    """Extra height (m) above ``pose`` at the start, so the object settles onto the table."""
+
+
+@dataclass
+class RobotConfig:
+    """The Franka arm with the hook gripper."""
+
+    q_home: list[float] = field(default_factory=lambda: list(DEFAULT_Q_HOME))
+    """Arm joint positions (rad, 7 values) at the start and when idle."""
+    gripper_open: bool = True
+    """Whether the gripper starts open (q = l_w / 2) or closed."""
+    arm_kp: list[float] = field(default_factory=lambda: [4000.0] * 4 + [1500.0] * 3)
+    """Joint PD stiffness (N m / rad) of the simulated joint controller."""
+    arm_kd: list[float] = field(default_factory=lambda: [200.0] * 4 + [60.0] * 3)
+    """Joint PD damping (N m s / rad)."""
+    finger_kp: float = 800.0
+    """Finger position-controller stiffness (N/m)."""
+    finger_kd: float = 30.0
+    """Finger damping (N s / m)."""
+
+
+@dataclass
+class Scenario:
+    """One run of gbh_drake. Units: metres, radians, seconds, kilograms."""
+
+    seed: int = 0
+    """Seeds every random choice of the run (object pose, sampling, planners): same seed, same run."""
+    object: ObjectConfig = field(default_factory=ObjectConfig)
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    directives: list[ModelDirective] = field(default_factory=default_directives)
+    """The fixed models (Drake ``ModelDirectives``): by default the arm ``panda`` on the table,
+    the ``hook_gripper`` on its flange and the ``table`` whose top is the plane z = 0 of W.
+    Add models here; keep those three names."""
+    cameras: list[CameraConfig] = field(default_factory=list)
+    """Extra RGB-D cameras added to the station (Drake's ``CameraConfig``)."""
+    plant_config: MultibodyPlantConfig = field(
+        default_factory=lambda: MultibodyPlantConfig(
+            time_step=0.001,
+            contact_model="hydroelastic_with_fallback",
+            discrete_contact_approximation="sap",
+        )
+    )
+    """The MultibodyPlant (discrete, hydroelastic contact)."""
+    simulator_config: SimulatorConfig = field(
+        default_factory=lambda: SimulatorConfig(publish_every_time_step=False)
+    )
+    visualization: VisualizationConfig = field(
+        default_factory=lambda: VisualizationConfig(publish_period=1 / 32)
+    )
+    """Meshcat visualisation (illustration, contact forces); see Drake's VisualizationConfig."""
+    settle_time: float = 0.5
+    """Simulated time (s) to let the object settle on the table before anything else."""
+    output_dir: str = ""
+    """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
+    source_path: str = ""
+    """Set by the loader: the scenario file itself (do not write it in YAML)."""
+
+    @property
+    def directory(self) -> Path:
+        """The folder of the scenario file (relative paths in the file resolve against it)."""
+        return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
+
+    def resolve(self, path: str) -> Path:
+        p = Path(path).expanduser()
+        return p if p.is_absolute() else self.directory / p
+
+    def output_path(self) -> Path:
+        if self.output_dir:
+            return self.resolve(self.output_dir)
+        stem = Path(self.source_path).stem if self.source_path else "scenario"
+        return Path.cwd() / "output" / stem
+
+
+def load_scenario(filename: str | Path, *, overrides: str = "") -> Scenario:
+    """Loads and validates a scenario file; ``overrides`` is YAML text applied on top of it.
+
+    Raises :class:`ScenarioError` naming the file and field on any problem."""
+    path = Path(filename)
+    if not path.is_file():
+        raise ScenarioError(f"{path}: scenario file not found")
+    text = path.read_text()
+    scenario = _load_text(text, str(path), Scenario())
+    if overrides:
+        scenario = _load_text(overrides, f"{path} (overrides)", scenario)
+    scenario.source_path = str(path.resolve())
+    validate_scenario(scenario, str(path))
+    return scenario
+
+
+def _load_text(text: str, origin: str, defaults: Scenario) -> Scenario:
+    try:
+        check_yaml_against_schema(text, Scenario)
+    except YamlFieldError as e:
+        raise ScenarioError(f"{origin}: {e}") from e
+    try:
+        return yaml_load_typed(schema=Scenario, data=text or "{}", defaults=defaults)
+    except Exception as e:  # what the field check did not catch
+        raise ScenarioError(f"{origin}: {type(e).__name__}: {e}") from e
+
+
+def validate_scenario(scenario: Scenario, origin: str) -> None:
+    """Semantic checks that the schema cannot express. Raises :class:`ScenarioError`."""
+
+    def fail(field_path: str, message: str):
+        raise ScenarioError(f"{origin}: {field_path}: {message}")
+
+    obj = scenario.object
+    if obj.mesh:
+        mesh_path = scenario.resolve(obj.mesh)
+        if not mesh_path.is_file():
+            fail("object.mesh", f"file not found: {mesh_path}")
+    elif not obj.name:
+        fail("object", "give either a named object (object.name) or a mesh file (object.mesh)")
+    if obj.scale <= 0:
+        fail("object.scale", f"must be positive, got {obj.scale}")
+    if obj.density < 0:
+        fail("object.density", f"must be >= 0, got {obj.density}")
+    if len(scenario.robot.q_home) != 7:
+        fail("robot.q_home", f"needs 7 joint positions, got {len(scenario.robot.q_home)}")
+    for name in ("arm_kp", "arm_kd"):
+        if len(getattr(scenario.robot, name)) != 7:
+            fail(f"robot.{name}", "needs 7 values")
+    if scenario.settle_time < 0:
+        fail("settle_time", "must be >= 0")
+    if scenario.plant_config.time_step <= 0:
+        fail("plant_config.time_step", "gbh_drake needs a discrete plant (time_step > 0)")
+
+
+def scenario_fields(cls=Scenario) -> list[str]:
+    """Top-level field names of the schema (for docs and the CLI)."""
+    return [f.name for f in dataclasses.fields(cls)]
