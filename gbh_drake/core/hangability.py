@@ -1,0 +1,217 @@
+"""Hangability detection (paper Sec. 2.2; our reading in design.md Sec. 3), all in the mesh frame W.
+
+Stages, each vectorised over all candidates (rays are batched into one Embree call per stage):
+
+1. contact candidates: samples whose outward normal is within ``contact_angle_deg`` of the
+   direction to the CoM h_c (a frictionless hanging contact pushes along the normal through h_c);
+2. clusters of candidates (single linkage at ``cluster_radius`` sample spacings);
+3. hanging position c of a cluster: on each member's segment to h_c, only the first free interval
+   (up to the first surface hit), the point farthest from the surface; the cluster keeps its
+   member with the largest such clearance. Positions inside another one's free ball coincide;
+4. hanging direction v: the normal u of the plane through c whose K rays hit the mesh most often
+   (coarse Fibonacci sphere, then cones of shrinking size around the best). Ties (e.g. a ring
+   seen from slightly tilted planes: all rays still hit) go to the plane with the smallest mean
+   hit distance, which is the plane that cuts the material most squarely;
+5. through-hole test: rays from c along +v and -v must both miss.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal_basis, unit
+from gbh_drake.core.object_model import ObjectModel, prepare_object
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.results import HangingStructure
+
+#: Each refinement level searches a cone this many times narrower than the previous one.
+_REFINE_SHRINK = 4.0
+#: Refinement levels after the coarse sphere search.
+_REFINE_LEVELS = 2
+
+
+def detect_hangable_structures(
+    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams
+) -> list[HangingStructure]:
+    """Hangable structures of ``mesh`` (vertices in W, metres), best (largest m) first.
+
+    An object with nothing hangable gives an empty list. Raises GbhInputError for unusable input.
+    """
+    obj = prepare_object(mesh, params)
+    idx = contact_candidates(obj, params)
+    labels = cluster_points(obj.points[idx], params.cluster_radius * obj.spacing,
+                            params.min_cluster_size)
+    sel = _subsample_clusters(labels, params.max_contacts_per_cluster)
+    c, clearance, contact = hanging_positions(obj, idx[sel], labels[sel], params)
+    if len(c) == 0:
+        return []
+    v, t, dirs = hanging_directions(obj, c, params)
+    through = through_hole(obj, c, v)
+    structures = [
+        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
+        for i in np.flatnonzero(through)
+    ]
+    structures.sort(key=lambda s: (-s.m, -s.clearance))
+    return structures
+
+
+def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
+    """Indices of samples whose outward normal points to the CoM within ``contact_angle_deg``."""
+    to_com = obj.com - obj.points
+    dist = np.linalg.norm(to_com, axis=1)
+    cos = np.sum(obj.normals * to_com, axis=1) / np.maximum(dist, 1e-12)
+    ok = (cos > np.cos(np.radians(params.contact_angle_deg))) & (dist > obj.spacing)
+    return np.flatnonzero(ok)
+
+
+def cluster_points(points: np.ndarray, radius: float, min_size: int) -> np.ndarray:
+    """Single-linkage cluster labels (n,) of ``points`` (n, 3) at ``radius`` metres.
+
+    Labels are 0..k-1 in order of first appearance; clusters smaller than ``min_size`` get -1.
+    """
+    n = len(points)
+    if n == 0:
+        return np.zeros(0, dtype=int)
+    pairs = cKDTree(points).query_pairs(radius, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    sizes = np.bincount(labels)
+    return np.where(sizes[labels] >= min_size, labels, -1)
+
+
+def _subsample_clusters(labels: np.ndarray, max_per_cluster: int) -> np.ndarray:
+    """Indices of at most ``max_per_cluster`` members of every cluster (label >= 0), evenly
+    strided (the samples are in random order, so this is a seeded random subset)."""
+    idx = np.flatnonzero(labels >= 0)
+    order = idx[np.argsort(labels[idx], kind="stable")]
+    lab = labels[order]
+    start = np.searchsorted(lab, lab, side="left")
+    size = np.searchsorted(lab, lab, side="right") - start
+    rank = np.arange(len(order)) - start
+    stride = np.maximum(1, -(-size // max(max_per_cluster, 1)))  # ceil(size / max)
+    return np.sort(order[rank % stride == 0])
+
+
+def hanging_positions(
+    obj: ObjectModel, idx: np.ndarray, labels: np.ndarray, params: GbhParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hanging positions (P, 3), their clearances (P,) and contact points (P, 3), metres.
+
+    ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels. For
+    each member, the free part of its segment to the CoM is sampled; the cluster's position is
+    the sample farthest from the surface. Positions with clearance < ``min_clearance`` are
+    dropped and coincident ones (within another's free ball) merged, keeping the larger ball.
+    """
+    empty = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
+    if len(idx) == 0:
+        return empty
+    p = obj.points[idx]
+    d = obj.com - p
+    length = np.linalg.norm(d, axis=1)
+    d /= length[:, None]
+    eps = 0.05 * obj.spacing  # leave the sample's own triangle before casting
+    free = np.minimum(obj.cast(p + eps * d, d) + eps, length)
+    frac = np.arange(1, params.n_segment_samples + 1) / params.n_segment_samples
+    samples = p[:, None] + d[:, None] * (free[:, None, None] * frac[None, :, None])
+    dist = obj.approx_distance(samples.reshape(-1, 3)).reshape(len(p), -1)
+    k = dist.argmax(axis=1)
+    member_c = samples[np.arange(len(p)), k]
+    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the winners below
+    # Best member per cluster: sort by (label, -clearance) and take each label's first row.
+    order = np.lexsort((-member_clear, labels))
+    first = order[np.r_[True, np.diff(labels[order]) != 0]]
+    member_clear[first] = obj.distance(member_c[first])
+    first = first[member_clear[first] >= params.min_clearance]
+    keep = _merge_coincident(member_c[first], member_clear[first], params.dedup_radius_factor)
+    sel = first[keep]
+    return member_c[sel], member_clear[sel], p[sel]
+
+
+def _merge_coincident(c: np.ndarray, clearance: np.ndarray, factor: float) -> np.ndarray:
+    """Indices of positions kept by non-maximum suppression: largest clearance first, each kept
+    position removes the others inside its free ball (radius ``factor * clearance``)."""
+    order = np.argsort(-clearance, kind="stable")
+    dist = np.linalg.norm(c[:, None] - c[None], axis=2)
+    alive = np.ones(len(c), dtype=bool)
+    keep = []
+    for i in order:
+        if alive[i]:
+            keep.append(i)
+            alive &= dist[i] >= factor * clearance[i]
+    return np.asarray(keep, dtype=int)
+
+
+def plane_ray_directions(normals: np.ndarray, n_rays: int) -> np.ndarray:
+    """(..., K, 3) unit directions of ``n_rays`` rays equally spaced in the planes normal to
+    the unit ``normals`` (..., 3)."""
+    shape = normals.shape[:-1]
+    e1, e2 = orthonormal_basis(normals.reshape(-1, 3))
+    theta = 2.0 * np.pi * np.arange(n_rays) / n_rays
+    dirs = np.cos(theta)[None, :, None] * e1[:, None] + np.sin(theta)[None, :, None] * e2[:, None]
+    return dirs.reshape(*shape, n_rays, 3)
+
+
+def _evaluate_planes(
+    obj: ObjectModel, c: np.ndarray, normals: np.ndarray, n_rays: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cast ``n_rays`` rays from each c (P, 3) in the planes ``normals`` (P, D, 3).
+
+    Returns the index (P,) of the best plane per position (most hits, then smallest mean hit
+    distance), the hit distances (P, D, K) (inf = miss) and the ray directions (P, D, K, 3).
+    """
+    dirs = plane_ray_directions(normals, n_rays)
+    origins = np.broadcast_to(c[:, None, None], dirs.shape)
+    t = obj.cast(origins.reshape(-1, 3), dirs.reshape(-1, 3)).reshape(dirs.shape[:-1])
+    hit = np.isfinite(t)
+    count = hit.sum(axis=2)
+    mean_t = np.where(hit, t, 0.0).sum(axis=2) / np.maximum(count, 1)
+    tie_break = np.where(count == count.max(axis=1, keepdims=True), mean_t, np.inf)
+    return tie_break.argmin(axis=1), t, dirs
+
+
+def hanging_directions(
+    obj: ObjectModel, c: np.ndarray, params: GbhParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hanging directions v (P, 3) at positions c (P, 3), with their planes' hit distances (P, K)
+    and ray directions (P, K, 3): a coarse Fibonacci-sphere search, then shrinking cones."""
+    P, K = len(c), params.n_rays_per_plane
+    sphere = fibonacci_sphere(max(params.n_plane_normals // 2, 1), hemisphere=True)
+    normals = np.broadcast_to(sphere, (P, *sphere.shape))
+    half_angle = np.radians(params.refine_cone_deg)
+    for level in range(_REFINE_LEVELS + 1):
+        best, t, dirs = _evaluate_planes(obj, c, normals, K)
+        rows = np.arange(P)
+        v, t, dirs = normals[rows, best], t[rows, best], dirs[rows, best]
+        if level < _REFINE_LEVELS:
+            normals = np.stack([fibonacci_cap(u, half_angle, params.n_refine_normals) for u in v])
+            half_angle /= _REFINE_SHRINK
+    return v, t, dirs
+
+
+def through_hole(obj: ObjectModel, c: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Mask (P,): the rays from c along +v and along -v both miss the mesh."""
+    t = obj.cast(np.concatenate([c, c]), np.concatenate([v, -v]))
+    return ~np.isfinite(t).reshape(2, -1).any(axis=0)
+
+
+def _structure(
+    c: np.ndarray, v: np.ndarray, t: np.ndarray, dirs: np.ndarray, clearance: float,
+    contact: np.ndarray,
+) -> HangingStructure:
+    """A HangingStructure from the chosen plane's hit distances t (K,) and directions (K, 3)."""
+    hit = np.isfinite(t)
+    miss_mean = dirs[~hit].mean(axis=0) if (~hit).any() else np.zeros(3)
+    return HangingStructure(
+        c=c.copy(),
+        v=unit(v),
+        H=c + t[hit, None] * dirs[hit],
+        m=float(hit.mean()),
+        a=unit(miss_mean),
+        clearance=float(clearance),
+        contact_point=contact.copy(),
+        n_rays=len(t),
+    )

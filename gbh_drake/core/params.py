@@ -1,0 +1,92 @@
+"""Every tunable number of the GbH algorithm core, in one plain dataclass.
+
+Values marked *paper* are from Li, Su, Chirikjian (Sec. 2.3-3.1); the others are our documented
+defaults (see ``/work/shared/design.md`` Sec. 3-4 for the measurements behind them). The class is
+a plain dataclass of float/int/bool/str/list[float] fields, each with a default, so a scenario
+YAML can load it with Drake's ``yaml_load_typed(schema=GbhParams, ...)``.
+
+Lengths are metres and angles degrees; every position/direction the algorithm returns is in the
+frame the mesh is given in (called W in the docstrings).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass
+class GbhParams:
+    """Parameters of hangability detection, grasp synthesis, collision checking and scoring."""
+
+    # ---- sampling ---------------------------------------------------------------------------
+    seed: int = 0
+    """Seed of the surface sampler; same mesh + same params => identical results."""
+    n_points: int = 5000
+    """Number of Poisson-disk points sampled on the mesh (at most; a few fewer on tiny meshes).
+    design.md Sec. 3: 5000 points found a mug handle, 3000 missed it."""
+    oversampling: int = 5
+    """Uniform candidates per Poisson-disk point (the disk elimination keeps about 1 in this)."""
+    require_watertight: bool = False
+    """Raise GbhInputError for open/non-manifold meshes instead of the best effort (surface
+    centroid as CoM, normals as wound)."""
+
+    # ---- hangability: contact points and hanging positions ----------------------------------
+    contact_angle_deg: float = 30.0
+    """Degrees. A point is a hanging-contact candidate when its outward normal is within this
+    angle of the direction to the CoM (design.md Sec. 3: 30 found a mug handle, 25 missed it)."""
+    cluster_radius: float = 2.5
+    """Contact points closer than this many mean sample spacings are in one cluster
+    (single-linkage, i.e. DBSCAN with min_samples = 1). Dimensionless."""
+    min_cluster_size: int = 2
+    """Clusters with fewer contact points are ignored (sampling noise)."""
+    max_contacts_per_cluster: int = 48
+    """Contact points of a cluster whose segments are searched (a deterministic random subset
+    when the cluster is larger; bounds the cost on big clusters such as a cup's inner wall)."""
+    n_segment_samples: int = 32
+    """Points sampled on the free part of each contact-to-CoM segment to find the clearance max."""
+    min_clearance: float = 0.002
+    """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
+    dedup_radius_factor: float = 1.0
+    """Two hanging positions coincide when one lies within this factor times the other's
+    clearance (its free ball); the one with more clearance is kept. Dimensionless."""
+
+    # ---- hangability: hanging direction ---------------------------------------------------------
+    n_plane_normals: int = 400
+    """Candidate plane normals u on a Fibonacci sphere (u, -u are one plane: half are cast)."""
+    n_rays_per_plane: int = 36
+    """Rays cast from c_i in each candidate plane (K in the paper); also the size bound of H_i."""
+    refine_cone_deg: float = 15.0
+    """Degrees. Half-angle of the cone around the coarse best normal searched by the refinement."""
+    n_refine_normals: int = 120
+    """Normals tried in the refinement cone."""
+
+    # ---- grasp synthesis ------------------------------------------------------------------------
+    parallel_grasps: bool = True
+    """Generate parallel grasps (bar along +-v_i, p_M at c_i)."""
+    vertical_grasps: bool = True
+    """Generate vertical grasps (straight finger along +-v_i or the ground normal, p2 at q_m)."""
+    ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    """Unit anti-gravity direction (ground normal) in W; normalised on use."""
+    p_theta: float = 0.95
+    """*paper*: the straight finger snaps to the ground normal when cos(theta) > p_theta."""
+    d1: float = 0.01
+    """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
+    d2: float = 0.0
+    """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view."""
+    slice_half_width: float = 0.005
+    """Metres. Half thickness of the slab (about the gripper's plane) that selects the caged
+    points Q of a vertical grasp; a bit more than half a rod so a sparse cloud still has points."""
+
+    # ---- collision checking ------------------------------------------------------------------
+    p_c: int = 10
+    """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper."""
+    collision_margin: float = 0.0
+    """Metres by which every box of the gripper's solid model is grown for the point count."""
+
+    # ---- scoring -------------------------------------------------------------------------------
+    gamma_alpha: float = 0.04
+    """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""
+    gamma_beta: float = 2.0
+    """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
+    top_k: int = 10
+    """*paper*: number of best grasps returned for execution."""

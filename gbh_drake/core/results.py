@@ -1,0 +1,93 @@
+"""Result types of the GbH core: hanging structures (paper Sec. 2.2) and grasps (Sec. 2.3-2.4).
+
+All positions are metres and all directions unit vectors, expressed in W: the frame the input mesh
+is given in. Poses are 4x4 homogeneous numpy matrices (``X_WG``: pose of the gripper frame G of
+:mod:`gbh_drake.core.gripper` in W).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: Grasp kinds of the paper (Sec. 2.3).
+PARALLEL = "parallel"
+VERTICAL = "vertical"
+
+
+class GbhInputError(ValueError):
+    """The input mesh (or parameters) cannot be processed; the message says why."""
+
+
+@dataclass(eq=False)
+class HangingStructure:
+    """One hangable structure (paper Sec. 2.2, items 1-5), all in W.
+
+    The through-hole test has been passed: rays from ``c`` along ``+v`` and ``-v`` both miss.
+    """
+
+    c: np.ndarray
+    """(3,) hanging position c_i, metres: the free point of largest clearance."""
+    v: np.ndarray
+    """(3,) unit hanging direction v_i: the normal of the ray plane with most hits. Its sign is
+    arbitrary (u and -u are the same plane); grasp synthesis uses both."""
+    H: np.ndarray
+    """(K, 3) contact points h_i^j, metres: where the rays of the chosen plane hit the mesh."""
+    m: float
+    """Fraction of the plane's rays that hit the mesh (1 = a closed loop around c)."""
+    a: np.ndarray
+    """(3,) unit mean direction of the rays that miss (where the loop is open); zeros if m = 1."""
+    clearance: float = 0.0
+    """Distance from c to the mesh surface, metres."""
+    contact_point: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """(3,) the contact candidate whose segment to the CoM gave c, metres."""
+    n_rays: int = 0
+    """Number of rays cast in the chosen plane (m = len(H) / n_rays)."""
+
+    @property
+    def through_hole(self) -> bool:
+        """Always True for returned structures (the test is a filter); kept for readability."""
+        return True
+
+
+@dataclass(eq=False)
+class GraspCandidate:
+    """One grasp of the hook gripper on a hanging structure, scored (paper Sec. 2.3-2.4)."""
+
+    X_WG: np.ndarray
+    """(4, 4) pose of the gripper frame G in W (G: palm centre, +z_G approach, +y_G closing)."""
+    kind: str
+    """``"parallel"`` (bar along +-v) or ``"vertical"`` (straight finger along v or ground)."""
+    structure_index: int
+    """Index of the structure in the detector's list."""
+    structure: HangingStructure
+    """The hanging structure this grasp hooks."""
+    h: np.ndarray
+    """(3,) the contact point h_i^j this grasp was generated from, metres in W."""
+    n_collisions: int = -1
+    """N_c: object points inside the gripper's solid model (open) at X_WG; -1 if not counted."""
+    alpha: float = float("nan")
+    """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
+    beta: float = float("nan")
+    """Radians: angle between a_i and the direction from the held material toward c_i."""
+    s_alpha: float = float("nan")
+    """S_alpha = exp(-alpha^2 / gamma_alpha)."""
+    s_beta: float = float("nan")
+    """S_beta = 1 if m_i = 1 else exp(-beta^2 / gamma_beta)."""
+    score: float = float("nan")
+    """S_total = m_i * S_beta * S_alpha."""
+
+
+@dataclass(eq=False)
+class GbhResult:
+    """Everything one run of :func:`gbh_drake.core.pipeline.plan_grasps` produced."""
+
+    structures: list[HangingStructure]
+    """Hangable structures, best (largest m) first."""
+    candidates: list[GraspCandidate]
+    """All synthesised grasps with N_c counted and scores computed (colliding ones included)."""
+    ranked: list[GraspCandidate]
+    """Collision-free grasps (N_c < p_c), best score first, at most ``top_k``."""
+    timings: dict[str, float] = field(default_factory=dict)
+    """Seconds spent per stage: sampling, hangability, synthesis, collision, scoring."""
