@@ -8,7 +8,6 @@ problem (:class:`ScenarioError`). Drake's own config structs are reused where th
 from the scenario's ``seed``).
 """
 
-from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# gbh_drake's two entry points; each sets up the machine first (idempotent, offline after the
+# first install: packages come from PyPI and Debian only).
+#
+#   ./dev.sh run [SCENARIO.yaml] [gbh run options]   run a scenario (default: scenarios/default.yaml)
+#   ./dev.sh test [pytest options]                   run the test suite
+#   ./dev.sh setup                                   only set up (.venv/ at the repository root)
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PYTHON=${PYTHON:-python3.11}
+VENV=.venv
+STAMP=$VENV/.gbh-installed
+
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+
+setup_system() {
+  # Python 3.11 with venv (Drake 1.51.1's newest wheels are for 3.11).
+  if ! command -v "$PYTHON" >/dev/null 2>&1 || ! "$PYTHON" -c "import venv, ensurepip" 2>/dev/null; then
+    echo "dev.sh: installing Python 3.11 from Debian"
+    as_root apt-get update -qq
+    as_root apt-get install -y -qq python3.11 python3.11-venv
+  fi
+}
+
+setup_venv() {
+  [ -x "$VENV/bin/python" ] || "$PYTHON" -m venv "$VENV"
+  local want
+  want=$(cat requirements.lock pyproject.toml | sha256sum | cut -d' ' -f1)
+  if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$want" ]; then
+    echo "dev.sh: installing pinned packages into $VENV (first time: about 2 minutes)"
+    "$VENV/bin/python" -m pip install -q --upgrade pip
+    "$VENV/bin/python" -m pip install -q -r requirements.lock
+    "$VENV/bin/python" -m pip install -q --no-deps --no-build-isolation -e .
+    echo "$want" > "$STAMP"
+  fi
+}
+
+cmd=${1:-run}
+shift || true
+setup_system
+setup_venv
+case "$cmd" in
+  setup) ;;
+  run)   exec "$VENV/bin/gbh" run "$@" ;;
+  test)  exec "$VENV/bin/python" -m pytest "$@" ;;
+  *)     echo "usage: ./dev.sh run|test|setup [args]" >&2; exit 2 ;;
+esac

@@ -1,0 +1,82 @@
+"""The ``gbh`` command line.
+
+    gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: scenarios/default.yaml)
+    gbh diagram [SCENARIO.yaml]                        write the station's Graphviz diagram to diagrams/
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path
+
+from gbh_drake import REPO_ROOT, SCENARIOS_DIR
+from gbh_drake.scenario import ScenarioError, load_scenario
+
+DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
+
+
+def _scenario_arg(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scenario", nargs="?", default=str(DEFAULT_SCENARIO),
+                        help="scenario YAML file (default: scenarios/default.yaml)")
+    parser.add_argument("--set", dest="overrides", default="", metavar="YAML",
+                        help="YAML text applied over the file, e.g. --set 'seed: 3'")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="gbh", description="Grasping by Hanging in Drake")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p_run = sub.add_parser("run", help="simulate a scenario and write its Meshcat replay")
+    _scenario_arg(p_run)
+    p_run.add_argument("--meshcat", action="store_true",
+                       help="serve the live Meshcat view and wait for Enter before exiting")
+
+    p_diag = sub.add_parser("diagram", help="write the station's Graphviz diagram")
+    _scenario_arg(p_diag)
+    p_diag.add_argument("--out", default=str(REPO_ROOT / "diagrams"), help="output folder")
+
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(message)s")
+    try:
+        scenario = load_scenario(args.scenario, overrides=args.overrides)
+    except ScenarioError as e:
+        print(f"gbh: invalid scenario: {e}", file=sys.stderr)
+        return 2
+    try:
+        if args.command == "run":
+            return _run(scenario, live=args.meshcat)
+        return _diagram(scenario, Path(args.out))
+    except (ValueError, FileNotFoundError) as e:  # bad object files and the like
+        print(f"gbh: {e}", file=sys.stderr)
+        return 2
+
+
+def _run(scenario, *, live: bool) -> int:
+    from pydrake.geometry import Meshcat
+
+    from gbh_drake.run import run
+
+    meshcat = Meshcat()
+    if live:
+        print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
+    summary = run(scenario, meshcat=meshcat)
+    print(summary.to_text())
+    if live and sys.stdin.isatty():
+        input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
+    return 0
+
+
+def _diagram(scenario, out: Path) -> int:
+    from gbh_drake.diagrams import write_diagram
+    from gbh_drake.run import build_diagram
+
+    diagram, _, _ = build_diagram(scenario)
+    for path in write_diagram(diagram, out, "station"):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,33 @@
+"""Shared fixtures: small meshes whose truth is known, and a station-building helper."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from gbh_drake.scenario import Scenario
+
+
+def make_staple(rod_height: float = 0.06, rod_radius: float = 0.006, span: float = 0.14):
+    """A horizontal rod on two legs (a 'staple'), frame O: rod along x at z = rod_height."""
+    rod = trimesh.creation.cylinder(radius=rod_radius, height=span + 0.02, sections=24)
+    rod.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    rod.apply_translation([0, 0, rod_height])
+    legs = []
+    for x in (-span / 2, span / 2):
+        leg = trimesh.creation.box([0.012, 0.03, rod_height + rod_radius])
+        leg.apply_translation([x, 0, (rod_height + rod_radius) / 2])
+        legs.append(leg)
+    return trimesh.boolean.union([rod, *legs], engine="manifold")
+
+
+@pytest.fixture
+def staple_mesh():
+    return make_staple()
+
+
+@pytest.fixture
+def scenario(tmp_path) -> Scenario:
+    """The default scenario with its output in a temporary folder."""
+    s = Scenario()
+    s.output_dir = str(tmp_path / "out")
+    return s

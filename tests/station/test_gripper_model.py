@@ -1,0 +1,106 @@
+"""The hook gripper that collides in simulation is the one the algorithm reasons about."""
+
+import numpy as np
+import pytest
+from pydrake.geometry import Box as DrakeBox
+from pydrake.geometry import Role
+from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+from pydrake.systems.framework import DiagramBuilder
+
+from gbh_drake import MODELS_DIR, REPO_ROOT
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.modeling.gripper_sdf import GRIPPER_SDF, make_gripper_sdf
+from gbh_drake.modeling.package_map import make_parser
+
+
+def test_sdf_on_disk_is_generated_from_the_geometry_module():
+    assert GRIPPER_SDF.read_text() == make_gripper_sdf(), (
+        "models/hook_gripper.sdf is stale: run python -m gbh_drake.modeling.gripper_sdf"
+    )
+
+
+def test_arm_urdf_is_current():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("m", REPO_ROOT / "tools" / "make_panda_urdf.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert (MODELS_DIR / "panda_arm.urdf").read_text() == module.make_urdf()
+
+
+def _gripper_plant():
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, 0.001)
+    (gripper,) = make_parser(plant).AddModels(str(GRIPPER_SDF))
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName("panda_hand"))
+    plant.Finalize()
+    diagram = builder.Build()
+    return diagram, plant, scene_graph, gripper
+
+
+@pytest.mark.parametrize("q", [HOOK_GRIPPER.q_closed, 0.03, HOOK_GRIPPER.q_open])
+def test_collision_boxes_match_solid_model(q):
+    diagram, plant, scene_graph, gripper = _gripper_plant()
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyContextFromRoot(context)
+    plant.SetPositions(plant_context, gripper, [q, q])
+    inspector = scene_graph.model_inspector()
+    G = plant.GetFrameByName("G")
+    found = {}
+    for body_index in plant.GetBodyIndices(gripper):
+        body = plant.get_body(body_index)
+        X_GB = plant.CalcRelativeTransform(plant_context, G, body.body_frame())
+        for gid in plant.GetCollisionGeometriesForBody(body):
+            shape = inspector.GetShape(gid)
+            assert isinstance(shape, DrakeBox)
+            X_GGeom = X_GB @ inspector.GetPoseInFrame(gid)
+            np.testing.assert_allclose(X_GGeom.rotation().matrix(), np.eye(3), atol=1e-12)
+            found[inspector.GetName(gid).split("::")[-1]] = (
+                X_GGeom.translation(), np.array([shape.width(), shape.depth(), shape.height()])
+            )
+    expected = {b.name: b for b in HOOK_GRIPPER.solid_boxes_G(q)}
+    assert set(found) == set(expected)
+    for name, box in expected.items():
+        np.testing.assert_allclose(found[name][0], box.center, atol=1e-9, err_msg=name)
+        np.testing.assert_allclose(found[name][1], box.size, atol=1e-9, err_msg=name)
+    # Every geometry has hydroelastic properties (compliant): real hydroelastic contact.
+    for gid in inspector.GetAllGeometryIds(Role.kProximity):
+        props = inspector.GetProximityProperties(gid)
+        assert props.HasProperty("hydroelastic", "compliance_type")
+        assert props.GetProperty("hydroelastic", "hydroelastic_modulus") > 0
+
+
+def test_keypoints_lie_on_the_model():
+    """p2 is the straight rod's tip, p1 the bar's tip, p3 the bend, all on the model's centre lines."""
+    diagram, plant, _, gripper = _gripper_plant()
+    plant_context = plant.GetMyContextFromRoot(diagram.CreateDefaultContext())
+    q = 0.03
+    plant.SetPositions(plant_context, gripper, [q, q])
+    G = plant.GetFrameByName("G")
+    p = HOOK_GRIPPER.keypoints_G(q)
+    straight = plant.GetBodyByName("straight_finger").body_frame()
+    l_rod = plant.GetBodyByName("l_finger").body_frame()
+    lf = HOOK_GRIPPER.finger_length
+    np.testing.assert_allclose(
+        plant.CalcRelativeTransform(plant_context, G, straight).translation() + [0, 0, lf], p["p2"]
+    )
+    np.testing.assert_allclose(
+        plant.CalcRelativeTransform(plant_context, G, l_rod).translation() + [0, 0, lf], p["p3"]
+    )
+    bar = {b.name: b for b in HOOK_GRIPPER.solid_boxes_G(q)}["bar"]
+    assert bar.center[1] + bar.half_extents[1] == pytest.approx(p["p1"][1])
+    np.testing.assert_allclose(HOOK_GRIPPER.n1_G, [0, 0, -1])
+    np.testing.assert_allclose(HOOK_GRIPPER.n2_G, [0, 1, 0])
+    # The fingers' joint limits are the closed and open positions of the geometry module.
+    for name in ("straight_finger_joint", "l_finger_joint"):
+        joint = plant.GetJointByName(name)
+        assert joint.position_lower_limits()[0] == pytest.approx(HOOK_GRIPPER.q_closed)
+        assert joint.position_upper_limits()[0] == pytest.approx(HOOK_GRIPPER.q_open)
+
+
+def test_closed_gripper_closes_the_loop():
+    """At q_closed the bar's tip touches the straight rod's inner face (no gap to slip through)."""
+    boxes = {b.name: b for b in HOOK_GRIPPER.solid_boxes_G(HOOK_GRIPPER.q_closed)}
+    bar_tip = boxes["bar"].center[1] + boxes["bar"].half_extents[1]
+    rod_face = boxes["straight_rod"].center[1] - boxes["straight_rod"].half_extents[1]
+    assert bar_tip == pytest.approx(rod_face)

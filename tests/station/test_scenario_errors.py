@@ -1,0 +1,64 @@
+"""A bad scenario file fails with one clear message naming the file and the field."""
+
+import pytest
+
+from gbh_drake.cli import main
+from gbh_drake.scenario import ScenarioError, load_scenario
+
+
+def _write(tmp_path, text, name="bad.yaml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("text", "field"),
+    [
+        ("object:\n  name: mug\n  bogus: 1\n", "object.bogus"),
+        ("seed: seven\n", "seed"),
+        ("object:\n  scale: [1, 2]\n", "object.scale"),
+        ("robot:\n  q_home: [0, 0, 0]\n", "robot.q_home"),
+        ("object:\n  mesh: does_not_exist.obj\n", "object.mesh"),
+        ("plant_config:\n  time_stepp: 0.001\n", "plant_config"),
+        ("cameras:\n- {name: c, width: wide}\n", "cameras[0]"),
+        ("object:\n  pose:\n    translation: [1, 2]\n", "object.pose"),
+        ("settle_time: -1\n", "settle_time"),
+    ],
+)
+def test_error_names_file_and_field(tmp_path, text, field):
+    path = _write(tmp_path, text)
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path)
+    message = str(info.value)
+    assert str(path) in message
+    assert field in message
+
+
+def test_malformed_yaml_names_file_and_line(tmp_path):
+    path = _write(tmp_path, "seed: 1\nobject: [\n")
+    with pytest.raises(ScenarioError, match=r"bad\.yaml.*line"):
+        load_scenario(path)
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(ScenarioError, match="nope.yaml: scenario file not found"):
+        load_scenario(tmp_path / "nope.yaml")
+
+
+def test_cli_reports_error_without_traceback(tmp_path, capsys):
+    path = _write(tmp_path, "object:\n  nmae: mug\n")
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "object.nmae" in err and "bad.yaml" in err and "Traceback" not in err
+
+
+def test_relative_mesh_resolves_against_scenario_dir(tmp_path):
+    (tmp_path / "m.obj").write_text("v 0 0 0\n")
+    scenario = load_scenario(_write(tmp_path, "object:\n  mesh: m.obj\n"))
+    assert scenario.resolve(scenario.object.mesh) == tmp_path / "m.obj"
+
+
+def test_overrides_apply_over_the_file(tmp_path):
+    scenario = load_scenario(_write(tmp_path, "seed: 1\n"), overrides="seed: 5")
+    assert scenario.seed == 5
