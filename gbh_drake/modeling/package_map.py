@@ -39,7 +39,7 @@ def add_packages(package_map: PackageMap) -> PackageMap:
 def make_parser(plant, **kwargs) -> Parser:
     """A ``Parser`` for ``plant`` that resolves ``package://gbh_drake`` and ``package://pybullet_data``.
 
-    Never resolves ``package://drake_models`` (it downloads at run time)."""
+    Drake's remote model package is never used here: it downloads at run time."""
     parser = Parser(plant, **kwargs)
     add_packages(parser.package_map())
     return parser
