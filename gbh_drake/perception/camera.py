@@ -1,0 +1,66 @@
+"""Depth rendering with Drake: a pinhole depth camera and ``QueryObject.RenderDepthImage``.
+
+Depth images are (height, width) float32 arrays of metres along +z_C; pixels with no
+measurement hold 0 (too near) or inf (too far / nothing hit), as Drake writes them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from pydrake.geometry import (
+    ClippingRange,
+    DepthRange,
+    DepthRenderCamera,
+    QueryObject,
+    RenderCameraCore,
+)
+from pydrake.math import RigidTransform
+from pydrake.systems.sensors import CameraInfo
+
+from gbh_drake.perception.config import ScanConfig
+
+
+@dataclass(frozen=True)
+class CameraIntrinsics:
+    """Pinhole intrinsics: image size (pixels), focal lengths and principal point (pixels)."""
+
+    width: int
+    height: int
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+
+    @staticmethod
+    def from_config(config: ScanConfig) -> CameraIntrinsics:
+        info = CameraInfo(config.width, config.height, np.deg2rad(config.fov_y_deg))
+        return CameraIntrinsics(config.width, config.height, info.focal_x(), info.focal_y(),
+                                info.center_x(), info.center_y())
+
+    def matrix(self) -> np.ndarray:
+        """K (3, 3)."""
+        return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
+
+
+def make_depth_camera(config: ScanConfig) -> DepthRenderCamera:
+    """Drake's depth camera for ``config`` (renderer, image size, fov, depth range)."""
+    intrinsics = CameraIntrinsics.from_config(config)
+    info = CameraInfo(intrinsics.width, intrinsics.height, intrinsics.fx, intrinsics.fy,
+                      intrinsics.cx, intrinsics.cy)
+    clipping = ClippingRange(0.5 * config.depth_min, 2.0 * config.depth_max)
+    core = RenderCameraCore(config.renderer_name, info, clipping, RigidTransform())
+    return DepthRenderCamera(core, DepthRange(config.depth_min, config.depth_max))
+
+
+def render_depth_images(query_object: QueryObject, camera: DepthRenderCamera,
+                        X_WCs: Sequence[RigidTransform]) -> list[np.ndarray]:
+    """One depth image (height, width) float32 (m) per camera pose X_WC, camera C in W."""
+    world = query_object.inspector().world_frame_id()
+    images = []
+    for X_WC in X_WCs:
+        image = query_object.RenderDepthImage(camera, world, X_WC)
+        images.append(np.array(image.data[:, :, 0], dtype=np.float32))
+    return images

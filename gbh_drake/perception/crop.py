@@ -1,0 +1,46 @@
+"""The workspace crop: an axis-aligned box of W around the scan target, above the table.
+
+Depth pixels are kept only inside the box before fusion (that removes the robot, the far table
+and the background) and the fused mesh is cut to the box with a floor just above the table top
+z = 0 (that removes the table itself).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+
+from gbh_drake.perception.config import ScanConfig
+
+
+@dataclass(frozen=True)
+class CropBox:
+    """Box [lower_W, upper_W] (m), axes of W."""
+
+    lower_W: tuple[float, float, float]
+    upper_W: tuple[float, float, float]
+
+    @staticmethod
+    def around(p_WT, config: ScanConfig, z_min: float | None = None) -> CropBox:
+        """The config's crop box centred on target p_WT in x and y; floor ``z_min`` (default
+        ``config.crop_z_min``)."""
+        x, y = np.asarray(p_WT, dtype=float)[:2]
+        h = config.crop_half_size_xy
+        floor = config.crop_z_min if z_min is None else z_min
+        return CropBox((x - h, y - h, floor), (x + h, y + h, config.crop_z_max))
+
+    def contains(self, p_WQ: np.ndarray) -> np.ndarray:
+        """Mask (...) of the points p_WQ (..., 3) inside the box."""
+        return np.all((p_WQ >= self.lower_W) & (p_WQ <= self.upper_W), axis=-1)
+
+    def cut(self, mesh: trimesh.Trimesh) -> trimesh.Trimesh:
+        """The triangles of ``mesh`` whose centroid is inside the box (the cut is as ragged as
+        the triangles, about a voxel for a fused mesh)."""
+        if len(mesh.faces) == 0:
+            return mesh
+        inside = mesh.copy()
+        inside.update_faces(self.contains(mesh.triangles_center))
+        inside.remove_unreferenced_vertices()
+        return inside
