@@ -62,3 +62,14 @@ def poses_from_axes(y_W: np.ndarray, z_W: np.ndarray, p_WO: np.ndarray) -> np.nd
     X[:, :3, 3] = p_WO
     X[:, 3, 3] = 1.0
     return X
+
+
+def frame_coordinates(
+    X_WF: np.ndarray, p_WQ: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coordinates x, y, z, each (M, N), of the points ``p_WQ`` (N, 3) in each frame F of
+    ``X_WF`` (M, 4, 4): p_FQ = R^T (p_WQ - p_WF). One BLAS product per axis, contiguous output."""
+    R, t = X_WF[:, :3, :3], X_WF[:, :3, 3]
+    return tuple(  # type: ignore[return-value]
+        R[:, :, i] @ p_WQ.T - np.sum(t * R[:, :, i], axis=1)[:, None] for i in range(3)
+    )

@@ -175,10 +175,22 @@ class HookGripperGeometry:
     ) -> np.ndarray:
         """Boolean mask (n,) of the points ``p_GQ`` (n, 3) inside the solid model (grown by margin)."""
         p = np.asarray(p_GQ, dtype=float).reshape(-1, 3)
-        inside = np.zeros(len(p), dtype=bool)
+        return self.inside_solid_model(p[:, 0], p[:, 1], p[:, 2], q, margin)
+
+    def inside_solid_model(
+        self, x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float | None = None,
+        margin: float = 0.0,
+    ) -> np.ndarray:
+        """Boolean mask of points given by their G coordinates ``x, y, z`` (arrays of one shape,
+        metres) inside the solid model (grown by margin); column-wise, so batches of poses can
+        pass (N, M) coordinate arrays without reshaping."""
+        inside = np.zeros(np.shape(x), dtype=bool)
         for b in self.solid_boxes_G(q):
-            d = np.abs(p - np.asarray(b.center)) <= np.asarray(b.half_extents) + margin
-            inside |= d.all(axis=1)
+            (cx, cy, cz), (hx, hy, hz) = b.center, b.half_extents
+            box = np.abs(z - cz) <= hz + margin
+            box &= np.abs(y - cy) <= hy + margin
+            box &= np.abs(x - cx) <= hx + margin
+            inside |= box
         return inside
 
     def loop_polygon_G(self, q: float | None = None) -> np.ndarray:

@@ -1,61 +1,12 @@
-"""Small watertight test shapes for the GbH core, built with trimesh and manifold3d (metres)."""
+"""Fixtures of the GbH core tests: default parameters and the shapes of gbh_shapes."""
 
 from __future__ import annotations
 
-import manifold3d as m3d
-import numpy as np
 import pytest
 import trimesh
+from gbh_shapes import make_bottle, make_hook, make_mug, make_ring
 
 from gbh_drake.core.params import GbhParams
-
-#: Ring: torus in the xy plane about +z, hole radius RING_R - RING_r.
-RING_R, RING_r = 0.05, 0.01
-#: Mug: cup about +z (outer radius, height), handle in the xz plane (axis +y).
-CUP_RADIUS, CUP_HEIGHT = 0.04, 0.10
-HANDLE_CENTER = np.array([0.052, 0.0, 0.055])
-HANDLE_R, HANDLE_r = 0.026, 0.006
-
-
-def _to_trimesh(solid: m3d.Manifold) -> trimesh.Trimesh:
-    mesh = solid.to_mesh()
-    return trimesh.Trimesh(np.asarray(mesh.vert_properties)[:, :3], np.asarray(mesh.tri_verts))
-
-
-def _torus(R: float, r: float, n_major: int = 96, n_minor: int = 24) -> m3d.Manifold:
-    """Torus about +z centred at the origin."""
-    return m3d.Manifold.revolve(m3d.CrossSection.circle(r, n_minor).translate((R, 0.0)), n_major)
-
-
-def make_ring() -> trimesh.Trimesh:
-    return _to_trimesh(_torus(RING_R, RING_r))
-
-
-def make_mug(segments: int = 64) -> trimesh.Trimesh:
-    """Cup (open at the top, 4 mm wall, 6 mm bottom) with a D handle in the xz plane at +x."""
-    cavity = m3d.Manifold.cylinder(CUP_HEIGHT, CUP_RADIUS - 0.004, circular_segments=segments)
-    cup = m3d.Manifold.cylinder(CUP_HEIGHT, CUP_RADIUS, circular_segments=segments)
-    cup = cup - cavity.translate((0.0, 0.0, 0.006))
-    handle = _torus(HANDLE_R, HANDLE_r, segments, max(segments // 3, 12)).rotate((90.0, 0.0, 0.0))
-    handle = handle.translate(tuple(HANDLE_CENTER)) - m3d.Manifold.cylinder(
-        CUP_HEIGHT, CUP_RADIUS - 0.002, circular_segments=segments
-    )
-    return _to_trimesh(cup + handle)
-
-
-def make_hook() -> trimesh.Trimesh:
-    """Open half ring (radius 3 cm, 4 mm wire) in the xy plane, open toward -y: a hanger's hook."""
-    half = _torus(0.03, 0.004) ^ m3d.Manifold.cube((0.1, 0.05, 0.02)).translate((-0.05, 0.0, -0.01))
-    return _to_trimesh(half)
-
-
-def make_bottle() -> trimesh.Trimesh:
-    """Hollow bottle about +z with an open neck (2 mm wall)."""
-    outer = [(0.0, 0.0), (0.035, 0.0), (0.035, 0.12), (0.012, 0.16), (0.012, 0.20), (0.0, 0.20)]
-    inner = [(0.0, 0.002), (0.033, 0.002), (0.033, 0.12), (0.010, 0.158), (0.010, 0.21),
-             (0.0, 0.21)]
-    solid = m3d.Manifold.revolve(m3d.CrossSection([outer]), 64)
-    return _to_trimesh(solid - m3d.Manifold.revolve(m3d.CrossSection([inner]), 64))
 
 
 @pytest.fixture(scope="session")

@@ -1,0 +1,60 @@
+"""The whole GbH core in one call: mesh in W -> structures -> grasps -> ranked top-k, timed."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import trimesh
+
+from gbh_drake.core.collision import count_points_in_gripper
+from gbh_drake.core.grasp_synthesis import synthesize_grasps
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.hangability import detect_hangable_structures
+from gbh_drake.core.object_model import ObjectModel, prepare_object
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.results import GbhResult
+from gbh_drake.core.scoring import rank_grasps, score_grasps
+
+
+def plan_grasps(
+    mesh: trimesh.Trimesh | ObjectModel,
+    params: GbhParams | None = None,
+    gripper: HookGripperGeometry = HOOK_GRIPPER,
+) -> GbhResult:
+    """Run hangability detection, grasp synthesis, collision counting and scoring on ``mesh``
+    (vertices in W, metres). Grasps are X_WG of the open gripper; ``result.ranked`` holds the
+    collision-free top-k. Raises GbhInputError for unusable input; nothing hangable gives empty
+    lists. ``result.timings`` has the seconds of each stage."""
+    params = GbhParams() if params is None else params
+    clock = _StageClock()
+    obj = prepare_object(mesh, params)
+    clock.lap("sampling")
+    structures = detect_hangable_structures(obj, params)
+    clock.lap("hangability")
+    candidates = synthesize_grasps(structures, obj.points, params, gripper)
+    clock.lap("synthesis")
+    if candidates:
+        X = np.stack([g.X_WG for g in candidates])
+        n_c = count_points_in_gripper(obj.points, X, gripper.q_open, params.collision_margin,
+                                      gripper)
+        for g, n in zip(candidates, n_c, strict=True):
+            g.n_collisions = int(n)
+    clock.lap("collision")
+    score_grasps(candidates, params)
+    ranked = rank_grasps(candidates, params)
+    clock.lap("scoring")
+    return GbhResult(structures, candidates, ranked, clock.laps)
+
+
+class _StageClock:
+    """Wall-clock seconds between successive ``lap(name)`` calls."""
+
+    def __init__(self) -> None:
+        self.laps: dict[str, float] = {}
+        self._t = time.perf_counter()
+
+    def lap(self, name: str) -> None:
+        now = time.perf_counter()
+        self.laps[name] = now - self._t
+        self._t = now

@@ -1,0 +1,227 @@
+"""Grasp synthesis, collision counting and scoring (paper Sec. 2.3-2.4, design.md Sec. 4)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from gbh_shapes import CUP_RADIUS, RING_R, RING_r
+from scipy.spatial.transform import Rotation
+
+from gbh_drake.core.collision import count_points_in_gripper
+from gbh_drake.core.gripper import HOOK_GRIPPER, invert_transform, keypoints_W, transform_points
+from gbh_drake.core.object_model import prepare_object
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.pipeline import plan_grasps
+from gbh_drake.core.results import PARALLEL, VERTICAL, GraspCandidate, HangingStructure
+from gbh_drake.core.scoring import rank_grasps, score_grasps
+
+
+def linking_number(a: np.ndarray, b: np.ndarray) -> float:
+    """Gauss linking number of two closed polygons (n, 3) and (m, 3), exact for polygons
+    (signed solid angles of segment pairs, Klenin & Langowski 2000)."""
+    a0, a1 = a, np.roll(a, -1, axis=0)
+    b0, b1 = b, np.roll(b, -1, axis=0)
+    r13 = b0[None] - a0[:, None]
+    r14 = b1[None] - a0[:, None]
+    r23 = b0[None] - a1[:, None]
+    r24 = b1[None] - a1[:, None]
+
+    def n(u, v):
+        c = np.cross(u, v)
+        return c / np.maximum(np.linalg.norm(c, axis=-1, keepdims=True), 1e-15)
+
+    n1, n2, n3, n4 = n(r13, r14), n(r14, r24), n(r24, r23), n(r23, r13)
+
+    def asin(u, v):
+        return np.arcsin(np.clip(np.sum(u * v, axis=-1), -1.0, 1.0))
+
+    omega = asin(n1, n2) + asin(n2, n3) + asin(n3, n4) + asin(n4, n1)
+    sign = np.sign(np.sum(np.cross((b1 - b0)[None], (a1 - a0)[:, None]) * r13, axis=-1))
+    return float(np.sum(omega * sign) / (4.0 * np.pi))
+
+
+def ring_core_circle(n: int = 200) -> np.ndarray:
+    t = 2.0 * np.pi * np.arange(n) / n
+    return RING_R * np.stack([np.cos(t), np.sin(t), np.zeros(n)], axis=1)
+
+
+def gripper_loop_W(X_WG: np.ndarray, q: float) -> np.ndarray:
+    return transform_points(X_WG, HOOK_GRIPPER.loop_polygon_G(q))
+
+
+@pytest.fixture(scope="module")
+def ring_result(ring, params):
+    return plan_grasps(ring, params)
+
+
+@pytest.fixture(scope="module")
+def mug_result(mug, params):
+    return plan_grasps(mug, params)
+
+
+def test_linking_number_helper_on_known_pairs():
+    circle = ring_core_circle()
+    square = np.array([[0.04, 0, -0.02], [0.06, 0, -0.02], [0.06, 0, 0.02], [0.04, 0, 0.02]])
+    assert linking_number(circle, square) == pytest.approx(1.0, abs=1e-6) or linking_number(
+        circle, square
+    ) == pytest.approx(-1.0, abs=1e-6)
+    assert linking_number(circle, square + [0.1, 0, 0]) == pytest.approx(0.0, abs=1e-6)
+
+
+def test_ring_grasps_link_the_ring_and_shifted_ones_do_not(ring_result, params):
+    ranked = ring_result.ranked
+    assert len(ranked) == params.top_k
+    kinds = {g.kind for g in ring_result.candidates if g.n_collisions < params.p_c}
+    assert kinds == {PARALLEL, VERTICAL}
+    circle = ring_core_circle()
+    for g in ring_result.candidates:
+        if g.n_collisions >= params.p_c:
+            continue
+        # Parallel grasps close their loop around the ring with the ring in place (p_M at c);
+        # vertical grasps clamp the ring between the rods while closing, so their loop is
+        # checked at the grasp pose (open), where the ring passes between the rods.
+        q = HOOK_GRIPPER.q_closed if g.kind == PARALLEL else HOOK_GRIPPER.q_open
+        assert abs(linking_number(gripper_loop_W(g.X_WG, q), circle)) == pytest.approx(1, abs=1e-6)
+        shifted = g.X_WG.copy()
+        shifted[:3, 3] += g.X_WG[:3, 2] * -0.10  # 10 cm back along the approach
+        assert linking_number(gripper_loop_W(shifted, q), circle) == pytest.approx(0, abs=1e-6)
+
+
+def test_parallel_and_vertical_pose_conventions(ring_result, params):
+    s = ring_result.structures[0]
+    for g in ring_result.candidates:
+        R = g.X_WG[:3, :3]
+        np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-9)
+        assert np.linalg.det(R) == pytest.approx(1.0)
+        u = (s.c - g.h) / np.linalg.norm(s.c - g.h)
+        kp = keypoints_W(g.X_WG)
+        if g.kind == PARALLEL:
+            np.testing.assert_allclose(kp["pM"], s.c, atol=1e-9)
+            assert abs(R[:, 1] @ s.v) == pytest.approx(1.0)  # bar n2 along +-v
+            np.testing.assert_allclose(R[:, 2], u, atol=1e-9)  # approach -n1 = unit(c - h)
+        else:
+            # Ring lies flat: v is the ground normal, so the straight finger is exactly vertical.
+            assert abs(R[:, 2] @ [0, 0, 1]) == pytest.approx(1.0)
+            u_perp = u - (u @ R[:, 2]) * R[:, 2]  # u made orthogonal to the snapped finger
+            np.testing.assert_allclose(R[:, 1], u_perp / np.linalg.norm(u_perp), atol=1e-9)
+            # p2 lies d1 beyond h on the line through q1 along the finger.
+            q1 = g.h + params.d1 * u
+            off = kp["p2"] - q1
+            np.testing.assert_allclose(off - (off @ R[:, 2]) * R[:, 2], 0.0, atol=1e-9)
+
+
+def test_vertical_grasp_tips_clear_the_caged_material(ring_result, params):
+    """p2 is at q_m: just past the ring's tube (radius 1 cm about the ring's plane) along the
+    finger, plus d2, whether the fingers point down (from above) or up."""
+    vertical = [g for g in ring_result.candidates if g.kind == VERTICAL]
+    assert {np.sign(g.X_WG[2, 2]) for g in vertical} == {-1.0, 1.0}
+    for g in vertical:
+        p2 = keypoints_W(g.X_WG)["p2"]
+        assert p2 @ g.X_WG[:3, 2] == pytest.approx(RING_r + params.d2, abs=2e-3)
+
+
+def test_ground_rule_snaps_only_near_vertical_directions(ring, params):
+    for tilt_deg, snapped in ((10.0, True), (30.0, False)):
+        X = np.eye(4)
+        X[:3, :3] = Rotation.from_euler("x", tilt_deg, degrees=True).as_matrix()
+        result = plan_grasps(ring.copy().apply_transform(X), params)
+        vertical = [g for g in result.candidates if g.kind == VERTICAL]
+        assert vertical
+        cos = np.array([abs(g.X_WG[2, 2]) for g in vertical])
+        if snapped:
+            np.testing.assert_allclose(cos, 1.0)
+        else:
+            np.testing.assert_allclose(cos, np.cos(np.radians(tilt_deg)), atol=0.03)
+
+
+def test_every_kept_grasp_is_collision_free_by_an_independent_count(mug, mug_result, params):
+    obj = prepare_object(mug, params)
+    assert mug_result.ranked
+    for g in mug_result.candidates:
+        p_GQ = transform_points(invert_transform(g.X_WG), obj.points)
+        assert g.n_collisions == HOOK_GRIPPER.count_points_inside(p_GQ, HOOK_GRIPPER.q_open)
+    assert all(g.n_collisions < params.p_c for g in mug_result.ranked)
+    # Approaching from the cup's side (h on the cup wall) drives the hand into the cup.
+    from_cup = [g for g in mug_result.candidates
+                if g.kind == PARALLEL and np.linalg.norm(g.h[:2]) < CUP_RADIUS + 1e-3]
+    assert from_cup and all(g.n_collisions >= params.p_c for g in from_cup)
+
+
+def test_batched_count_matches_gripper_model():
+    rng = np.random.default_rng(1)
+    points = rng.normal(scale=0.06, size=(3000, 3))
+    X = np.tile(np.eye(4), (7, 1, 1))
+    X[:, :3, :3] = Rotation.random(7, random_state=2).as_matrix()
+    X[:, :3, 3] = rng.normal(scale=0.03, size=(7, 3))
+    for q, margin in ((HOOK_GRIPPER.q_open, 0.0), (HOOK_GRIPPER.q_closed, 0.002)):
+        counts = count_points_in_gripper(points, X, q, margin)
+        expected = [HOOK_GRIPPER.count_points_inside(transform_points(invert_transform(x), points),
+                                                     q, margin) for x in X]
+        np.testing.assert_array_equal(counts, expected)
+        assert counts.max() > 0
+
+
+def _structure(m: float, a) -> HangingStructure:
+    return HangingStructure(np.zeros(3), np.array([1.0, 0, 0]), np.zeros((1, 3)), m,
+                            np.asarray(a, dtype=float))
+
+
+def _pose(y, z) -> np.ndarray:
+    X = np.eye(4)
+    X[:3, 1], X[:3, 2] = y, z
+    X[:3, 0] = np.cross(y, z)
+    return X
+
+
+def test_scores_follow_the_paper_and_the_beta_sign_choice(params):
+    hook = _structure(0.7, [0, -1, 0])  # open toward -y
+    loop = _structure(1.0, [0, 0, 0])
+    down, up = np.array([0, 0, -1.0]), np.array([0, 0, 1.0])
+    g = [
+        # Parallel, approach +z_G = -y: the material at h is on +y, opposite the opening (-y).
+        GraspCandidate(_pose([1, 0, 0], [0, -1, 0]), PARALLEL, 0, hook, np.zeros(3)),
+        GraspCandidate(_pose([1, 0, 0], down), PARALLEL, 0, loop, np.zeros(3)),
+        GraspCandidate(_pose([0, -1, 0], down), VERTICAL, 0, hook, np.zeros(3)),
+        GraspCandidate(_pose([0, 1, 0], up), VERTICAL, 0, hook, np.zeros(3)),
+    ]
+    score_grasps(g, params)
+    # Parallel: beta uses the approach +z_G = unit(c - h) (design.md Sec. 4), here along a.
+    assert g[0].beta == pytest.approx(0.0)
+    assert g[0].s_beta == pytest.approx(1.0)
+    assert g[0].alpha == pytest.approx(np.pi / 2)
+    assert g[0].s_alpha == pytest.approx(np.exp(-(np.pi / 2) ** 2 / 0.04))
+    # A closed loop (m = 1) and a top-down approach (R n1 = up) score 1.
+    assert (g[1].s_beta, g[1].s_alpha, g[1].score) == pytest.approx((1.0, 1.0, 1.0))
+    # Vertical: beta uses R n2 = +y_G.
+    assert g[2].beta == pytest.approx(0.0) and g[2].score == pytest.approx(0.7)
+    assert g[3].beta == pytest.approx(np.pi)
+    assert g[3].s_beta == pytest.approx(np.exp(-np.pi**2 / 2.0))
+    assert g[3].alpha == pytest.approx(np.pi)
+
+    for x, n in zip(g, (0, 3, 12, 9), strict=True):
+        x.n_collisions = n
+    ranked = rank_grasps(g, dataclasses.replace(params, top_k=2))
+    assert ranked == [g[1], g[0]]  # g[2] collides (12 >= 10), g[3] scores ~0 and is cut by k
+
+
+def test_pipeline_is_deterministic(mug, mug_result, params):
+    again = plan_grasps(mug, params)
+    assert len(again.candidates) == len(mug_result.candidates)
+    for a, b in zip(again.candidates, mug_result.candidates, strict=True):
+        np.testing.assert_array_equal(a.X_WG, b.X_WG)
+        assert (a.kind, a.n_collisions, a.score) == (b.kind, b.n_collisions, b.score)
+
+
+def test_nothing_hangable_gives_empty_results(params):
+    import trimesh
+
+    result = plan_grasps(trimesh.creation.box((0.1, 0.06, 0.04)), params)
+    assert result.structures == [] and result.candidates == [] and result.ranked == []
+    assert set(result.timings) == {"sampling", "hangability", "synthesis", "collision", "scoring"}
+
+
+def test_only_requested_grasp_kinds(ring, params):
+    result = plan_grasps(ring, GbhParams(vertical_grasps=False))
+    assert {g.kind for g in result.candidates} == {PARALLEL}
