@@ -57,7 +57,7 @@ class ScenarioError(ValueError):
 class ObjectConfig:
     """The object to pick."""
 
-    name: str = "mug"
+    name: str = "mug_classic"
     """A named object of the object set (``gbh objects list``); ignored when ``mesh`` is set."""
     mesh: str = ""
     """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file. Metres
