@@ -9,9 +9,13 @@ Lengths are metres and angles degrees; every position/direction the algorithm re
 frame the mesh is given in (called W in the docstrings).
 """
 
-from __future__ import annotations
-
+# No ``from __future__ import annotations`` here: yaml_load_typed reads the field types at run
+# time and needs real types, not strings.
 from dataclasses import dataclass, field
+
+import numpy as np
+
+from gbh_drake.core.results import GbhInputError
 
 
 @dataclass
@@ -90,3 +94,24 @@ class GbhParams:
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = 10
     """*paper*: number of best grasps returned for execution."""
+
+    def check(self) -> None:
+        """Raise GbhInputError naming the first field whose value cannot work."""
+        problems = [
+            ("n_points", self.n_points >= 1),
+            ("oversampling", self.oversampling >= 1),
+            ("contact_angle_deg", 0.0 < self.contact_angle_deg < 90.0),
+            ("n_segment_samples", self.n_segment_samples >= 1),
+            ("n_plane_normals", self.n_plane_normals >= 2),
+            ("n_rays_per_plane", self.n_rays_per_plane >= 3),
+            ("n_refine_normals", self.n_refine_normals >= 1),
+            ("ground_normal", len(self.ground_normal) == 3
+             and bool(np.linalg.norm(self.ground_normal) > 0)),
+            ("p_theta", 0.0 < self.p_theta <= 1.0),
+            ("gamma_alpha", self.gamma_alpha > 0.0),
+            ("gamma_beta", self.gamma_beta > 0.0),
+            ("top_k", self.top_k >= 1),
+        ]
+        for name, ok in problems:
+            if not ok:
+                raise GbhInputError(f"GbhParams.{name} = {getattr(self, name)!r} is out of range")

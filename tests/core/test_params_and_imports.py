@@ -1,0 +1,49 @@
+"""GbhParams loads from YAML with Drake's loader; the core imports no pydrake."""
+
+from __future__ import annotations
+
+import dataclasses
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.results import GbhInputError
+
+
+def test_params_load_from_yaml_with_drake():
+    from pydrake.common.yaml import yaml_load_typed
+
+    p = yaml_load_typed(schema=GbhParams, data="{n_points: 3000, ground_normal: [0, 1, 0], d2: 0.005}")
+    assert (p.n_points, p.ground_normal, p.d2) == (3000, [0.0, 1.0, 0.0], 0.005)
+    assert p.gamma_alpha == GbhParams().gamma_alpha
+    with pytest.raises(RuntimeError, match="n_point"):
+        yaml_load_typed(schema=GbhParams, data="{n_point: 3000}")
+
+
+def test_params_fields_are_yaml_friendly_with_defaults():
+    allowed = {float, int, bool, str, list[float]}
+    for f in dataclasses.fields(GbhParams):
+        assert f.type in allowed, f.name
+        assert f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING
+
+
+@pytest.mark.parametrize(
+    "bad", [{"n_points": 0}, {"ground_normal": [0.0, 0.0]}, {"ground_normal": [0.0, 0.0, 0.0]},
+            {"p_theta": 1.5}, {"n_rays_per_plane": 2}]
+)
+def test_out_of_range_params_name_the_field(bad):
+    with pytest.raises(GbhInputError, match=next(iter(bad))):
+        GbhParams(**bad).check()
+
+
+def test_core_does_not_import_pydrake():
+    code = (
+        "import sys\n"
+        "import gbh_drake.core.pipeline, gbh_drake.core.gripper\n"
+        "assert not any(m.startswith('pydrake') for m in sys.modules), 'pydrake imported'\n"
+    )
+    repo = Path(__file__).resolve().parents[2]
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=repo)
