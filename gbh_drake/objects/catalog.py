@@ -435,7 +435,10 @@ def spray_bottle(mass=0.35) -> Design:
 
 @register("headphones")
 def headphones(half_width=0.085, band_radius=0.085, mass=0.25) -> Design:
-    """Over-ear headphones standing on their ear cups; the headband is an open hook (axis +y)."""
+    """Over-ear headphones standing on their ear cups; the headband is an open hook (axis +y).
+
+    The hook's centre is put 0.4 band radii above the arc's centre, so that the band is within a
+    finger length (8 cm) of it."""
     cup_xs = P.rounded_rect_xs(0.065, 0.08, 0.012).translate((0.0, 0.04))
     to_yz = np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
     cups = [P.extrude(cup_xs, 0.035).transform(to_yz).translate((s * half_width - 0.0175, 0, 0))
@@ -449,8 +452,8 @@ def headphones(half_width=0.085, band_radius=0.085, mass=0.25) -> Design:
     solid = P.union(*cups, band)
     return Design(solid, 0, mass, (0.1, 0.1, 0.12, 1.0),
                   "over-ear headphones standing on their cups, headband as an open hook",
-                  [HoleDesign("headband", np.array([0.0, 0.0, z_c]), Y_AXIS, kind="open",
-                              search_radius=0.0)])
+                  [HoleDesign("headband", np.array([0.0, 0.0, z_c + 0.4 * band_radius]), Y_AXIS,
+                              kind="open", search_radius=0.0)])
 
 
 # ---- controls: nothing to hang by ----------------------------------------------------------------

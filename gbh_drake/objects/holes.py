@@ -29,7 +29,8 @@ def silhouette(mesh: trimesh.Trimesh, axis) -> list[np.ndarray]:
     e1, e2 = plane_basis(axis)
     uv = np.asarray(mesh.vertices) @ np.column_stack([e1, e2])
     tri = uv[np.asarray(mesh.faces)]
-    area = 0.5 * np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    a, b = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    area = 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
     tri = tri[np.abs(area) > 1e-12]
     area = area[np.abs(area) > 1e-12]
     tri[area < 0] = tri[area < 0][:, ::-1]
