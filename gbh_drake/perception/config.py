@@ -4,8 +4,8 @@ Frames: W is the world (z up, table top at z = 0); T is the scan target, a point
 object's centre that every camera looks at. Loadable with Drake's ``yaml_load_typed``.
 """
 
-from __future__ import annotations
-
+# (No ``from __future__ import annotations`` here: yaml_load_typed needs the field types as
+# types, not strings.)
 from dataclasses import dataclass
 
 #: Viewpoint layouts: ``ring`` (all views at ``elevation_deg``) or ``spiral`` (views spread over
@@ -20,8 +20,9 @@ class ScanConfig:
     # --- Viewpoints (around the target T) ---
     num_views: int = 10
     """Number of depth views (1: a single view from ``azimuth_deg``)."""
-    layout: str = "ring"
-    """``ring`` or ``spiral`` (see ``LAYOUTS``)."""
+    layout: str = "spiral"
+    """``spiral`` or ``ring`` (see ``LAYOUTS``); a ring at one elevation misses the inside of
+    deep cups."""
     distance: float = 0.5
     """Camera-to-target distance (m); Primesense works from about 0.35 m."""
     elevation_deg: float = 40.0

@@ -31,9 +31,17 @@ class CropBox:
         floor = config.crop_z_min if z_min is None else z_min
         return CropBox((x - h, y - h, floor), (x + h, y + h, config.crop_z_max))
 
+    def corners(self) -> np.ndarray:
+        """The 8 corners (8, 3) in W (m)."""
+        index = np.indices((2, 2, 2)).reshape(3, -1).T
+        return np.where(index == 0, self.lower_W, self.upper_W)
+
     def contains(self, p_WQ: np.ndarray) -> np.ndarray:
         """Mask (...) of the points p_WQ (..., 3) inside the box."""
-        return np.all((p_WQ >= self.lower_W) & (p_WQ <= self.upper_W), axis=-1)
+        inside = np.ones(p_WQ.shape[:-1], dtype=bool)
+        for i in range(3):
+            inside &= (p_WQ[..., i] >= self.lower_W[i]) & (p_WQ[..., i] <= self.upper_W[i])
+        return inside
 
     def cut(self, mesh: trimesh.Trimesh) -> trimesh.Trimesh:
         """The triangles of ``mesh`` whose centroid is inside the box (the cut is as ragged as

@@ -17,7 +17,7 @@ from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.cleanup import keep_large_components
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
-from gbh_drake.perception.depth import points_W
+from gbh_drake.perception.depth import image_window, valid_points_W
 
 _NO_COLOR = o3d.pipelines.integration.TSDFVolumeColorType.NoColor
 
@@ -26,9 +26,12 @@ def crop_depth(depth: np.ndarray, intrinsics: CameraIntrinsics, X_WC: RigidTrans
                box: CropBox) -> tuple[np.ndarray, np.ndarray]:
     """``depth`` (h, w) with pixels whose point is outside ``box`` set to 0 (invalid), and the
     kept points p_WQ (n, 3) in W (m)."""
-    p_WQ, valid = points_W(depth, intrinsics, X_WC)
-    keep = valid & box.contains(p_WQ)
-    return np.where(keep, depth, 0.0).astype(np.float32), p_WQ[keep]
+    window = image_window(box.corners(), intrinsics, X_WC)
+    p_WQ, v, u = valid_points_W(depth, intrinsics, X_WC, window)
+    inside = box.contains(p_WQ)
+    cropped = np.zeros(depth.shape, dtype=np.float32)
+    cropped[v[inside], u[inside]] = depth[v[inside], u[inside]]
+    return cropped, p_WQ[inside]
 
 
 def integrate(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,

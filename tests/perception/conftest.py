@@ -1,4 +1,4 @@
-"""Fixtures: a small test mug (cup + torus handle) standing in the station, and its true mesh."""
+"""Fixtures: the station with a mug of the object set standing on the table, and the truth in W."""
 
 from __future__ import annotations
 
@@ -10,71 +10,67 @@ import trimesh
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import DiagramBuilder
 
-#: The mug's handle hole in its frame O (m): centre and axis (the handle points along +x_O).
-HANDLE_CENTER_O = np.array([0.057, 0.0, 0.045])
-HANDLE_AXIS_O = np.array([0.0, 1.0, 0.0])
+from gbh_drake.perception.config import ScanConfig
+from gbh_drake.systems.scanner import Scanner
 
-
-def make_test_mug() -> trimesh.Trimesh:
-    """A watertight mug in frame O (m): cup of radius 4 cm, height 9 cm, wall 5 mm, bottom
-    5 mm, with a torus handle along +x_O whose hole is about 3 cm across."""
-    outer = trimesh.creation.cylinder(radius=0.04, height=0.09, sections=64)
-    outer.apply_translation([0, 0, 0.045])
-    inner = trimesh.creation.cylinder(radius=0.035, height=0.09, sections=64)
-    inner.apply_translation([0, 0, 0.05 + 0.045])
-    cup = trimesh.boolean.difference([outer, inner], engine="manifold")
-    handle = trimesh.creation.torus(major_radius=0.022, minor_radius=0.006,
-                                    major_sections=48, minor_sections=16)
-    handle.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
-    handle.apply_translation([0.058, 0.0, 0.045])
-    mug = trimesh.boolean.union([cup, handle], engine="manifold")
-    assert mug.is_watertight
-    return mug
+#: The object scanned by the tests (handle along +x_O, a closed hole about 4 cm across).
+MUG = "mug_classic"
 
 
 @dataclass
 class MugScene:
-    """The station with the test mug, a context, and the truth in W."""
+    """The station with the mug in a default context; the truth in W."""
 
     diagram: object
     context: object
-    scene_graph: object
+    station: object
     query_object: object
     mesh_W: trimesh.Trimesh
     X_WO: RigidTransform
+    handle_center_W: np.ndarray
+    handle_axis_W: np.ndarray
     p_WT: np.ndarray
     """Scan target (m, W): the mug's centre."""
-
-    @property
-    def handle_center_W(self) -> np.ndarray:
-        return self.X_WO @ HANDLE_CENTER_O
-
-    @property
-    def handle_axis_W(self) -> np.ndarray:
-        return self.X_WO.rotation() @ HANDLE_AXIS_O
+    scanner: Scanner
+    """10 views (default config), scanned once per context."""
+    rescanner: Scanner
+    """1 view, rescanned when the scene moves."""
 
 
 def build_mug_scene(model_dir) -> MugScene:
-    """The station with the test mug at its default place, handle along +y_W."""
+    """The station with the mug at its default place, turned so that its handle points to +y_W
+    (a camera on the robot's side sees it edge-on)."""
+    from gbh_drake.objects import make_object
     from gbh_drake.scenario import Scenario
     from gbh_drake.station import ObjectAsset, add_station
 
-    mug = make_test_mug()
+    spec = make_object(MUG)
     scenario = Scenario()
-    # The handle sideways (+y_W), so that a camera on the robot's side sees it edge-on.
     scenario.object.pose.set_rotation_rpy_deg([0.0, 0.0, 90.0])
+    asset = ObjectAsset(spec.name, spec.mesh, spec.density, spec.rgba, f"object set: {MUG}")
     builder = DiagramBuilder()
-    station = add_station(builder, scenario, model_dir=model_dir,
-                          object_asset=ObjectAsset("mug", mug, 900.0, (0.9, 0.9, 0.85, 1.0),
-                                                   "test mug"))
+    station = add_station(builder, scenario, model_dir=model_dir, object_asset=asset)
+    X_WO = station.X_WO_initial
+    p_WT = X_WO @ np.array([0.0, 0.0, 0.5 * spec.mesh.bounds[1, 2]])
+    scanners = [builder.AddSystem(Scanner(config, p_WT, rescan_on_change=rescan))
+                for config, rescan in [(ScanConfig(), False), (ScanConfig(num_views=1), True)]]
+    for scanner in scanners:
+        builder.Connect(station.scene_graph.get_query_output_port(), scanner.get_input_port())
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
     sg_context = station.scene_graph.GetMyContextFromRoot(context)
     query_object = station.scene_graph.get_query_output_port().Eval(sg_context)
-    X_WO = station.X_WO_initial
-    mesh_W = mug.copy().apply_transform(X_WO.GetAsMatrix4())
-    p_WT = X_WO.translation() + [0.0, 0.0, 0.045]
-    return MugScene(diagram, context, station.scene_graph, query_object, mesh_W, X_WO, p_WT)
+    handle = spec.hangable_parts[0]
+    return MugScene(
+        diagram, context, station, query_object,
+        mesh_W=spec.mesh.copy().apply_transform(X_WO.GetAsMatrix4()),
+        X_WO=X_WO,
+        handle_center_W=X_WO @ handle.center_O,
+        handle_axis_W=X_WO.rotation() @ handle.axis_O,
+        p_WT=p_WT,
+        scanner=scanners[0],
+        rescanner=scanners[1],
+    )
 
 
 @pytest.fixture(scope="session")
