@@ -26,8 +26,9 @@ def count_points_in_gripper(
     """N_c (M,) int: how many of ``points_W`` (N, 3, metres in W) lie inside the gripper's solid
     model (boxes grown by ``margin`` metres) at each pose ``X_WG`` (M, 4, 4) with finger position
     ``q`` (metres; default fully open)."""
-    X = np.asarray(X_WG, dtype=float).reshape(-1, 4, 4)
-    p = np.asarray(points_W, dtype=float).reshape(-1, 3)
+    # float32 halves the memory traffic; its ~1e-7 relative error is far below any tolerance.
+    X = np.asarray(X_WG, dtype=np.float32).reshape(-1, 4, 4)
+    p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
     counts = np.zeros(len(X), dtype=int)
     if len(p) == 0:
         return counts

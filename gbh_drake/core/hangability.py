@@ -214,4 +214,5 @@ def _structure(
         clearance=float(clearance),
         contact_point=contact.copy(),
         n_rays=len(t),
+        miss_directions=dirs[~hit],
     )

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import open3d as o3d
 import trimesh
+from scipy.sparse import csr_array
 from scipy.spatial import cKDTree
 
 from gbh_drake.core.params import GbhParams
@@ -148,9 +149,8 @@ def _dart_throw(n_pool: int, pairs: np.ndarray, n_max: int) -> np.ndarray:
     """Indices kept by visiting 0..n_pool-1 in order, dropping the neighbours of each kept one."""
     i = np.concatenate([pairs[:, 0], pairs[:, 1]])
     j = np.concatenate([pairs[:, 1], pairs[:, 0]])
-    order = np.argsort(i, kind="stable")
-    j = j[order]
-    start = np.searchsorted(i[order], np.arange(n_pool + 1))
+    adjacency = csr_array((np.ones(len(i), dtype=bool), (i, j)), shape=(n_pool, n_pool))
+    start, j = adjacency.indptr, adjacency.indices
     removed = np.zeros(n_pool, dtype=bool)
     keep: list[int] = []
     for k in range(n_pool):  # sequential by nature; ~15 ms for 25k candidates

@@ -44,6 +44,9 @@ class HangingStructure:
     """(3,) the contact candidate whose segment to the CoM gave c, metres."""
     n_rays: int = 0
     """Number of rays cast in the chosen plane (m = len(H) / n_rays)."""
+    miss_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(n_rays - K, 3) unit directions of the rays from c that miss (for drawing; a is their
+    normalised mean)."""
 
     @property
     def through_hole(self) -> bool:

@@ -1,0 +1,58 @@
+"""Time each stage of the GbH core on a 10-view-scan-sized mug (~30k triangles).
+
+Run from the repository root:  .venv/bin/python bench/bench_core.py [--repeats 7]
+
+Prints, per stage, the best and the median wall time over the repeats (the machine may be shared:
+the best is the figure least disturbed by other processes) and the 1-minute load average.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+from pathlib import Path
+
+import trimesh
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(REPO), str(REPO / "tests" / "core")]  # the package and the test shapes
+
+from gbh_shapes import make_mug  # noqa: E402
+
+from gbh_drake.core.params import GbhParams  # noqa: E402
+from gbh_drake.core.pipeline import plan_grasps  # noqa: E402
+
+STAGES = ("sampling", "hangability", "synthesis", "collision", "scoring")
+
+
+def scan_sized_mug() -> trimesh.Trimesh:
+    """The test mug (56 segments, 1.9k triangles) subdivided twice: 30k triangles, about what
+    a 10-view TSDF scan of a mug gives."""
+    return make_mug(segments=56).subdivide().subdivide()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    mesh = scan_sized_mug()
+    params = GbhParams()
+    plan_grasps(mesh, params)  # warm-up: imports, Embree and BLAS initialisation
+    runs = [plan_grasps(mesh, params) for _ in range(args.repeats)]
+    last = runs[-1]
+    print(f"mesh: {len(mesh.faces)} triangles, {params.n_points} points; "
+          f"{len(last.structures)} structures, {len(last.candidates)} candidates, "
+          f"{len(last.ranked)} ranked; load average {os.getloadavg()[0]:.2f} on "
+          f"{os.cpu_count()} cores")
+    print(f"{'stage':<12} {'best ms':>8} {'median ms':>10}")
+    totals = [sum(r.timings.values()) for r in runs]
+    for name in STAGES:
+        t = [r.timings[name] * 1e3 for r in runs]
+        print(f"{name:<12} {min(t):8.1f} {statistics.median(t):10.1f}")
+    print(f"{'total':<12} {min(totals) * 1e3:8.1f} {statistics.median(totals) * 1e3:10.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""Debug views (may import pydrake; the algorithm core in ``gbh_drake.core`` does not)."""
