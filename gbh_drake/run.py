@@ -106,6 +106,8 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None, script_fn=None,
     plant_context = plant.GetMyContextFromRoot(context)
     X_WO_0 = plant.EvalBodyPoseInWorld(plant_context, body)
 
+    # A view of the work area from the front right (the user can orbit it in the browser).
+    meshcat.SetCameraPose(camera_in_world=[1.3, -1.0, 0.8], target_in_world=[0.45, 0.0, 0.15])
     meshcat.StartRecording(frames_per_second=1.0 / scenario.visualization.publish_period)
     start = time.perf_counter()
     simulator.Initialize()

@@ -51,8 +51,10 @@ INERTIA = {
 
 PYBULLET = "package://pybullet_data/franka_panda/meshes"
 #: pybullet's wheel has no visual mesh for link0 and link7, and their collision meshes name a
-#: material file it does not ship: models/franka/ keeps copies without the material lines.
-OWN_COPIES = ("link0", "link7")
+#: material file it does not ship; the multi-material visual meshes of link5, link6 and the hand
+#: do not show in Meshcat. models/franka/ keeps copies of these collision meshes (a few hundred
+#: triangles each) without material lines, used as both visual and collision geometry.
+OWN_COPIES = ("link0", "link5", "link6", "link7", "hand")
 
 
 def copy_meshes(models_dir: Path) -> None:
@@ -75,7 +77,7 @@ def link_xml(name: str) -> str:
     collision = (f"package://gbh_drake/franka/link{idx}.obj" if own
                  else f"{PYBULLET}/collision/link{idx}.obj")
     # Meshes with their own materials keep them; the copies get a colour.
-    color = ("0.95 0.95 0.95 1" if idx == "0" else "0.25 0.25 0.25 1") if own else ""
+    color = ("0.25 0.25 0.25 1" if idx == "7" else "0.95 0.95 0.95 1") if own else ""
     material = f'<material name="{name}_color"><color rgba="{color}"/></material>' if own else ""
     return f"""  <link name="{name}">
     <inertial>

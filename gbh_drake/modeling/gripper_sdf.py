@@ -79,7 +79,8 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
         '<model name="hook_gripper">',
         '<link name="panda_hand">',
         inertial(g.hand_mass, hand_com, box_inertia(g.hand_mass, hand.size)),
-        f'<visual name="franka_hand">{mesh_geometry(FRANKA_MESHES + "/hand.obj")}</visual>',
+        f'<visual name="franka_hand">{mesh_geometry("package://gbh_drake/franka/hand.obj")}'
+        f"{material((0.95, 0.95, 0.95, 1.0))}</visual>",
         f'<collision name="hand">{pose(hand_com)}{box_geometry(hand.size)}{props}</collision>',
         "</link>",
         f'<frame name="G" attached_to="panda_hand">{pose(palm, relative_to="panda_hand")}</frame>',
