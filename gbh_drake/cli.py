@@ -2,6 +2,8 @@
 
     gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: scenarios/default.yaml)
     gbh diagram [SCENARIO.yaml]                        write the station's Graphviz diagram to diagrams/
+    gbh objects list                                   the object set: sizes, masses, hangable parts
+    gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
 """
 
 from __future__ import annotations
@@ -37,8 +39,14 @@ def main(argv: list[str] | None = None) -> int:
     _scenario_arg(p_diag)
     p_diag.add_argument("--out", default=str(REPO_ROOT / "diagrams"), help="output folder")
 
+    p_obj = sub.add_parser("objects", help="the object set")
+    p_obj.add_argument("action", choices=["list", "build"])
+    p_obj.add_argument("--out", default=None, help="output folder of build (default models/objects)")
+
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
+    if args.command == "objects":
+        return _objects(args.action, args.out)
     try:
         scenario = load_scenario(args.scenario, overrides=args.overrides)
     except ScenarioError as e:
@@ -65,6 +73,21 @@ def _run(scenario, *, live: bool) -> int:
     print(summary.to_text())
     if live and sys.stdin.isatty():
         input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
+    return 0
+
+
+def _objects(action: str, out: str | None) -> int:
+    from gbh_drake.modeling.object_set import (
+        OBJECT_MODELS_DIR,
+        build_object_models,
+        describe_object_set,
+    )
+
+    if action == "list":
+        print("\n".join(describe_object_set()))
+        return 0
+    for model in build_object_models(Path(out) if out else OBJECT_MODELS_DIR):
+        print(f"wrote {model.sdf} ({model.mass * 1000:.0f} g)")
     return 0
 
 

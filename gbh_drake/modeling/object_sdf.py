@@ -16,6 +16,8 @@ import numpy as np
 import trimesh
 
 from gbh_drake.modeling.sdf_text import hydroelastic, inertial, material, mesh_geometry
+from gbh_drake.objects.export import obj_bytes
+from gbh_drake.objects.mass import mass_properties_detailed
 
 #: Friction of object surfaces (static = dynamic).
 OBJECT_MU = 0.6
@@ -32,19 +34,6 @@ class ObjectModel:
     mass: float
     com_O: np.ndarray
     inertia_O: np.ndarray
-
-
-def mesh_mass_properties(mesh: trimesh.Trimesh, density: float):
-    """``(mass, com, inertia about com)`` of a solid of ``density`` kg/m^3 bounded by ``mesh``.
-
-    A watertight mesh gives exact values. Otherwise (scanned or open meshes) the convex hull's
-    values are used: an over-estimate of the volume, stated in the returned object's log."""
-    if density <= 0:
-        raise ValueError(f"density must be positive, got {density}")
-    solid = mesh if mesh.is_volume else mesh.convex_hull
-    solid = solid.copy()
-    solid.density = float(density)
-    return float(solid.mass), np.asarray(solid.center_mass), np.asarray(solid.moment_inertia)
 
 
 def model_name(name: str) -> str:
@@ -64,15 +53,18 @@ def write_object_model(
 ) -> ObjectModel:
     """Writes ``out_dir/<name>.obj`` and ``out_dir/<name>.sdf`` for a free body named ``name``.
 
-    ``mesh`` is in metres in the object frame O. ``mass_properties`` overrides the
-    ``(mass, com, inertia)`` computed by :func:`mesh_mass_properties`."""
+    ``mesh`` is in metres in the object frame O. Mass properties come from
+    :func:`gbh_drake.objects.mass.mass_properties_detailed` (exact for a watertight body, a voxel
+    fill otherwise); ``mass_properties`` = ``(mass, com, inertia)`` overrides them."""
     name = model_name(name)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     obj_path = out_dir / f"{name}.obj"
-    obj_path.write_text(trimesh.exchange.obj.export_obj(mesh, include_normals=True,
-                                                        include_texture=False))
-    mass, com, inertia = mass_properties or mesh_mass_properties(mesh, density)
+    obj_path.write_bytes(obj_bytes(mesh))
+    if mass_properties is None:
+        props = mass_properties_detailed(mesh, density)
+        mass_properties = (props.mass, props.com, props.inertia)
+    mass, com, inertia = mass_properties
     geometry = mesh_geometry(obj_path.name)
     sdf = "\n".join([
         '<?xml version="1.0"?>',
