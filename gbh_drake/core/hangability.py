@@ -6,7 +6,8 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
    direction to the CoM h_c (a frictionless hanging contact pushes along the normal through h_c);
 2. clusters of candidates (single linkage at ``cluster_radius`` sample spacings);
 3. hanging position c of a cluster: on each member's segment to h_c, only the first free interval
-   (up to the first surface hit), the point farthest from the surface; the cluster keeps its
+   (up to the first surface hit, and at most ``max_hanging_distance`` from the contact point: the
+   gripper's reach), the point farthest from the surface; the cluster keeps its
    member with the largest such clearance. Positions inside another one's free ball coincide;
 4. hanging direction v: the normal u of the plane through c whose K rays hit the mesh most often
    (coarse Fibonacci sphere, then cones of shrinking size around the best). Ties (e.g. a ring
@@ -102,7 +103,8 @@ def hanging_positions(
     """Hanging positions (P, 3), their clearances (P,) and contact points (P, 3), metres.
 
     ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels. For
-    each member, the free part of its segment to the CoM is sampled; the cluster's position is
+    each member, the free part of its segment to the CoM (up to the first hit, at most
+    ``max_hanging_distance`` long) is sampled; the cluster's position is
     the sample farthest from the surface. Positions with clearance < ``min_clearance`` are
     dropped and coincident ones (within another's free ball) merged, keeping the larger ball.
     """
@@ -114,7 +116,8 @@ def hanging_positions(
     length = np.linalg.norm(d, axis=1)
     d /= length[:, None]
     eps = 0.05 * obj.spacing  # leave the sample's own triangle before casting
-    free = np.minimum(obj.cast(p + eps * d, d) + eps, length)
+    reach = np.minimum(length, params.max_hanging_distance)
+    free = np.minimum(obj.cast(p + eps * d, d) + eps, reach)
     frac = np.arange(1, params.n_segment_samples + 1) / params.n_segment_samples
     samples = p[:, None] + d[:, None] * (free[:, None, None] * frac[None, :, None])
     dist = obj.approx_distance(samples.reshape(-1, 3)).reshape(len(p), -1)

@@ -41,13 +41,19 @@ class GbhParams:
     cluster_radius: float = 2.5
     """Contact points closer than this many mean sample spacings are in one cluster
     (single-linkage, i.e. DBSCAN with min_samples = 1). Dimensionless."""
-    min_cluster_size: int = 2
-    """Clusters with fewer contact points are ignored (sampling noise)."""
+    min_cluster_size: int = 1
+    """Clusters with fewer contact points are ignored. 1 keeps isolated candidates: on a thin
+    wire (a bucket's bail, a bag's strap) at 5000 points the few candidates on its underside
+    lie farther apart than the cluster radius; the through-hole test removes noise."""
     max_contacts_per_cluster: int = 48
     """Contact points of a cluster whose segments are searched (a deterministic random subset
     when the cluster is larger; bounds the cost on big clusters such as a cup's inner wall)."""
     n_segment_samples: int = 32
     """Points sampled on the free part of each contact-to-CoM segment to find the clearance max."""
+    max_hanging_distance: float = 0.05
+    """Metres. c is searched on the segment toward the CoM at most this far from the contact
+    point: the gripper's loop is l_f = 8 cm long, so a c farther from the material it hooks
+    cannot be used; without the cap, a bucket's bail hands its c to the bucket's cavity."""
     min_clearance: float = 0.002
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
     dedup_radius_factor: float = 1.0
