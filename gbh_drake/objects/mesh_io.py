@@ -60,7 +60,8 @@ def load_mesh_file(path, scale: float = 1.0) -> trimesh.Trimesh:
     if not (np.isfinite(scale) and scale > 0):
         raise fail(f"scale must be positive and finite, got {scale}")
     mesh = trimesh.Trimesh(vertices * scale, np.asarray(loaded.faces), process=False)
-    warnings = _repair(mesh)
+    with np.errstate(invalid="ignore", divide="ignore"):  # flat meshes: 0/0 in trimesh
+        warnings = _repair(mesh)
     if len(mesh.faces) == 0:
         raise fail("no faces left after removing degenerate ones")
     _check_volume(mesh, fail)

@@ -1,0 +1,81 @@
+"""load_mesh_file: repairs what it can, refuses bad files with the file's name in the message."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from gbh_drake.objects import MeshImportError, load_mesh_file
+from gbh_drake.objects.real import pybullet_mug_path
+
+
+def _raises_naming(path, match):
+    with pytest.raises(MeshImportError, match=match) as info:
+        load_mesh_file(path)
+    assert str(path) in str(info.value)
+
+
+def test_missing_file(tmp_path):
+    _raises_naming(tmp_path / "nope.obj", "not found")
+
+
+def test_empty_file(tmp_path):
+    path = tmp_path / "empty.obj"
+    path.write_bytes(b"")
+    _raises_naming(path, "empty")
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".stl", ".ply", ".off", ".glb"])
+def test_text_that_is_not_a_mesh(tmp_path, suffix):
+    path = tmp_path / f"notes{suffix}"
+    path.write_text("this is a shopping list, not a mesh\nmilk\neggs\n")
+    _raises_naming(path, "not a mesh")
+
+
+def test_unsupported_suffix(tmp_path):
+    path = tmp_path / "mesh.dae"
+    path.write_text("<COLLADA/>")
+    _raises_naming(path, "unsupported")
+
+
+def test_flat_mesh_has_zero_volume(tmp_path):
+    path = tmp_path / "flat.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n")
+    _raises_naming(path, "zero volume")
+
+
+def test_non_finite_vertices(tmp_path):
+    path = tmp_path / "nan.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n")
+    _raises_naming(path, "non-finite")
+
+
+def test_repairs_inverted_split_box_and_scales(tmp_path):
+    box = trimesh.creation.box((10.0, 20.0, 30.0))  # millimetres
+    unmerged = trimesh.Trimesh(box.vertices[box.faces].reshape(-1, 3),
+                               np.arange(36).reshape(-1, 3)[:, ::-1], process=False)
+    degenerate = trimesh.Trimesh(np.vstack([unmerged.vertices, [[0, 0, 0]] * 3]),
+                                 np.vstack([unmerged.faces, [[36, 37, 38]]]), process=False)
+    path = tmp_path / "box.stl"
+    degenerate.export(path)
+    mesh = load_mesh_file(path, scale=0.001)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(6e-6)
+    assert len(mesh.faces) == 12
+    assert mesh.metadata["gbh_warnings"] == []
+
+
+def test_scene_is_merged(tmp_path):
+    a = trimesh.creation.box((0.1, 0.1, 0.1))
+    b = trimesh.creation.icosphere(radius=0.05)
+    b.apply_translation((0.3, 0, 0))
+    path = tmp_path / "two.glb"
+    trimesh.Scene([a, b]).export(path)
+    mesh = load_mesh_file(path)
+    assert mesh.body_count == 2
+    assert mesh.bounds[1, 0] == pytest.approx(0.35, abs=1e-6)
+
+
+def test_open_mesh_is_accepted_with_a_warning():
+    mesh = load_mesh_file(pybullet_mug_path())
+    assert not mesh.is_watertight
+    assert any("not watertight" in w for w in mesh.metadata["gbh_warnings"])
