@@ -62,9 +62,9 @@ def load_mesh_file(path, scale: float = 1.0) -> trimesh.Trimesh:
     mesh = trimesh.Trimesh(vertices * scale, np.asarray(loaded.faces), process=False)
     with np.errstate(invalid="ignore", divide="ignore"):  # flat meshes: 0/0 in trimesh
         warnings = _repair(mesh)
-    if len(mesh.faces) == 0:
-        raise fail("no faces left after removing degenerate ones")
-    _check_volume(mesh, fail)
+        if len(mesh.faces) == 0:
+            raise fail("no faces left after removing degenerate ones")
+        _check_volume(mesh, fail)
     if warnings:
         for w in warnings:
             log.warning("%s: %s", path, w)
