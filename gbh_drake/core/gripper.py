@@ -186,10 +186,12 @@ class HookGripperGeometry:
         pass (N, M) coordinate arrays without reshaping."""
         inside = np.zeros(np.shape(x), dtype=bool)
         for b in self.solid_boxes_G(q):
-            (cx, cy, cz), (hx, hy, hz) = b.center, b.half_extents
-            box = np.abs(z - cz) <= hz + margin
-            box &= np.abs(y - cy) <= hy + margin
-            box &= np.abs(x - cx) <= hx + margin
+            # Python floats keep float32 input in float32 (NumPy scalars would upcast it).
+            cx, cy, cz = (float(v) for v in b.center)
+            hx, hy, hz = (float(v) + margin for v in b.half_extents)
+            box = np.abs(z - cz) <= hz
+            box &= np.abs(y - cy) <= hy
+            box &= np.abs(x - cx) <= hx
             inside |= box
         return inside
 

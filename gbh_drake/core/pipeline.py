@@ -44,17 +44,19 @@ def plan_grasps(
     score_grasps(candidates, params)
     ranked = rank_grasps(candidates, params)
     clock.lap("scoring")
-    return GbhResult(structures, candidates, ranked, clock.laps)
+    return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu)
 
 
 class _StageClock:
-    """Wall-clock seconds between successive ``lap(name)`` calls."""
+    """Wall-clock and process CPU seconds between successive ``lap(name)`` calls."""
 
     def __init__(self) -> None:
-        self.laps: dict[str, float] = {}
-        self._t = time.perf_counter()
+        self.wall: dict[str, float] = {}
+        self.cpu: dict[str, float] = {}
+        self._t = (time.perf_counter(), time.process_time())
 
     def lap(self, name: str) -> None:
-        now = time.perf_counter()
-        self.laps[name] = now - self._t
+        now = (time.perf_counter(), time.process_time())
+        self.wall[name] = now[0] - self._t[0]
+        self.cpu[name] = now[1] - self._t[1]
         self._t = now

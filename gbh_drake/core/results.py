@@ -93,4 +93,6 @@ class GbhResult:
     ranked: list[GraspCandidate]
     """Collision-free grasps (N_c < p_c), best score first, at most ``top_k``."""
     timings: dict[str, float] = field(default_factory=dict)
-    """Seconds spent per stage: sampling, hangability, synthesis, collision, scoring."""
+    """Wall-clock seconds per stage: sampling, hangability, synthesis, collision, scoring."""
+    cpu_timings: dict[str, float] = field(default_factory=dict)
+    """CPU seconds of this process per stage (all threads; insensitive to other processes)."""

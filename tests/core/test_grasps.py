@@ -140,13 +140,21 @@ def test_every_kept_grasp_is_collision_free_by_an_independent_count(mug, mug_res
     obj = prepare_object(mug, params)
     assert mug_result.ranked
     for g in mug_result.candidates:
-        p_GQ = transform_points(invert_transform(g.X_WG), obj.points)
-        assert g.n_collisions == HOOK_GRIPPER.count_points_inside(p_GQ, HOOK_GRIPPER.q_open)
+        assert g.n_collisions == _count_reference(g.X_WG, obj.points, HOOK_GRIPPER.q_open, 0.0)
     assert all(g.n_collisions < params.p_c for g in mug_result.ranked)
     # Approaching from the cup's side (h on the cup wall) drives the hand into the cup.
     from_cup = [g for g in mug_result.candidates
                 if g.kind == PARALLEL and np.linalg.norm(g.h[:2]) < CUP_RADIUS + 1e-3]
     assert from_cup and all(g.n_collisions >= params.p_c for g in from_cup)
+
+
+def _count_reference(X_WG: np.ndarray, points: np.ndarray, q: float, margin: float) -> int:
+    """Independent N_c: each point in G, each box of the solid model, one at a time."""
+    p_G = transform_points(invert_transform(X_WG), points)
+    inside = np.zeros(len(p_G), dtype=bool)
+    for b in HOOK_GRIPPER.solid_boxes_G(q):
+        inside |= np.all(np.abs(p_G - b.center) <= np.asarray(b.half_extents) + margin, axis=1)
+    return int(inside.sum())
 
 
 def test_batched_count_matches_gripper_model():
@@ -157,9 +165,9 @@ def test_batched_count_matches_gripper_model():
     X[:, :3, 3] = rng.normal(scale=0.03, size=(7, 3))
     for q, margin in ((HOOK_GRIPPER.q_open, 0.0), (HOOK_GRIPPER.q_closed, 0.002)):
         counts = count_points_in_gripper(points, X, q, margin)
-        expected = [HOOK_GRIPPER.count_points_inside(transform_points(invert_transform(x), points),
-                                                     q, margin) for x in X]
-        np.testing.assert_array_equal(counts, expected)
+        np.testing.assert_array_equal(counts, [_count_reference(x, points, q, margin) for x in X])
+        p_G = transform_points(invert_transform(X[0]), points)
+        assert HOOK_GRIPPER.count_points_inside(p_G, q, margin) == counts[0]
         assert counts.max() > 0
 
 
