@@ -72,7 +72,7 @@ def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
 def cluster_points(points: np.ndarray, radius: float, min_size: int) -> np.ndarray:
     """Single-linkage cluster labels (n,) of ``points`` (n, 3) at ``radius`` metres.
 
-    Labels are 0..k-1 in order of first appearance; clusters smaller than ``min_size`` get -1.
+    Labels are connected-component numbers (>= 0); clusters smaller than ``min_size`` get -1.
     """
     n = len(points)
     if n == 0:

@@ -16,7 +16,8 @@ from gbh_drake.core.results import GbhInputError
 def test_params_load_from_yaml_with_drake():
     from pydrake.common.yaml import yaml_load_typed
 
-    p = yaml_load_typed(schema=GbhParams, data="{n_points: 3000, ground_normal: [0, 1, 0], d2: 0.005}")
+    data = "{n_points: 3000, ground_normal: [0, 1, 0], d2: 0.005}"
+    p = yaml_load_typed(schema=GbhParams, data=data)
     assert (p.n_points, p.ground_normal, p.d2) == (3000, [0.0, 1.0, 0.0], 0.005)
     assert p.gamma_alpha == GbhParams().gamma_alpha
     with pytest.raises(RuntimeError, match="n_point"):
