@@ -22,10 +22,13 @@ from gbh_drake.perception.depth import points_C, valid_depth
 def viewing_angle(depth: np.ndarray, intrinsics: CameraIntrinsics) -> np.ndarray:
     """Angle (h, w), radians, between each pixel's ray and the surface normal estimated from
     neighbouring pixels; nan where a neighbour is invalid (edges of the measured region)."""
-    p_CQ = points_C(np.where(valid_depth(depth), depth, np.nan), intrinsics)
-    normal = np.cross(np.gradient(p_CQ, axis=1), np.gradient(p_CQ, axis=0))
-    cos = np.abs(np.sum(normal * p_CQ, axis=-1)) / (
-        np.linalg.norm(normal, axis=-1) * np.linalg.norm(p_CQ, axis=-1))
+    depth = np.where(valid_depth(depth), depth, np.nan).astype(np.float32)
+    p = np.moveaxis(points_C(depth, intrinsics).astype(np.float32), -1, 0)  # (3, h, w)
+    du, dv = np.gradient(p, axis=2), np.gradient(p, axis=1)
+    normal = np.stack([du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+                       du[0] * dv[1] - du[1] * dv[0]])
+    dot = np.abs(np.sum(normal * p, axis=0))
+    cos = dot / np.sqrt(np.sum(normal * normal, axis=0) * np.sum(p * p, axis=0))
     return np.arccos(np.clip(cos, 0.0, 1.0))
 
 

@@ -38,6 +38,7 @@ def test_ten_views_are_accurate_and_keep_the_handle_open(mug_scene, ten_views):
     config, result = ten_views
     assert not result.empty, result.message
     assert len(result.X_WCs) == 10
+    assert len(result.o3d_mesh().triangles) == len(result.mesh_W.faces)
     q, hole = quality(mug_scene, result, config)
     assert q.scan_to_truth_mm < 1.5 and q.chamfer_mm < 2.0, q
     assert q.coverage > 0.95, q
