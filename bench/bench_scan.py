@@ -91,7 +91,7 @@ def main() -> None:
         return
     print(f"{os.cpu_count()} cpus, load average {os.getloadavg()[0]:.2f}; "
           f"{REPEATS} warm repeats; 640x480, voxel 2.5 mm")
-    header = (f"{"case":22} {'cold s':>7} {'warm s':>7} {'best s':>7} {'render':>7} {'fuse':>7} "
+    header = (f"{'case':22} {'cold s':>7} {'warm s':>7} {'best s':>7} {'render':>7} {'fuse':>7} "
               f"{'maxrss MB':>9} {'scan +MB':>8} {'py MB':>6} {'faces':>6}")
     print(header)
     for name, omp in [(name, omp) for omp in ("", "1") for name in CASES]:
