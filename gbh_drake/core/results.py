@@ -48,11 +48,6 @@ class HangingStructure:
     """(n_rays - K, 3) unit directions of the rays from c that miss (for drawing; a is their
     normalised mean)."""
 
-    @property
-    def through_hole(self) -> bool:
-        """Always True for returned structures (the test is a filter); kept for readability."""
-        return True
-
 
 @dataclass(eq=False)
 class GraspCandidate:
