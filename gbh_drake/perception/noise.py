@@ -23,7 +23,7 @@ def viewing_angle(depth: np.ndarray, intrinsics: CameraIntrinsics) -> np.ndarray
     """Angle (h, w), radians, between each pixel's ray and the surface normal estimated from
     neighbouring pixels; nan where a neighbour is invalid (edges of the measured region)."""
     depth = np.where(valid_depth(depth), depth, np.nan).astype(np.float32)
-    p = np.moveaxis(points_C(depth, intrinsics).astype(np.float32), -1, 0)  # (3, h, w)
+    p = points_C(depth, intrinsics).astype(np.float32)  # (3, h, w)
     du, dv = np.gradient(p, axis=2), np.gradient(p, axis=1)
     normal = np.stack([du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
                        du[0] * dv[1] - du[1] * dv[0]])
