@@ -39,6 +39,8 @@ def test_ten_views_are_accurate_and_keep_the_handle_open(mug_scene, ten_views):
     assert not result.empty, result.message
     assert len(result.X_WCs) == 10
     assert len(result.o3d_mesh().triangles) == len(result.mesh_W.faces)
+    # Only the mug: no table, no robot (the hand is above the crop box), no background.
+    np.testing.assert_allclose(result.mesh_W.bounds, mug_scene.mesh_W.bounds, atol=0.004)
     q, hole = quality(mug_scene, result, config)
     assert q.scan_to_truth_mm < 1.5 and q.chamfer_mm < 2.0, q
     assert q.coverage > 0.95, q
