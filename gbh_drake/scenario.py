@@ -21,7 +21,14 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
+from gbh_drake.core.params import GbhParams
+from gbh_drake.perception.config import ScanConfig
+from gbh_drake.planning.pick import PickParams
 from gbh_drake.yaml_check import YamlFieldError, check_yaml_against_schema
+
+#: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
+#: grasp and judge it; ``settle`` = only let the object settle (a smoke test of the station).
+TASKS = ("pick", "settle")
 
 #: Franka's "ready" pose, the gripper pointing down over the table (rad).
 DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
@@ -122,8 +129,21 @@ class Scenario:
         default_factory=lambda: VisualizationConfig(publish_period=1 / 32)
     )
     """Meshcat visualisation (illustration, contact forces); see Drake's VisualizationConfig."""
+    task: str = "pick"
+    """``pick`` (the whole GbH pipeline) or ``settle`` (only the station)."""
     settle_time: float = 0.5
     """Simulated time (s) to let the object settle on the table before anything else."""
+    scan_target: list[float] = field(default_factory=lambda: [0.55, 0.0, 0.06])
+    """p_WT (m): the workspace point the cameras look at and crop around (the nominal object spot,
+    not the object's true pose)."""
+    scan: ScanConfig = field(default_factory=ScanConfig)
+    """Depth scan of the object (views, camera, TSDF, crop, noise); 1 view: ``{num_views: 1}``.
+    Its ``noise_seed`` is replaced by the scenario's ``seed``."""
+    gbh: GbhParams = field(default_factory=GbhParams)
+    """Grasping-by-Hanging parameters (paper values by default). Its ``seed`` is replaced by the
+    scenario's ``seed``."""
+    pick: PickParams = field(default_factory=PickParams)
+    """How the chosen grasp is executed (approach, lift, carry, hold)."""
     output_dir: str = ""
     """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
     source_path: str = ""
@@ -196,6 +216,17 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
             fail(f"robot.{name}", "needs 7 values")
     if scenario.settle_time < 0:
         fail("settle_time", "must be >= 0")
+    if scenario.task not in TASKS:
+        fail("task", f"must be one of {', '.join(TASKS)}, got {scenario.task!r}")
+    if len(scenario.scan_target) != 3:
+        fail("scan_target", "needs 3 coordinates (m)")
+    if len(scenario.pick.carry_offset) != 3:
+        fail("pick.carry_offset", "needs 3 coordinates (m)")
+    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check)):
+        try:
+            check()
+        except ValueError as e:
+            fail(name, str(e))
     if scenario.plant_config.time_step <= 0:
         fail("plant_config.time_step", "gbh_drake needs a discrete plant (time_step > 0)")
 

@@ -1,5 +1,11 @@
 """Shared fixtures: small meshes whose truth is known, and a station-building helper."""
 
+import os
+
+# Open3D's OpenMP threads thrash on a shared 2-core machine: one thread is steadier (and what
+# the perception bench measured). Set before anything imports open3d.
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
 import numpy as np
 import pytest
 import trimesh

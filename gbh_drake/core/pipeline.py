@@ -13,8 +13,42 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import detect_hangable_structures
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import GbhResult
+from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
+
+
+def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams
+           ) -> tuple[ObjectModel, list[HangingStructure]]:
+    """Stage 1 (paper Sec. 2.2): the prepared object (samples, CoM, ray scene) and its
+    hanging structures. Raises GbhInputError for unusable input."""
+    obj = prepare_object(mesh, params)
+    return obj, detect_hangable_structures(obj, params)
+
+
+def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,
+               gripper: HookGripperGeometry = HOOK_GRIPPER) -> list[GraspCandidate]:
+    """Stage 2 (Sec. 2.3): parallel and vertical grasps with N_c counted on the object's points
+    (open gripper at X_WG)."""
+    candidates = synthesize_grasps(structures, obj.points, params, gripper)
+    count_collisions(obj, candidates, params, gripper)
+    return candidates
+
+
+def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params: GbhParams,
+                     gripper: HookGripperGeometry = HOOK_GRIPPER) -> None:
+    """Sets ``n_collisions`` (N_c) of every candidate: object points inside the open gripper."""
+    if candidates:
+        X = np.stack([g.X_WG for g in candidates])
+        n_c = count_points_in_gripper(obj.points, X, gripper.q_open, params.collision_margin,
+                                      gripper)
+        for g, n in zip(candidates, n_c, strict=True):
+            g.n_collisions = int(n)
+
+
+def score(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
+    """Stage 3 (Sec. 2.4): scores every candidate in place; returns the collision-free top-k."""
+    score_grasps(candidates, params)
+    return rank_grasps(candidates, params)
 
 
 def plan_grasps(
@@ -34,15 +68,9 @@ def plan_grasps(
     clock.lap("hangability")
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     clock.lap("synthesis")
-    if candidates:
-        X = np.stack([g.X_WG for g in candidates])
-        n_c = count_points_in_gripper(obj.points, X, gripper.q_open, params.collision_margin,
-                                      gripper)
-        for g, n in zip(candidates, n_c, strict=True):
-            g.n_collisions = int(n)
+    count_collisions(obj, candidates, params, gripper)
     clock.lap("collision")
-    score_grasps(candidates, params)
-    ranked = rank_grasps(candidates, params)
+    ranked = score(candidates, params)
     clock.lap("scoring")
     return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu)
 

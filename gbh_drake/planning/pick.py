@@ -5,9 +5,7 @@ moves between them with joint-space cubic segments (collision-free paths between
 are the planner's job, not this module's).
 """
 
-from __future__ import annotations
-
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -17,24 +15,29 @@ from gbh_drake.planning.ik import solve_gripper_ik
 from gbh_drake.planning.trajectories import MotionScript
 
 
-@dataclass(frozen=True)
+@dataclass
 class PickParams:
-    """Distances in metres, durations in seconds."""
+    """How a chosen grasp is executed. Distances in metres, durations in seconds. (No
+    ``from __future__ import annotations`` in this module: yaml_load_typed needs real types.)"""
 
     approach_distance: float = 0.10
     """Pre-grasp offset back along the approach direction (+z_G reversed)."""
     lift_height: float = 0.15
     """Height the gripper rises (world +z) after closing."""
-    carry_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    """Horizontal displacement (world) of the carry after the lift; zeros: no carry."""
+    carry_offset: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    """Displacement (W) of the carry after the lift, e.g. to a drop-off spot; zeros: no carry."""
     settle_time: float = 0.3
+    """Time the robot waits at home before moving (0: start at once)."""
     hold_time: float = 1.0
     """Time the object is held still at the end (does it stay caged?)."""
 
 
 def pick_script(station, plant_context, X_WG: RigidTransform,
-                params: PickParams = PickParams()) -> MotionScript | None:
-    """The motion that picks with the gripper at ``X_WG``; None when a waypoint has no IK."""
+                params: PickParams | None = None) -> MotionScript | None:
+    """The motion that picks with the gripper at ``X_WG``; None when a waypoint has no IK.
+
+    ``plant_context`` gives the state IK holds fixed (the object where it lies)."""
+    params = params or PickParams()
     plant = station.plant
     G = plant.GetFrameByName("G", station.gripper)
     approach_W = X_WG.rotation().col(2)  # +z_G: from the palm toward the fingertips
@@ -50,7 +53,8 @@ def pick_script(station, plant_context, X_WG: RigidTransform,
         waypoints.append(q)
     q_pre, q_grasp, q_lift, q_carry = waypoints
     script = MotionScript().start(station.q_home, HOOK_GRIPPER.q_open)
-    script.hold(params.settle_time, "settle")
+    if params.settle_time > 0:
+        script.hold(params.settle_time, "settle")
     script.move_arm(q_pre, "approach").move_arm(q_grasp, "descend")
     script.move_fingers(HOOK_GRIPPER.q_closed, "close")
     script.move_arm(q_lift, "lift")

@@ -32,8 +32,9 @@ def _lift(scenario, staple_mesh, *, close: bool):
             script.finger = [HOOK_GRIPPER.q_open] * len(script.finger)
         return script
 
-    diagram, station, script = build_diagram(scenario, script_fn, object_asset=asset)
-    simulator = Simulator(diagram)
+    built = build_diagram(scenario, script_fn, object_asset=asset)
+    station, script = built.station, built.script
+    simulator = Simulator(built.diagram)
     plant = station.plant
     context = plant.GetMyContextFromRoot(simulator.get_mutable_context())
     body = station.object_body()

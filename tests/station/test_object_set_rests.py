@@ -12,8 +12,9 @@ from gbh_drake.run import build_diagram
 def test_object_rests_on_table(name, scenario):
     scenario.object.name = name
     scenario.settle_time = 1.0
-    diagram, station, script = build_diagram(scenario)
-    simulator = Simulator(diagram)
+    built = build_diagram(scenario)
+    station, script = built.station, built.script
+    simulator = Simulator(built.diagram)
     plant = station.plant
     context = plant.GetMyContextFromRoot(simulator.get_mutable_context())
     body = station.object_body()

@@ -46,4 +46,4 @@ def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     scenario.settle_time = 0.05
     asset = ObjectAsset("staple", staple_mesh, 500.0, (0.2, 0.4, 0.8, 1.0), "test")
     summary = run(scenario, object_asset=asset)
-    assert summary.sim_time == pytest.approx(0.05)
+    assert summary.sim_time >= 0.05 and summary.pick is not None

@@ -1,4 +1,4 @@
-"""Every scenario file in scenarios/ loads, builds and simulates briefly (a smoke test each)."""
+"""Every scenario file in scenarios/ loads, builds and runs (a smoke test each)."""
 
 import pytest
 
@@ -14,9 +14,12 @@ def test_there_are_scenarios():
 
 
 @pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
-def test_scenario_runs_briefly(path, tmp_path):
+def test_scenario_runs(path, tmp_path):
     scenario = load_scenario(path, overrides=f"settle_time: 0.05\noutput_dir: {tmp_path}")
     summary = run(scenario)
-    assert summary.sim_time == pytest.approx(0.05)
+    assert summary.sim_time >= 0.05
     assert (tmp_path / "replay.html").is_file()
-    assert summary.object_drift < 0.01
+    assert (tmp_path / "summary.yaml").is_file()
+    assert summary.settle_drift < 0.01
+    if scenario.task == "pick":
+        assert summary.pick is not None and summary.pick.reason
