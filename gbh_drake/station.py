@@ -22,6 +22,7 @@ import numpy as np
 import trimesh
 from pydrake.common import RandomGenerator
 from pydrake.geometry import Meshcat, RenderEngineVtkParams, SceneGraph
+from pydrake.lcm import DrakeLcm
 from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import ProcessModelDirectives
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant
@@ -68,6 +69,9 @@ class Station:
     """The object's initial pose (sampled from the scenario's seed)."""
     q_home: np.ndarray
     meshcat: Meshcat | None
+    lcm: DrakeLcm | None = None
+    """The in-memory LCM bus the visualisers' LCM publishers use (instead of Drake's default
+    UDP-multicast bus). The diagram does not own it: keep this Station while the diagram lives."""
 
     @property
     def arm_desired_state(self) -> InputPort:
@@ -147,12 +151,14 @@ def add_station(
     q_finger = HOOK_GRIPPER.q_open if scenario.robot.gripper_open else HOOK_GRIPPER.q_closed
     plant.SetDefaultPositions(gripper, [q_finger, q_finger])
 
-    # Cameras and visualisation.
+    # Cameras and visualisation. Their LCM publishers (images, Meldis messages) go to an
+    # in-memory bus: Drake's default LCM bus is UDP multicast, i.e. network traffic.
+    lcm = DrakeLcm("memq://gbh_drake")
     for camera in scenario.cameras:
-        ApplyCameraConfig(config=camera, builder=builder)
+        ApplyCameraConfig(config=camera, builder=builder, lcm=lcm)
     if meshcat is not None:
-        ApplyVisualizationConfig(scenario.visualization, builder, meshcat=meshcat)
-    return Station(plant, scene_graph, arm, gripper, obj, asset, model, X_WO, q_home, meshcat)
+        ApplyVisualizationConfig(scenario.visualization, builder, meshcat=meshcat, lcm=lcm)
+    return Station(plant, scene_graph, arm, gripper, obj, asset, model, X_WO, q_home, meshcat, lcm)
 
 
 def sample_object_pose(scenario: Scenario) -> RigidTransform:

@@ -24,7 +24,7 @@ class PickParams:
     """Pre-grasp offset back along the approach direction (+z_G reversed)."""
     lift_height: float = 0.15
     """Height the gripper rises (world +z) after closing."""
-    carry_offset: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    carry_offset: list[float] = field(default_factory=lambda: [0.0, 0.2, 0.0])
     """Displacement (W) of the carry after the lift, e.g. to a drop-off spot; zeros: no carry."""
     settle_time: float = 0.3
     """Time the robot waits at home before moving (0: start at once)."""
