@@ -95,8 +95,7 @@ def _diagram(scenario, out: Path) -> int:
     from gbh_drake.diagrams import write_diagram
     from gbh_drake.run import build_diagram
 
-    diagram, _, _ = build_diagram(scenario)
-    for path in write_diagram(diagram, out, "station"):
+    for path in write_diagram(build_diagram(scenario).diagram, out, "station"):
         print(f"wrote {path}")
     return 0
 

@@ -1,0 +1,16 @@
+"""The gbh command: objects and diagram subcommands (run is covered by the scenario tests)."""
+
+from gbh_drake.cli import main
+
+
+def test_objects_list(capsys):
+    assert main(["objects", "list"]) == 0
+    out = capsys.readouterr().out
+    assert "mug_classic" in out and "none (control)" in out
+
+
+def test_diagram_writes_dot(tmp_path):
+    assert main(["diagram", "--out", str(tmp_path)]) == 0
+    dot = (tmp_path / "station.dot").read_text()
+    for name in ("scanner", "hangability_detector", "grasp_synthesizer", "grasp_scorer"):
+        assert name in dot
