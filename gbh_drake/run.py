@@ -30,6 +30,7 @@ from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.primitives import TrajectorySource
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.core.results import VERTICAL
 from gbh_drake.planning.pick import pick_script
 from gbh_drake.planning.trajectories import MotionScript
 from gbh_drake.scenario import Scenario
@@ -262,7 +263,8 @@ def attempt_pick(built: Built, simulator: Simulator, scenario: Scenario, meshcat
     t = time.perf_counter()
     script = None
     for rank, grasp in enumerate(ranked):
-        script = pick_script(station, ik_context, RigidTransform(grasp.X_WG), params)
+        script = pick_script(station, ik_context, RigidTransform(grasp.X_WG), params,
+                             keep_straight_rod=grasp.kind == VERTICAL)
         if script is not None:
             outcome.chosen_rank, outcome.chosen_kind = rank, grasp.kind
             outcome.chosen_score = float(grasp.score)

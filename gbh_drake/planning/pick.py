@@ -33,31 +33,45 @@ class PickParams:
 
 
 def pick_script(station, plant_context, X_WG: RigidTransform,
-                params: PickParams | None = None) -> MotionScript | None:
-    """The motion that picks with the gripper at ``X_WG``; None when a waypoint has no IK.
+                params: PickParams | None = None, *,
+                keep_straight_rod: bool = False) -> MotionScript | None:
+    """The motion that picks with the open gripper at ``X_WG``; None when a waypoint has no IK.
 
-    ``plant_context`` gives the state IK holds fixed (the object where it lies)."""
+    ``plant_context`` gives the state IK holds fixed (the object where it lies). The fingers
+    close symmetrically about G, which keeps p_M (the bar tip's meeting point) fixed: right for
+    parallel grasps, whose p_M is at the hole's centre. With ``keep_straight_rod`` the arm moves
+    G along +y_G while the fingers close, by as much as each finger travels, so the straight rod
+    stays where the grasp put it and only the L rod sweeps in: right for vertical grasps, whose
+    straight rod is placed in the hole beside the material (closing symmetrically would push the
+    straight rod into that material)."""
     params = params or PickParams()
     plant = station.plant
     G = plant.GetFrameByName("G", station.gripper)
-    approach_W = X_WG.rotation().col(2)  # +z_G: from the palm toward the fingertips
-    X_pre = RigidTransform(X_WG.rotation(), X_WG.translation() - params.approach_distance * approach_W)
-    X_lift = RigidTransform(X_WG.rotation(), X_WG.translation() + [0.0, 0.0, params.lift_height])
-    X_carry = RigidTransform(X_WG.rotation(), X_lift.translation() + np.asarray(params.carry_offset))
+    R = X_WG.rotation()
+    approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> fingertips; +y_G: L -> straight rod
+    shift = (HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed) if keep_straight_rod else 0.0
+    p_closed = X_WG.translation() + shift * closing_W
+    p_lift = p_closed + [0.0, 0.0, params.lift_height]
+    targets = {
+        "approach": X_WG.translation() - params.approach_distance * approach_W,
+        "descend": X_WG.translation(),
+        "close": p_closed,
+        "lift": p_lift,
+        "carry": p_lift + np.asarray(params.carry_offset),
+    }
     q = station.q_home
-    waypoints = []
-    for X in (X_pre, X_WG, X_lift, X_carry):
-        q = solve_gripper_ik(plant, plant_context, station.arm, G, X, q)
+    waypoints = {}
+    for label, p in targets.items():
+        q = solve_gripper_ik(plant, plant_context, station.arm, G, RigidTransform(R, p), q)
         if q is None:
             return None
-        waypoints.append(q)
-    q_pre, q_grasp, q_lift, q_carry = waypoints
+        waypoints[label] = q
     script = MotionScript().start(station.q_home, HOOK_GRIPPER.q_open)
     if params.settle_time > 0:
         script.hold(params.settle_time, "settle")
-    script.move_arm(q_pre, "approach").move_arm(q_grasp, "descend")
-    script.move_fingers(HOOK_GRIPPER.q_closed, "close")
-    script.move_arm(q_lift, "lift")
+    script.move_arm(waypoints["approach"], "approach").move_arm(waypoints["descend"], "descend")
+    script.move(waypoints["close"], HOOK_GRIPPER.q_closed, "close", duration=0.6)
+    script.move_arm(waypoints["lift"], "lift")
     if np.any(params.carry_offset):
-        script.move_arm(q_carry, "carry")
+        script.move_arm(waypoints["carry"], "carry")
     return script.hold(params.hold_time, "hold")

@@ -44,6 +44,10 @@ class MotionScript:
     def move_fingers(self, q_finger: float, label: str, duration: float = 0.6) -> MotionScript:
         return self._append(duration, self.arm[-1], q_finger, label)
 
+    def move(self, q_arm, q_finger: float, label: str, duration: float) -> MotionScript:
+        """Arm and fingers together, over ``duration`` s."""
+        return self._append(duration, np.asarray(q_arm, dtype=float), q_finger, label)
+
     def hold(self, duration: float, label: str = "hold") -> MotionScript:
         return self._append(duration, self.arm[-1], self.finger[-1], label)
 
