@@ -69,6 +69,8 @@ def _run(scenario, *, live: bool) -> int:
     meshcat = Meshcat()
     if live:
         print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
+        if scenario.simulator_config.target_realtime_rate == 0:
+            scenario.simulator_config.target_realtime_rate = 1.0  # watchable speed
     summary = run(scenario, meshcat=meshcat)
     print(summary.to_text())
     if live and sys.stdin.isatty():
