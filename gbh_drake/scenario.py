@@ -205,6 +205,11 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
             fail("object.mesh", f"file not found: {mesh_path}")
     elif not obj.name:
         fail("object", "give either a named object (object.name) or a mesh file (object.mesh)")
+    else:
+        from gbh_drake.objects import list_objects  # the object set (generators) on demand
+
+        if obj.name not in list_objects():
+            fail("object.name", f"unknown object {obj.name!r} (known: {', '.join(list_objects())})")
     if obj.scale <= 0:
         fail("object.scale", f"must be positive, got {obj.scale}")
     if obj.density < 0:

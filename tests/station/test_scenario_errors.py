@@ -24,6 +24,11 @@ def _write(tmp_path, text, name="bad.yaml"):
         ("cameras:\n- {name: c, width: wide}\n", "cameras[0]"),
         ("object:\n  pose:\n    translation: [1, 2]\n", "object.pose"),
         ("settle_time: -1\n", "settle_time"),
+        ("object:\n  name: unicorn\n", "object.name"),
+        ("task: dance\n", "task"),
+        ("scan:\n  num_views: 0\n", "scan"),
+        ("gbh:\n  contact_angle_deg: 120\n", "gbh"),
+        ("scan:\n  bogus: 1\n", "scan.bogus"),
     ],
 )
 def test_error_names_file_and_field(tmp_path, text, field):
@@ -62,3 +67,11 @@ def test_relative_mesh_resolves_against_scenario_dir(tmp_path):
 def test_overrides_apply_over_the_file(tmp_path):
     scenario = load_scenario(_write(tmp_path, "seed: 1\n"), overrides="seed: 5")
     assert scenario.seed == 5
+
+
+def test_broken_mesh_file_is_named(tmp_path, capsys):
+    (tmp_path / "broken.obj").write_text("hello world\n")
+    path = _write(tmp_path, "object:\n  mesh: broken.obj\n")
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "broken.obj" in err and "Traceback" not in err
