@@ -46,6 +46,12 @@ class ObjectModel:
     tree: cKDTree
     """KD-tree of ``points`` (fast approximate distances to the surface)."""
 
+    def __deepcopy__(self, memo) -> ObjectModel:
+        """Shared, not copied: the model is never modified after :func:`prepare_object`, and its
+        Embree scene cannot be copied. (Drake copies abstract port values, e.g. when a context
+        is cloned or a value is fixed on a port.)"""
+        return self
+
     def cast(self, origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
         """Distance (n,) along unit ``directions`` (n, 3) from ``origins`` (n, 3) to the first
         hit, metres; ``inf`` where the ray misses."""

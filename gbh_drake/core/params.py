@@ -88,6 +88,12 @@ class GbhParams:
     points Q of a vertical grasp; a bit more than half a rod so a sparse cloud still has points."""
 
     # ---- collision checking ------------------------------------------------------------------
+    ground_height: float = 0.0
+    """m: height of the supporting surface (the table top) along ``ground_normal``, in W."""
+    ground_margin: float = 0.001
+    """m: how far the gripper's solid model may dip below the supporting surface; grasps that
+    go deeper (fingers under a flat object on the table, fingers-up grasps from below) are not
+    ranked. A negative value turns the check off."""
     p_c: int = 10
     """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper."""
     collision_margin: float = 0.0

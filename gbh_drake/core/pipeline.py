@@ -7,7 +7,7 @@ import time
 import numpy as np
 import trimesh
 
-from gbh_drake.core.collision import count_points_in_gripper
+from gbh_drake.core.collision import count_points_in_gripper, ground_penetration
 from gbh_drake.core.grasp_synthesis import synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import detect_hangable_structures
@@ -36,13 +36,18 @@ def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: Gbh
 
 def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params: GbhParams,
                      gripper: HookGripperGeometry = HOOK_GRIPPER) -> None:
-    """Sets ``n_collisions`` (N_c) of every candidate: object points inside the open gripper."""
+    """Sets ``n_collisions`` (N_c: object points inside the open gripper) and
+    ``ground_penetration`` (how far the gripper dips below the supporting surface) of every
+    candidate."""
     if candidates:
         X = np.stack([g.X_WG for g in candidates])
         n_c = count_points_in_gripper(obj.points, X, gripper.q_open, params.collision_margin,
                                       gripper)
-        for g, n in zip(candidates, n_c, strict=True):
+        depth = ground_penetration(X, np.asarray(params.ground_normal), params.ground_height,
+                                   gripper)
+        for g, n, d in zip(candidates, n_c, depth, strict=True):
             g.n_collisions = int(n)
+            g.ground_penetration = float(d)
 
 
 def score(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:

@@ -65,6 +65,9 @@ class GraspCandidate:
     """(3,) the contact point h_i^j this grasp was generated from, metres in W."""
     n_collisions: int = -1
     """N_c: object points inside the gripper's solid model (open) at X_WG; -1 if not counted."""
+    ground_penetration: float = float("nan")
+    """m: depth of the gripper's deepest solid-model corner below the supporting surface, over
+    the open and the closed gripper at X_WG (<= 0: clear of it); nan if not computed."""
     alpha: float = float("nan")
     """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
     beta: float = float("nan")

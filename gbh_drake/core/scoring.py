@@ -43,10 +43,15 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
 
 
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
-    """The collision-free candidates (0 <= N_c < p_c), best S_total first, at most ``top_k``.
+    """The collision-free candidates (0 <= N_c < p_c, and not deeper than ``ground_margin`` below
+    the supporting surface), best S_total first, at most ``top_k``.
 
     Ties keep the synthesis order (stable sort), so the ranking is deterministic.
     """
-    free = [g for g in candidates if 0 <= g.n_collisions < params.p_c]
+    free = [
+        g for g in candidates
+        if 0 <= g.n_collisions < params.p_c
+        and not (params.ground_margin >= 0 and g.ground_penetration > params.ground_margin)
+    ]
     order = np.argsort([-g.score for g in free], kind="stable")
     return [free[i] for i in order[: params.top_k]]

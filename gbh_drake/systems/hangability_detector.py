@@ -45,7 +45,7 @@ class HangabilityDetector(AbstractStage):
 
     def compute(self, value) -> Hangability:
         if getattr(value, "empty", False):
-            return Hangability(None, [], f"empty scan: {value.message}")
+            return Hangability(None, [], value.message or "empty scan")
         mesh = getattr(value, "mesh_W", value)
         if not isinstance(mesh, trimesh.Trimesh):
             return Hangability(None, [], f"mesh_W holds {type(value).__name__}, not a mesh")
