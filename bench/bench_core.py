@@ -18,7 +18,7 @@ from pathlib import Path
 import trimesh
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(REPO), str(REPO / "tests" / "core")]  # the package and the test shapes
+sys.path[:0] = [str(REPO), str(REPO / "tests")]  # the package and the test shapes
 
 from gbh_shapes import make_mug  # noqa: E402
 

@@ -62,11 +62,10 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(scenario, *, live: bool) -> int:
-    from pydrake.geometry import Meshcat
-
     from gbh_drake.run import run
+    from gbh_drake.viz.meshcat_server import local_meshcat
 
-    meshcat = Meshcat()
+    meshcat = local_meshcat()
     if live:
         print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
         if scenario.simulator_config.target_realtime_rate == 0:

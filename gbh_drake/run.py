@@ -40,6 +40,7 @@ from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.hangability_detector import HangabilityDetector
 from gbh_drake.systems.scanner import Scanner
 from gbh_drake.verdict import Sample, Verdict, judge
+from gbh_drake.viz.meshcat_server import local_meshcat
 
 log = logging.getLogger("gbh_drake")
 
@@ -175,7 +176,7 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None,
     """Simulates ``scenario`` and writes its replay and summary (see the module docstring)."""
     out = scenario.output_path()
     out.mkdir(parents=True, exist_ok=True)
-    meshcat = meshcat or Meshcat()
+    meshcat = meshcat or local_meshcat()
     built = build_diagram(scenario, meshcat=meshcat, object_asset=object_asset)
     station = built.station
 

@@ -44,8 +44,9 @@ def no_remote_sockets(monkeypatch):
     monkeypatch.setattr(socket.socket, "connect", guarded)
 
 
-def _udp_sockets_of_this_process() -> list[tuple[str, int]]:
-    """(local address hex, port) of every UDP socket this process holds (Linux /proc)."""
+def _sockets_of_this_process(protocol: str) -> list[tuple[str, int, str]]:
+    """(local address hex, port, state hex) of this process's ``tcp`` or ``udp`` sockets (Linux
+    /proc; IPv4 and IPv6)."""
     inodes = set()
     for fd in Path("/proc/self/fd").iterdir():
         try:
@@ -55,23 +56,34 @@ def _udp_sockets_of_this_process() -> list[tuple[str, int]]:
         if target.startswith("socket:["):
             inodes.add(target[8:-1])
     found = []
-    for table in ("/proc/self/net/udp", "/proc/self/net/udp6"):
+    for table in (f"/proc/self/net/{protocol}", f"/proc/self/net/{protocol}6"):
         for line in Path(table).read_text().splitlines()[1:]:
             fields = line.split()
             if fields[9] in inodes:
                 address, port = fields[1].split(":")
-                found.append((address, int(port, 16)))
+                found.append((address, int(port, 16), fields[3]))
     return found
 
 
+LOOPBACK_HEX = {"0100007F", "00000000000000000000000001000000"}  # 127.0.0.1 and ::1 in /proc
+
+
+def _network_exposure() -> list[str]:
+    """UDP sockets (LCM multicast) and TCP listeners not bound to the loopback."""
+    udp = [f"udp {a}:{p}" for a, p, _ in _sockets_of_this_process("udp")]
+    listening = [f"tcp listen {a}:{p}" for a, p, state in _sockets_of_this_process("tcp")
+                 if state == "0A" and a not in LOOPBACK_HEX]
+    return udp + listening
+
+
 def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
-    """A whole run (pick task) connects nowhere but the loopback and opens no UDP socket
-    (Drake's default LCM bus would be UDP multicast)."""
+    """A whole run (pick task) connects nowhere but the loopback, opens no UDP socket (Drake's
+    default LCM bus would be UDP multicast) and listens on the loopback only (Meshcat)."""
     scenario.settle_time = 0.05
     asset = ObjectAsset("staple", staple_mesh, 500.0, (0.2, 0.4, 0.8, 1.0), "test")
     summary = run(scenario, object_asset=asset)
     assert summary.sim_time >= 0.05 and summary.pick is not None
-    assert _udp_sockets_of_this_process() == []
+    assert _network_exposure() == []
 
 
 def test_cameras_publish_nowhere(scenario, staple_mesh):
@@ -83,4 +95,4 @@ def test_cameras_publish_nowhere(scenario, staple_mesh):
     scenario.task = "settle"
     asset = ObjectAsset("staple", staple_mesh, 500.0, (0.2, 0.4, 0.8, 1.0), "test")
     run(scenario, object_asset=asset)
-    assert _udp_sockets_of_this_process() == []
+    assert _network_exposure() == []

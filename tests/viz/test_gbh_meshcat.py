@@ -2,31 +2,25 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from gbh_shapes import make_hook
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
-from gbh_shapes import make_hook  # noqa: E402
-
-from gbh_drake.core.params import GbhParams  # noqa: E402
-from gbh_drake.core.pipeline import plan_grasps  # noqa: E402
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.pipeline import plan_grasps
+from gbh_drake.viz.meshcat_server import local_meshcat
 
 
 @pytest.fixture(scope="module")
 def meshcat():
-    from pydrake.geometry import Meshcat
-
-    return Meshcat()
+    return local_meshcat()
 
 
 def test_draws_structures_rays_and_grasps(meshcat):
     from gbh_drake.viz.gbh_meshcat import clear, draw_grasps, draw_object, draw_structures
 
     mesh = make_hook()
-    result = plan_grasps(mesh, GbhParams())
+    result = plan_grasps(mesh, GbhParams(ground_margin=-1.0))  # the hook floats in space
     (s,) = result.structures
     assert 0 < len(s.miss_directions) == s.n_rays - len(s.H)
     np.testing.assert_allclose(s.a, s.miss_directions.mean(0) / np.linalg.norm(
