@@ -3,7 +3,7 @@
 # first install: packages come from PyPI and Debian only).
 #
 #   ./dev.sh run [SCENARIO.yaml] [gbh run options]   run a scenario (default: scenarios/default.yaml)
-#   ./dev.sh test [pytest options]                   run the test suite
+#   ./dev.sh test [pytest options]                   lint (ruff) and run the test suite
 #   ./dev.sh setup                                   only set up (.venv/ at the repository root)
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -43,6 +43,7 @@ setup_venv
 case "$cmd" in
   setup) ;;
   run)   exec "$VENV/bin/gbh" run "$@" ;;
-  test)  exec "$VENV/bin/python" -m pytest "$@" ;;
+  test)  "$VENV/bin/ruff" check gbh_drake tests bench tools
+         exec "$VENV/bin/python" -m pytest "$@" ;;
   *)     echo "usage: ./dev.sh run|test|setup [args]" >&2; exit 2 ;;
 esac

@@ -260,7 +260,7 @@ def attempt_pick(built: Built, simulator: Simulator, scenario: Scenario, meshcat
     station, plant = built.station, built.station.plant
     ik_context = plant.CreateDefaultContext()
     plant.SetPositions(ik_context, plant.GetPositions(plant.GetMyContextFromRoot(context)))
-    params = dataclasses.replace(scenario.pick, settle_time=0.0)
+    params = scenario.pick
     t = time.perf_counter()
     script = None
     for rank, grasp in enumerate(ranked):

@@ -9,7 +9,6 @@ from the scenario's ``seed``).
 """
 
 
-import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -105,7 +104,7 @@ class Scenario:
     """One run of gbh_drake. Units: metres, radians, seconds, kilograms."""
 
     seed: int = 0
-    """Seeds every random choice of the run (object pose, sampling, planners): same seed, same run."""
+    """Seeds every random choice of the run (object pose, sampling, depth noise): same seed, same run."""
     object: ObjectConfig = field(default_factory=ObjectConfig)
     robot: RobotConfig = field(default_factory=RobotConfig)
     directives: list[ModelDirective] = field(default_factory=default_directives)
@@ -203,6 +202,12 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
         mesh_path = scenario.resolve(obj.mesh)
         if not mesh_path.is_file():
             fail("object.mesh", f"file not found: {mesh_path}")
+        from gbh_drake.objects import MeshImportError, load_mesh_file
+
+        try:
+            load_mesh_file(mesh_path, scale=obj.scale if obj.scale > 0 else 1.0)
+        except MeshImportError as e:
+            fail("object.mesh", str(e))
     elif not obj.name:
         fail("object", "give either a named object (object.name) or a mesh file (object.mesh)")
     else:
@@ -225,17 +230,28 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
         fail("task", f"must be one of {', '.join(TASKS)}, got {scenario.task!r}")
     if len(scenario.scan_target) != 3:
         fail("scan_target", "needs 3 coordinates (m)")
-    if len(scenario.pick.carry_offset) != 3:
-        fail("pick.carry_offset", "needs 3 coordinates (m)")
-    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check)):
+    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check),
+                        ("pick", scenario.pick.check)):
         try:
             check()
         except ValueError as e:
             fail(name, str(e))
+    # One seed for the whole run: the stages' own seeds are derived from it.
+    if scenario.gbh.seed != 0:
+        fail("gbh.seed", "set the scenario's seed instead (it seeds every stage)")
+    if scenario.scan.noise_seed != 0:
+        fail("scan.noise_seed", "set the scenario's seed instead (it seeds every stage)")
+    if obj.drop_height < 0:
+        fail("object.drop_height", f"must be >= 0, got {obj.drop_height}")
+    robot = scenario.robot
+    gains = [*robot.arm_kp, *robot.arm_kd, robot.finger_kp, robot.finger_kd]
+    if min(gains) <= 0:
+        fail("robot", "PD gains (arm_kp, arm_kd, finger_kp, finger_kd) must be positive")
+    if scenario.visualization.publish_period <= 0:
+        fail("visualization.publish_period", "must be positive (s)")
+    names = [d.add_model.name for d in scenario.directives if d.add_model is not None]
+    for required in ("panda", "hook_gripper", "table"):
+        if required not in names:
+            fail("directives", f"must add a model named {required!r} (the station needs it)")
     if scenario.plant_config.time_step <= 0:
         fail("plant_config.time_step", "gbh_drake needs a discrete plant (time_step > 0)")
-
-
-def scenario_fields(cls=Scenario) -> list[str]:
-    """Top-level field names of the schema (for docs and the CLI)."""
-    return [f.name for f in dataclasses.fields(cls)]

@@ -126,7 +126,10 @@ def add_station(
     parser = make_parser(plant)
 
     # The fixed models: arm, gripper, table (and whatever the scenario adds).
-    ProcessModelDirectives(_directives(scenario), plant, parser)
+    try:
+        ProcessModelDirectives(_directives(scenario), plant, parser)
+    except RuntimeError as e:  # Drake's parser: a missing file, a bad frame name, ...
+        raise ValueError(f"{scenario.source_path or 'scenario'}: directives: {e}") from e
     arm = plant.GetModelInstanceByName("panda")
     gripper = plant.GetModelInstanceByName("hook_gripper")
 
@@ -170,11 +173,6 @@ def sample_object_pose(scenario: Scenario) -> RigidTransform:
         X_WO = pose.Sample(RandomGenerator(scenario.seed))
     return RigidTransform(X_WO.rotation(),
                           X_WO.translation() + [0.0, 0.0, scenario.object.drop_height])
-
-
-def gripper_state(q: float) -> np.ndarray:
-    """Desired finger state [q, q, 0, 0] for the symmetric opening ``2 q`` (m)."""
-    return np.array([q, q, 0.0, 0.0])
 
 
 def _directives(scenario: Scenario):

@@ -111,8 +111,12 @@ def _check_dataclass(node, schema, path: str, text: str) -> None:
         raise YamlFieldError(path, _line(node), f"expected a mapping, got {_describe(node)}")
     hints = typing.get_type_hints(schema)
     known = [f.name for f in dataclasses.fields(schema)]
+    seen = set()
     for key, value in node.value:
         sub = f"{path}.{key.value}" if path else key.value
+        if key.value in seen:
+            raise YamlFieldError(sub, _line(key), "given twice")
+        seen.add(key.value)
         if key.value not in hints:
             raise YamlFieldError(sub, _line(key), f"unknown field (known: {', '.join(known)})")
         _check(value, hints[key.value], sub, text)

@@ -26,6 +26,13 @@ def make_staple(rod_height: float = 0.06, rod_radius: float = 0.006, span: float
     return trimesh.boolean.union([rod, *legs], engine="manifold")
 
 
+@pytest.fixture(autouse=True)
+def _work_in_tmp_path(tmp_path, monkeypatch):
+    """Every test runs in its own folder, so runs that default to ./output never write into
+    the checkout (others may be using it)."""
+    monkeypatch.chdir(tmp_path)
+
+
 @pytest.fixture
 def staple_mesh():
     return make_staple()

@@ -5,7 +5,7 @@ joint position limits are the robot's datasheet limits; velocity and effort limi
 inertial parameters are the identified values of Gaz et al., "Dynamic Identification of the
 Franka Emika Panda Robot With Retrieval of Feasible Parameters Using Penalty-Based Optimization",
 IEEE RA-L 2019 (as shipped in franka_description). Meshes come from the pybullet wheel through
-the package ``pybullet_data`` (registered at run time by gbh_drake.models.package_map()).
+the package ``pybullet_data`` (registered at run time by gbh_drake.modeling.package_map).
 
 Run:  python tools/make_panda_urdf.py   (the result is committed; a test checks it is current)
 """

@@ -1,7 +1,7 @@
 """The hook gripper of the paper (Sec. 2.1): a Franka hand with one straight rod and one L rod.
 
 This module is the single source of truth for the gripper's geometry. The Drake model
-(``models/hook_gripper.sdf``) is generated from it (:mod:`gbh_drake.gripper_model`) and a test
+(``models/hook_gripper.sdf``) is generated from it (:mod:`gbh_drake.modeling.gripper_sdf`) and a test
 checks that the file on disk and this module agree, so the gripper that collides in simulation
 is the gripper the algorithm reasons about.
 

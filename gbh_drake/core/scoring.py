@@ -34,9 +34,11 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
     a = np.stack([g.structure.a for g in candidates])
     m = np.array([g.structure.m for g in candidates])
     alpha = angle_between(n1, up[None])
-    beta = np.where(np.linalg.norm(a, axis=1) > 0.5, angle_between(a, toward_c), np.nan)
+    # When m < 1 but the missed rays cancel out (|a| small: openings on opposite sides), no
+    # side is safer than another: beta is taken as pi/2, neither rewarded nor best.
+    beta = np.where(np.linalg.norm(a, axis=1) > 0.5, angle_between(a, toward_c), np.pi / 2)
     s_alpha = np.exp(-(alpha**2) / params.gamma_alpha)
-    s_beta = np.where(m >= 1.0, 1.0, np.exp(-(np.nan_to_num(beta) ** 2) / params.gamma_beta))
+    s_beta = np.where(m >= 1.0, 1.0, np.exp(-(beta**2) / params.gamma_beta))
     score = m * s_beta * s_alpha
     for g, al, be, sa, sb, s in zip(candidates, alpha, beta, s_alpha, s_beta, score, strict=True):
         g.alpha, g.beta, g.s_alpha, g.s_beta, g.score = (float(x) for x in (al, be, sa, sb, s))

@@ -26,18 +26,29 @@ class PickParams:
     """Height the gripper rises (world +z) after closing."""
     carry_offset: list[float] = field(default_factory=lambda: [0.0, 0.2, 0.0])
     """Displacement (W) of the carry after the lift, e.g. to a drop-off spot; zeros: no carry."""
-    settle_time: float = 0.3
-    """Time the robot waits at home before moving (0: start at once)."""
     hold_time: float = 1.0
     """Time the object is held still at the end (does it stay caged?)."""
+
+    def check(self) -> None:
+        """Raises ``ValueError`` naming the first field that cannot work."""
+        problems = [
+            ("approach_distance", self.approach_distance >= 0, "must be >= 0"),
+            ("lift_height", self.lift_height > 0, "must be positive"),
+            ("carry_offset", len(self.carry_offset) == 3, "needs 3 coordinates (m)"),
+            ("hold_time", self.hold_time > 0, "must be positive"),
+        ]
+        for name, ok, message in problems:
+            if not ok:
+                raise ValueError(f"{name}: {message}")
 
 
 def pick_script(station, plant_context, X_WG: RigidTransform,
                 params: PickParams | None = None, *,
-                keep_straight_rod: bool = False) -> MotionScript | None:
+                keep_straight_rod: bool = False, wait: float = 0.0) -> MotionScript | None:
     """The motion that picks with the open gripper at ``X_WG``; None when a waypoint has no IK.
 
-    ``plant_context`` gives the state IK holds fixed (the object where it lies). The fingers
+    ``plant_context`` gives the state IK holds fixed (the object where it lies); the robot first
+    waits ``wait`` seconds at home (e.g. for the object to settle). The fingers
     close symmetrically about G, which keeps p_M (the bar tip's meeting point) fixed: right for
     parallel grasps, whose p_M is at the hole's centre. With ``keep_straight_rod`` the arm moves
     G along +y_G while the fingers close, by as much as each finger travels, so the straight rod
@@ -67,8 +78,8 @@ def pick_script(station, plant_context, X_WG: RigidTransform,
             return None
         waypoints[label] = q
     script = MotionScript().start(station.q_home, HOOK_GRIPPER.q_open)
-    if params.settle_time > 0:
-        script.hold(params.settle_time, "settle")
+    if wait > 0:
+        script.hold(wait, "settle")
     script.move_arm(waypoints["approach"], "approach").move_arm(waypoints["descend"], "descend")
     script.move(waypoints["close"], HOOK_GRIPPER.q_closed, "close", duration=0.6)
     script.move_arm(waypoints["lift"], "lift")

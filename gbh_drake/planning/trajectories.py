@@ -1,8 +1,8 @@
 """Joint-space trajectories for the arm and the fingers, as Drake ``PiecewisePolynomial``s.
 
-A :class:`MotionScript` is a list of timed keyframes (arm q, finger q); it becomes a cubic
-(shape-preserving) arm trajectory and a first-order-hold finger trajectory whose
-``TrajectorySource``s feed the station's desired-state inputs ([q, v]).
+A :class:`MotionScript` is a list of timed keyframes (arm q, finger q); it becomes arm and finger
+trajectories, cubic between keyframes with zero velocity at each, whose ``TrajectorySource``s feed
+the station's desired-state inputs ([q, v]).
 """
 
 from __future__ import annotations
@@ -41,9 +41,6 @@ class MotionScript:
         duration = max(min_duration, float(np.max(1.5 * dq / (VELOCITY_SCALE * FRANKA_V_MAX))))
         return self._append(duration, q_arm, self.finger[-1], label)
 
-    def move_fingers(self, q_finger: float, label: str, duration: float = 0.6) -> MotionScript:
-        return self._append(duration, self.arm[-1], q_finger, label)
-
     def move(self, q_arm, q_finger: float, label: str, duration: float) -> MotionScript:
         """Arm and fingers together, over ``duration`` s."""
         return self._append(duration, np.asarray(q_arm, dtype=float), q_finger, label)
@@ -68,12 +65,16 @@ class MotionScript:
 
     def arm_trajectory(self) -> PiecewisePolynomial:
         """Arm q(t): piecewise cubic with zero velocity at every keyframe (rad)."""
-        q = np.stack(self.arm, axis=1)
-        if len(self.times) == 1:
-            return PiecewisePolynomial(q)
-        return PiecewisePolynomial.CubicHermite(self.times, q, np.zeros_like(q))
+        return _zero_velocity_cubic(self.times, np.stack(self.arm, axis=1))
 
     def finger_trajectory(self) -> PiecewisePolynomial:
-        """Both fingers' q(t) (2 rows, metres): linear between keyframes."""
-        q = np.stack([self.finger, self.finger])
-        return PiecewisePolynomial.FirstOrderHold(self.times, q)
+        """Both fingers' q(t) (2 rows, metres): the same zero-velocity cubic time-scaling as the
+        arm, so that arm and fingers moving together (``move``) stay in step."""
+        return _zero_velocity_cubic(self.times, np.stack([self.finger, self.finger]))
+
+
+def _zero_velocity_cubic(times: list[float], q: np.ndarray) -> PiecewisePolynomial:
+    """Cubic segments through the keyframes ``q`` (n, k) with zero velocity at each of them."""
+    if len(times) == 1:
+        return PiecewisePolynomial(q)
+    return PiecewisePolynomial.CubicHermite(times, q, np.zeros_like(q))

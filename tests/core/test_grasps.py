@@ -233,3 +233,13 @@ def test_nothing_hangable_gives_empty_results(params):
 def test_only_requested_grasp_kinds(ring, params):
     result = plan_grasps(ring, GbhParams(vertical_grasps=False))
     assert {g.kind for g in result.candidates} == {PARALLEL}
+
+
+def test_cancelling_misses_give_a_neutral_beta(params):
+    """m < 1 with openings on opposite sides (a = 0): beta = pi/2, not the best score."""
+    two_sided = _structure(0.8, [0, 0, 0])
+    g = [GraspCandidate(_pose([1, 0, 0], [0, 0, -1.0]), PARALLEL, 0, two_sided, np.zeros(3))]
+    score_grasps(g, params)
+    assert g[0].beta == pytest.approx(np.pi / 2)
+    assert g[0].s_beta == pytest.approx(np.exp(-(np.pi / 2) ** 2 / params.gamma_beta))
+    assert g[0].score < 0.8

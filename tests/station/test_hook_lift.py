@@ -26,7 +26,7 @@ def _lift(scenario, staple_mesh, *, close: bool):
         p_WRod = station.X_WO_initial.translation() + [0, 0, ROD_HEIGHT - 0.001]
         p_GRod = np.array([0.0, 0.005, HOOK_GRIPPER.finger_length - 0.025])
         X_WG = RigidTransform(R_WG, p_WRod - R_WG.matrix() @ p_GRod)
-        script = pick_script(station, context, X_WG, PickParams(hold_time=0.5))
+        script = pick_script(station, context, X_WG, PickParams(hold_time=0.5), wait=0.3)
         assert script is not None, "IK failed for the test grasp"
         if not close:  # the control: same motion, fingers never close
             script.finger = [HOOK_GRIPPER.q_open] * len(script.finger)

@@ -17,7 +17,7 @@ def test_closing_keeps_the_right_point(scenario, staple_mesh, keep_straight_rod)
     plant = station.plant
     context = plant.CreateDefaultContext()
     X_WG = RigidTransform(RotationMatrix.MakeXRotation(np.pi), [0.5, 0.05, 0.2])
-    script = pick_script(station, context, X_WG, PickParams(settle_time=0.0),
+    script = pick_script(station, context, X_WG, PickParams(),
                          keep_straight_rod=keep_straight_rod)
     assert script is not None
     G = plant.GetFrameByName("G", station.gripper)

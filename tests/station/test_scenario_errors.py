@@ -29,6 +29,14 @@ def _write(tmp_path, text, name="bad.yaml"):
         ("scan:\n  num_views: 0\n", "scan"),
         ("gbh:\n  contact_angle_deg: 120\n", "gbh"),
         ("scan:\n  bogus: 1\n", "scan.bogus"),
+        ("pick:\n  hold_time: -1\n", "pick"),
+        ("pick:\n  lift_height: 0\n", "pick"),
+        ("object:\n  drop_height: -0.5\n", "object.drop_height"),
+        ("robot:\n  finger_kp: -3\n", "robot"),
+        ("visualization:\n  publish_period: 0\n", "visualization.publish_period"),
+        ("gbh:\n  seed: 4\n", "gbh.seed"),
+        ("directives: []\n", "directives"),
+        ("seed: 0\nseed: 1\n", "seed (line 2): given twice"),
     ],
 )
 def test_error_names_file_and_field(tmp_path, text, field):
@@ -58,8 +66,8 @@ def test_cli_reports_error_without_traceback(tmp_path, capsys):
     assert "object.nmae" in err and "bad.yaml" in err and "Traceback" not in err
 
 
-def test_relative_mesh_resolves_against_scenario_dir(tmp_path):
-    (tmp_path / "m.obj").write_text("v 0 0 0\n")
+def test_relative_mesh_resolves_against_scenario_dir(tmp_path, staple_mesh):
+    staple_mesh.export(tmp_path / "m.obj")
     scenario = load_scenario(_write(tmp_path, "object:\n  mesh: m.obj\n"))
     assert scenario.resolve(scenario.object.mesh) == tmp_path / "m.obj"
 
@@ -75,3 +83,20 @@ def test_broken_mesh_file_is_named(tmp_path, capsys):
     assert main(["run", str(path)]) == 2
     err = capsys.readouterr().err
     assert "broken.obj" in err and "Traceback" not in err
+
+
+def test_bad_directive_names_file_and_field(tmp_path, capsys):
+    text = ("directives:\n"
+            "- add_model: {name: panda, file: 'package://gbh_drake/panda_arm.urdf'}\n"
+            "- add_model: {name: hook_gripper, file: 'package://gbh_drake/hook_gripper.sdf'}\n"
+            "- add_model: {name: table, file: 'package://gbh_drake/no_such_table.sdf'}\n")
+    path = _write(tmp_path, text)
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.yaml" in err and "directives" in err and "Traceback" not in err
+
+
+def test_broken_mesh_is_refused_when_loading(tmp_path):
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(ScenarioError, match=r"bad\.yaml: object\.mesh: .*flat\.obj"):
+        load_scenario(_write(tmp_path, "object:\n  mesh: flat.obj\n"))
