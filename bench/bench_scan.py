@@ -50,8 +50,9 @@ def run_case(name: str) -> dict:
     from gbh_drake.station import add_station
 
     builder = DiagramBuilder()
-    model_dir = tempfile.mkdtemp(prefix="bench_scan_")  # the renderer reads the mesh from here
-    station = add_station(builder, Scenario(), model_dir=model_dir)
+    # The renderer reads the object's mesh from model_dir while the bench runs.
+    model_dir = tempfile.TemporaryDirectory(prefix="bench_scan_")
+    station = add_station(builder, Scenario(), model_dir=model_dir.name)
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
     query_object = station.scene_graph.get_query_output_port().Eval(
@@ -95,7 +96,9 @@ def main() -> None:
               f"{'maxrss MB':>9} {'scan +MB':>8} {'py MB':>6} {'faces':>6}")
     print(header)
     for name, omp in [(name, omp) for omp in ("", "1") for name in CASES]:
-        env = {**os.environ, "OMP_NUM_THREADS": omp} if omp else os.environ
+        env = {k: v for k, v in os.environ.items() if k != "OMP_NUM_THREADS"}  # OpenMP default
+        if omp:
+            env["OMP_NUM_THREADS"] = omp
         out = subprocess.run([sys.executable, __file__, "--case", name], capture_output=True,
                              text=True, check=True, env=env)
         r = json.loads(out.stdout.strip().splitlines()[-1])
