@@ -32,7 +32,7 @@ from pydrake.systems.sensors import ApplyCameraConfig
 from pydrake.visualization import ApplyVisualizationConfig
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.modeling.object_sdf import ObjectModel, write_object_model
+from gbh_drake.modeling.object_sdf import ObjectModelFiles, write_object_model
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.scenario import Scenario
 
@@ -64,7 +64,7 @@ class Station:
     gripper: ModelInstanceIndex
     object: ModelInstanceIndex
     object_asset: ObjectAsset
-    object_model: ObjectModel
+    object_model: ObjectModelFiles
     X_WO_initial: RigidTransform
     """The object's initial pose (sampled from the scenario's seed)."""
     q_home: np.ndarray

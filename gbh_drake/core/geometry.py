@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-_GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
+GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
+"""rad: the golden angle, for evenly spread spiral samples (Fibonacci sphere)."""
 
 
 def unit(v: np.ndarray, eps: float = 1e-12) -> np.ndarray:
@@ -19,7 +20,7 @@ def fibonacci_sphere(n: int, hemisphere: bool = False) -> np.ndarray:
     i = np.arange(n) + 0.5
     z = 1.0 - i / n if hemisphere else 1.0 - 2.0 * i / n
     r = np.sqrt(np.clip(1.0 - z * z, 0.0, None))
-    phi = _GOLDEN_ANGLE * i
+    phi = GOLDEN_ANGLE * i
     return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
 
 
@@ -28,7 +29,7 @@ def fibonacci_cap(axis: np.ndarray, half_angle: float, n: int) -> np.ndarray:
     i = np.arange(n, dtype=float)
     z = 1.0 - (1.0 - np.cos(half_angle)) * i / max(n - 1, 1)
     r = np.sqrt(np.clip(1.0 - z * z, 0.0, None))
-    phi = _GOLDEN_ANGLE * i
+    phi = GOLDEN_ANGLE * i
     local = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
     e1, e2 = orthonormal_basis(axis[None])
     R = np.stack([e1[0], e2[0], unit(axis)], axis=1)

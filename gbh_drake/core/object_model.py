@@ -45,6 +45,8 @@ class ObjectModel:
     """Embree scene of ``mesh`` for ray casting and distance queries."""
     tree: cKDTree
     """KD-tree of ``points`` (fast approximate distances to the surface)."""
+    sampling: tuple = ()
+    """(seed, n_points, oversampling, require_watertight) the model was prepared with."""
 
     def __deepcopy__(self, memo) -> ObjectModel:
         """Shared, not copied: the model is never modified after :func:`prepare_object`, and its
@@ -78,10 +80,16 @@ class ObjectModel:
 def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams) -> ObjectModel:
     """Validate ``mesh`` (vertices in W, metres), compute its CoM, sample it, build a ray scene.
 
-    An :class:`ObjectModel` is returned unchanged, so every stage accepts either.
-    Raises :class:`GbhInputError` with a message for unusable input.
+    An :class:`ObjectModel` is returned unchanged, so every stage accepts either; it must have
+    been prepared with the same sampling parameters (else GbhInputError: its samples would not be
+    the ones ``params`` asks for). Raises :class:`GbhInputError` with a message for unusable input.
     """
     if isinstance(mesh, ObjectModel):
+        if mesh.sampling != _sampling_key(params):
+            raise GbhInputError(
+                f"the ObjectModel was prepared with sampling {mesh.sampling}, not "
+                f"{_sampling_key(params)}: prepare it again with these params"
+            )
         return mesh
     params.check()
     clean = _clean_mesh(mesh)
@@ -103,7 +111,8 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams) -> Ob
         o3d.core.Tensor(np.asarray(clean.vertices, dtype=np.float32)),
         o3d.core.Tensor(np.asarray(clean.faces, dtype=np.uint32)),
     )
-    return ObjectModel(clean, points, normals, com, spacing, watertight, scene, cKDTree(points))
+    return ObjectModel(clean, points, normals, com, spacing, watertight, scene, cKDTree(points),
+                       _sampling_key(params))
 
 
 def _clean_mesh(mesh: object) -> trimesh.Trimesh:
@@ -167,3 +176,7 @@ def _dart_throw(n_pool: int, pairs: np.ndarray, n_max: int) -> np.ndarray:
             break
         removed[j[start[k] : start[k + 1]]] = True
     return np.asarray(keep, dtype=int)
+
+
+def _sampling_key(params: GbhParams) -> tuple:
+    return (params.seed, params.n_points, params.oversampling, params.require_watertight)

@@ -24,7 +24,7 @@ OBJECT_MU = 0.6
 
 
 @dataclass(frozen=True)
-class ObjectModel:
+class ObjectModelFiles:
     """A written object model: ``sdf`` and ``obj`` paths, and its mass properties (kg, m, kg m^2,
     the inertia about the centre of mass ``com_O`` expressed in the object frame O)."""
 
@@ -50,7 +50,7 @@ def write_object_model(
     density: float,
     rgba=(0.8, 0.3, 0.25, 1.0),
     mass_properties=None,
-) -> ObjectModel:
+) -> ObjectModelFiles:
     """Writes ``out_dir/<name>.obj`` and ``out_dir/<name>.sdf`` for a free body named ``name``.
 
     ``mesh`` is in metres in the object frame O. Mass properties come from
@@ -82,4 +82,4 @@ def write_object_model(
     ])
     sdf_path = out_dir / f"{name}.sdf"
     sdf_path.write_text(sdf)
-    return ObjectModel(name, sdf_path, obj_path, mass, com, inertia)
+    return ObjectModelFiles(name, sdf_path, obj_path, mass, com, inertia)

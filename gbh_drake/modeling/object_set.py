@@ -7,7 +7,7 @@ from pathlib import Path
 import yaml
 
 from gbh_drake import MODELS_DIR
-from gbh_drake.modeling.object_sdf import ObjectModel, write_object_model
+from gbh_drake.modeling.object_sdf import ObjectModelFiles, write_object_model
 from gbh_drake.objects import list_objects, make_object
 from gbh_drake.objects.export import ground_truth
 
@@ -15,7 +15,7 @@ OBJECT_MODELS_DIR = MODELS_DIR / "objects"
 
 
 def build_object_models(out_dir: Path = OBJECT_MODELS_DIR,
-                        names: list[str] | None = None) -> list[ObjectModel]:
+                        names: list[str] | None = None) -> list[ObjectModelFiles]:
     """Writes a Drake model (SDF + OBJ) and ``ground_truth.yaml`` for each object (or ``names``)."""
     models = []
     for name in names or list_objects():

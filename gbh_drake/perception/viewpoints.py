@@ -9,9 +9,8 @@ from __future__ import annotations
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 
+from gbh_drake.core.geometry import GOLDEN_ANGLE
 from gbh_drake.perception.config import ScanConfig
-
-_GOLDEN_ANGLE = np.pi * (3.0 - np.sqrt(5.0))
 
 
 def look_at(p_WC, p_WT, up_W=(0.0, 0.0, 1.0)) -> RigidTransform:
@@ -40,7 +39,7 @@ def view_directions(config: ScanConfig) -> np.ndarray:
     else:  # spiral: equal areas over the band (uniform in sin(elevation)), golden-angle azimuth
         s = np.sin(np.deg2rad([config.elevation_deg, config.elevation_max_deg]))
         elevation = np.arcsin(s[0] + (s[1] - s[0]) * (i + 0.5) / n)
-        azimuth = np.deg2rad(config.azimuth_deg) + _GOLDEN_ANGLE * i
+        azimuth = np.deg2rad(config.azimuth_deg) + GOLDEN_ANGLE * i
     return np.column_stack([np.cos(elevation) * np.cos(azimuth),
                             np.cos(elevation) * np.sin(azimuth),
                             np.sin(elevation)])

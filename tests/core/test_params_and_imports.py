@@ -48,3 +48,15 @@ def test_core_does_not_import_pydrake():
     )
     repo = Path(__file__).resolve().parents[2]
     subprocess.run([sys.executable, "-c", code], check=True, cwd=repo)
+
+
+def test_prepared_object_must_match_the_sampling_params():
+    from gbh_shapes import make_ring
+
+    from gbh_drake.core.object_model import prepare_object
+    from gbh_drake.core.results import GbhInputError
+
+    obj = prepare_object(make_ring(), GbhParams(n_points=800))
+    assert prepare_object(obj, GbhParams(n_points=800)) is obj
+    with pytest.raises(GbhInputError, match="prepare it again"):
+        prepare_object(obj, GbhParams(n_points=900))
