@@ -17,7 +17,6 @@ The steps of :func:`run`, in order:
 from __future__ import annotations
 
 import dataclasses
-import logging
 import time
 from dataclasses import asdict, dataclass, field
 
@@ -41,8 +40,6 @@ from gbh_drake.systems.hangability_detector import HangabilityDetector
 from gbh_drake.systems.scanner import Scanner
 from gbh_drake.verdict import Sample, Verdict, judge
 from gbh_drake.viz.meshcat_server import local_meshcat
-
-log = logging.getLogger("gbh_drake")
 
 
 @dataclass
