@@ -11,8 +11,9 @@ from gbh_drake import MODELS_DIR, REPO_ROOT
 from gbh_drake.run import run
 from gbh_drake.station import ObjectAsset
 
-FORBIDDEN = ("package://drake_models", "open3d.data", "urllib.request", "requests.get",
-             "hf_hub", "from pydrake.all import *")
+# Spelled in pieces so that a plain grep for them over the repository finds only real uses.
+FORBIDDEN = ("package://" + "drake_models", "open3d" + ".data", "urllib" + ".request",
+             "requests" + ".get", "hf" + "_hub", "from pydrake.all import " + "*")
 
 
 def test_no_download_in_sources_or_models():
