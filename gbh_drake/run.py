@@ -30,7 +30,8 @@ from pydrake.systems.primitives import TrajectorySource
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.results import VERTICAL
-from gbh_drake.planning.pick import pick_script
+from gbh_drake.planning.collision import make_planning_model
+from gbh_drake.planning.pick import PickPlanning, pick_script
 from gbh_drake.planning.trajectories import MotionScript
 from gbh_drake.scenario import Scenario
 from gbh_drake.station import ObjectAsset, Station, add_station
@@ -77,7 +78,8 @@ class PickOutcome:
     clearance: float = 0.0
     """Lowest point of the object above the table at the end (m)."""
     timings: dict[str, float] = field(default_factory=dict)
-    """Wall seconds: scan (render + fusion), gbh (detect + synthesise + score), ik."""
+    """Wall seconds: scan (render + fusion), gbh (detect + synthesise + score), plan (IK,
+    collision checks and RRT-Connect over the tried grasps)."""
 
 
 @dataclass
@@ -253,23 +255,32 @@ def attempt_pick(built: Built, simulator: Simulator, scenario: Scenario, meshcat
                          f"{len(candidates)} candidates"
         return outcome
 
-    # The first grasp of the top-k whose whole pick motion has IK solutions.
+    # The first grasp of the top-k whose whole pick motion has IK solutions and (by default) a
+    # collision-free plan.
     station, plant = built.station, built.station.plant
     ik_context = plant.CreateDefaultContext()
     plant.SetPositions(ik_context, plant.GetPositions(plant.GetMyContextFromRoot(context)))
     params = scenario.pick
     t = time.perf_counter()
+    planning = None
+    if params.plan_paths:
+        X_WO = plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(context),
+                                         station.object_body())
+        planning = PickPlanning(
+            with_object=make_planning_model(scenario, str(station.object_model.sdf), X_WO),
+            without_object=make_planning_model(scenario, None, None), seed=scenario.seed)
     script = None
     for rank, grasp in enumerate(ranked):
         script = pick_script(station, ik_context, RigidTransform(grasp.X_WG), params,
-                             keep_straight_rod=grasp.kind == VERTICAL)
+                             keep_straight_rod=grasp.kind == VERTICAL, planning=planning)
         if script is not None:
             outcome.chosen_rank, outcome.chosen_kind = rank, grasp.kind
             outcome.chosen_score = float(grasp.score)
             break
-    outcome.timings["ik"] = time.perf_counter() - t
+    outcome.timings["plan"] = time.perf_counter() - t
     if script is None:
-        outcome.reason = f"none of the {len(ranked)} ranked grasps is reachable (IK)"
+        how = "IK and collision-free planning" if planning else "IK"
+        outcome.reason = f"none of the {len(ranked)} ranked grasps is reachable ({how})"
         return outcome
 
     # Execute: the pick motion starts now.

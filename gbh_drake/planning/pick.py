@@ -1,8 +1,11 @@
-"""A pick: approach above the grasp, descend, close the hook, lift, carry and hold.
+"""A pick: transfer to the approach pose, descend, close the hook, lift, carry and hold.
 
 Waypoints are solved by IK on straight gripper offsets along the approach direction; the arm
-moves between them with joint-space cubic segments (collision-free paths between arbitrary poses
-are the planner's job, not this module's).
+moves between them with joint-space cubic segments. With a :class:`PickPlanning` the motion is
+also collision-checked: the transfer from home to the approach pose is planned by RRT-Connect
+around the table and the object (its convex hull, so the approach pose backs off along the
+approach axis until it is clear of it), and the short straight segments after it (descend,
+close, lift, carry) are checked against the table and the robot itself.
 """
 
 from dataclasses import dataclass, field
@@ -11,7 +14,9 @@ import numpy as np
 from pydrake.math import RigidTransform
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.planning.collision import PlanningModel
 from gbh_drake.planning.ik import solve_gripper_ik
+from gbh_drake.planning.rrt import plan_rrt_connect
 from gbh_drake.planning.trajectories import MotionScript
 
 
@@ -28,6 +33,12 @@ class PickParams:
     """Displacement (W) of the carry after the lift, e.g. to a drop-off spot; zeros: no carry."""
     hold_time: float = 1.0
     """Time the object is held still at the end (does it stay caged?)."""
+    plan_paths: bool = True
+    """Plan the transfer by RRT-Connect and collision-check every segment (False: IK only,
+    straight joint-space moves)."""
+    max_approach_distance: float = 0.25
+    """With planning: the approach pose backs off in 5 cm steps up to this distance until the
+    gripper is clear of the object's convex hull."""
 
     def check(self) -> None:
         """Raises ``ValueError`` naming the first field that cannot work."""
@@ -36,16 +47,31 @@ class PickParams:
             ("lift_height", self.lift_height > 0, "must be positive"),
             ("carry_offset", len(self.carry_offset) == 3, "needs 3 coordinates (m)"),
             ("hold_time", self.hold_time > 0, "must be positive"),
+            ("max_approach_distance", self.max_approach_distance >= self.approach_distance,
+             "must be >= approach_distance"),
         ]
         for name, ok, message in problems:
             if not ok:
                 raise ValueError(f"{name}: {message}")
 
 
+@dataclass
+class PickPlanning:
+    """Collision models for planning a pick: ``with_object`` (table, robot and the object's
+    convex hull, for the transfer) and ``without_object`` (table and robot, for the segments that
+    go into the handle and carry the object); ``seed`` seeds RRT-Connect."""
+
+    with_object: PlanningModel
+    without_object: PlanningModel
+    seed: int = 0
+
+
 def pick_script(station, plant_context, X_WG: RigidTransform,
                 params: PickParams | None = None, *,
-                keep_straight_rod: bool = False, wait: float = 0.0) -> MotionScript | None:
-    """The motion that picks with the open gripper at ``X_WG``; None when a waypoint has no IK.
+                keep_straight_rod: bool = False, wait: float = 0.0,
+                planning: PickPlanning | None = None) -> MotionScript | None:
+    """The motion that picks with the open gripper at ``X_WG``; None when a waypoint has no IK
+    or, with ``planning``, when no collision-free motion was found.
 
     ``plant_context`` gives the state IK holds fixed (the object where it lies); the robot first
     waits ``wait`` seconds at home (e.g. for the object to settle). The fingers
@@ -63,26 +89,59 @@ def pick_script(station, plant_context, X_WG: RigidTransform,
     shift = (HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed) if keep_straight_rod else 0.0
     p_closed = X_WG.translation() + shift * closing_W
     p_lift = p_closed + [0.0, 0.0, params.lift_height]
-    targets = {
-        "approach": X_WG.translation() - params.approach_distance * approach_W,
-        "descend": X_WG.translation(),
-        "close": p_closed,
-        "lift": p_lift,
-        "carry": p_lift + np.asarray(params.carry_offset),
-    }
-    q = station.q_home
-    waypoints = {}
-    for label, p in targets.items():
-        q = solve_gripper_ik(plant, plant_context, station.arm, G, RigidTransform(R, p), q)
+
+    def ik(p, q_seed):
+        return solve_gripper_ik(plant, plant_context, station.arm, G, RigidTransform(R, p), q_seed)
+
+    # The grasp and what follows it: IK, then (with planning) the segments' collision checks.
+    waypoints, q = {}, station.q_home
+    for label, p in (("descend", X_WG.translation()), ("close", p_closed), ("lift", p_lift),
+                     ("carry", p_lift + np.asarray(params.carry_offset))):
+        q = ik(p, q)
         if q is None:
             return None
         waypoints[label] = q
+    if planning is not None and not _segments_free(planning.without_object, waypoints):
+        return None
+
+    # The approach pose (backed off until clear of the object) and the transfer to it.
+    transfer = None
+    distances = np.arange(params.approach_distance, params.max_approach_distance + 1e-9, 0.05)
+    for distance in distances if planning is not None else distances[:1]:
+        q_approach = ik(X_WG.translation() - distance * approach_W, waypoints["descend"])
+        if q_approach is None:
+            continue
+        if planning is None:
+            transfer = [station.q_home, q_approach]
+            break
+        if not planning.without_object.edge_free(q_approach, waypoints["descend"],
+                                                 HOOK_GRIPPER.q_open):
+            continue
+        transfer = plan_rrt_connect(planning.with_object, station.q_home, q_approach,
+                                    HOOK_GRIPPER.q_open, seed=planning.seed)
+        if transfer is not None:
+            break
+    if transfer is None:
+        return None
+
     script = MotionScript().start(station.q_home, HOOK_GRIPPER.q_open)
     if wait > 0:
         script.hold(wait, "settle")
-    script.move_arm(waypoints["approach"], "approach").move_arm(waypoints["descend"], "descend")
+    for q_via in transfer[1:-1]:
+        script.move_arm(q_via, "transfer")
+    script.move_arm(transfer[-1], "approach").move_arm(waypoints["descend"], "descend")
     script.move(waypoints["close"], HOOK_GRIPPER.q_closed, "close", duration=0.6)
     script.move_arm(waypoints["lift"], "lift")
     if np.any(params.carry_offset):
         script.move_arm(waypoints["carry"], "carry")
     return script.hold(params.hold_time, "hold")
+
+
+def _segments_free(model: PlanningModel, waypoints: dict) -> bool:
+    """Descend (open), close (open and closed ends), lift and carry (closed) clear of the table
+    and of the robot itself."""
+    q_o, q_c = HOOK_GRIPPER.q_open, HOOK_GRIPPER.q_closed
+    return (model.edge_free(waypoints["descend"], waypoints["close"], q_o)
+            and model.free(waypoints["close"], q_c)
+            and model.edge_free(waypoints["close"], waypoints["lift"], q_c)
+            and model.edge_free(waypoints["lift"], waypoints["carry"], q_c))
