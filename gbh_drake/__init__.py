@@ -1,7 +1,7 @@
 """gbh_drake: Grasping by Hanging (Li, Su, Chirikjian) simulated in Drake.
 
 Layout: ``core`` holds the pure geometry (no pydrake), ``perception`` the scanning,
-``systems`` the Drake LeafSystems, ``planning`` IK and the pick motion, ``objects`` the
+``systems`` the Drake LeafSystems, ``planning`` IK, RRT-Connect and the pick motion, ``objects`` the
 object set, ``station.py`` builds the simulation diagram from a ``scenario.Scenario``.
 """
 
