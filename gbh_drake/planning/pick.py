@@ -59,7 +59,8 @@ class PickParams:
 class PickPlanning:
     """Collision models for planning a pick: ``with_object`` (table, robot and the object's
     convex hull, for the transfer) and ``without_object`` (table and robot, for the segments that
-    go into the handle and carry the object); ``seed`` seeds RRT-Connect."""
+    go into the handle and carry the object; run.py builds it without padding, since the grasp
+    itself may reach down to the table top); ``seed`` seeds RRT-Connect."""
 
     with_object: PlanningModel
     without_object: PlanningModel
