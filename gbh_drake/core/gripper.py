@@ -26,6 +26,16 @@ wrist end of the hand, on ``-z_G``). So, with the paper's definitions,
 
 The fingers close until the bar tip meets the straight rod's inner face; the closed loop
 (palm, two rods, bar) then cages whatever passes through it.
+
+Retracted bar (the paper's Sec. 4 proposal, used by the antipodal baseline and fallback of
+:mod:`gbh_drake.core.antipodal`): a revolute joint about the ``x_G`` axis through the bend ``p3``
+folds the bar back along the L rod toward the palm. Its angle is 0 when released (bar along
+``+y_G``) and :attr:`HookGripperGeometry.bar_retracted_angle` ``= -pi/2`` when retracted (a
+right-handed rotation about ``+x_G``, which takes ``+y_G`` to ``-z_G``): the bar then lies on the
+L rod's last ``l_h`` of length (its box inside the L rod's box), so the hand has two straight rods
+of the same length, the fairness rule of the paper's Sec. 3.1, and the fingers can close until
+the rods touch, at ``q = rod_width / 2`` (:attr:`HookGripperGeometry.q_closed_retracted`). Every
+solid-model method takes ``bar_retracted`` (default False: the hook as above).
 """
 
 from __future__ import annotations
@@ -89,11 +99,23 @@ class HookGripperGeometry:
         """
         return 0.5 * (self.bar_length + 0.5 * self.rod_width)
 
-    def check_opening(self, q: float) -> float:
+    @property
+    def q_closed_retracted(self) -> float:
+        """One finger's joint position when the bar is retracted and the rods' inner faces touch
+        (rod_width / 2: the rods' centre lines are one rod width apart)."""
+        return 0.5 * self.rod_width
+
+    def q_min(self, bar_retracted: bool = False) -> float:
+        """Smallest finger position: :attr:`q_closed` (bar released) or
+        :attr:`q_closed_retracted` (bar retracted)."""
+        return self.q_closed_retracted if bar_retracted else self.q_closed
+
+    def check_opening(self, q: float, bar_retracted: bool = False) -> float:
         q = float(q)
-        if not (self.q_closed - 1e-9 <= q <= self.q_open + 1e-9):
+        q_min = self.q_min(bar_retracted)
+        if not (q_min - 1e-9 <= q <= self.q_open + 1e-9):
             raise ValueError(
-                f"finger position q={q:.4f} m outside [{self.q_closed:.4f}, {self.q_open:.4f}]"
+                f"finger position q={q:.4f} m outside [{q_min:.4f}, {self.q_open:.4f}]"
             )
         return q
 
@@ -142,50 +164,84 @@ class HookGripperGeometry:
         # flush against it.
         return [Box("straight_rod", (0.0, 0.0, 0.5 * (lf + r)), (r, r, 0.5 * (lf + r)))]
 
-    def l_finger_boxes(self) -> list[Box]:
-        """Boxes of the L finger in its own finger frame F (= G shifted by -q along y_G)."""
+    def l_finger_boxes(self, bar_retracted: bool = False) -> list[Box]:
+        """Boxes of the L finger in its own finger frame F (= G shifted by -q along y_G); with
+        ``bar_retracted`` the bar is :meth:`retracted_bar_box` (inside the rod's box)."""
         r = 0.5 * self.rod_width
         lf, lh = self.finger_length, self.bar_length
         return [
             Box("l_rod", (0.0, 0.0, 0.5 * (lf + r)), (r, r, 0.5 * (lf + r))),
             # From the rod's outer face (y = -r) to the bar tip (y = l_h).
-            Box("bar", (0.0, 0.5 * (lh - r), lf), (r, 0.5 * (lh + r), r)),
+            self.retracted_bar_box() if bar_retracted
+            else Box("bar", (0.0, 0.5 * (lh - r), lf), (r, 0.5 * (lh + r), r)),
         ]
 
-    def solid_boxes_G(self, q: float | None = None) -> list[Box]:
-        """The gripper's solid model in G at finger position ``q``: hand, rods and bar."""
-        q = self.q_open if q is None else self.check_opening(q)
+    # ---- the retractable bar (paper Sec. 4) ---------------------------------------------------
+    @property
+    def bar_retracted_angle(self) -> float:
+        """Radians: the bar joint's angle when retracted, a rotation about ``+x_G`` through the
+        bend p3 that takes the bar's direction ``+y_G`` to ``-z_G`` (0 = released)."""
+        return -0.5 * np.pi
+
+    @property
+    def bar_pivot_F(self) -> np.ndarray:
+        """(3,) the bar joint's origin, the bend p3, in the L finger's frame F (metres); its axis
+        is ``+x_G`` (= +x_F)."""
+        return np.array([0.0, 0.0, self.finger_length])
+
+    def retracted_bar_box(self) -> Box:
+        """The bar's box in the L finger's frame F once retracted: the released bar's box
+        rotated by :attr:`bar_retracted_angle` about ``x`` through :attr:`bar_pivot_F`. It spans
+        ``y`` in [-r, r] and ``z`` in [l_f - l_h, l_f + r] (r = rod_width / 2): the L rod's last
+        l_h of length, inside the rod's box."""
+        released = self.l_finger_boxes(bar_retracted=False)[1]
+        c, s = np.cos(self.bar_retracted_angle), np.sin(self.bar_retracted_angle)
+        R = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+        R = np.round(R)  # a quarter turn: exact, and the box stays axis-aligned
+        pivot = self.bar_pivot_F
+        center = pivot + R @ (np.asarray(released.center) - pivot)
+        half = np.abs(R) @ np.asarray(released.half_extents)
+        return Box("bar", tuple(float(v) for v in center), tuple(float(v) for v in half))
+
+    def solid_boxes_G(self, q: float | None = None, bar_retracted: bool = False) -> list[Box]:
+        """The gripper's solid model in G at finger position ``q``: hand, rods and bar (the bar
+        folded onto the L rod with ``bar_retracted``, where q may go down to
+        :attr:`q_closed_retracted`)."""
+        q = self.q_open if q is None else self.check_opening(q, bar_retracted)
         boxes = [self.hand_box()]
         for b in self.straight_finger_boxes():
             c = np.asarray(b.center) + (0.0, q, 0.0)
             boxes.append(Box(b.name, tuple(c), b.half_extents))
-        for b in self.l_finger_boxes():
+        for b in self.l_finger_boxes(bar_retracted):
             c = np.asarray(b.center) + (0.0, -q, 0.0)
             boxes.append(Box(b.name, tuple(c), b.half_extents))
         return boxes
 
     def count_points_inside(
-        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0
+        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0,
+        bar_retracted: bool = False,
     ) -> int:
         """Number of points ``p_GQ`` (n, 3) in G that lie inside the solid model (grown by margin)."""
-        return int(self.points_inside_mask(p_GQ, q, margin).sum())
+        return int(self.points_inside_mask(p_GQ, q, margin, bar_retracted).sum())
 
     def points_inside_mask(
-        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0
+        self, p_GQ: np.ndarray, q: float | None = None, margin: float = 0.0,
+        bar_retracted: bool = False,
     ) -> np.ndarray:
         """Boolean mask (n,) of the points ``p_GQ`` (n, 3) inside the solid model (grown by margin)."""
         p = np.asarray(p_GQ, dtype=float).reshape(-1, 3)
-        return self.inside_solid_model(p[:, 0], p[:, 1], p[:, 2], q, margin)
+        return self.inside_solid_model(p[:, 0], p[:, 1], p[:, 2], q, margin, bar_retracted)
 
     def inside_solid_model(
         self, x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float | None = None,
-        margin: float = 0.0,
+        margin: float = 0.0, bar_retracted: bool = False,
     ) -> np.ndarray:
         """Boolean mask of points given by their G coordinates ``x, y, z`` (arrays of one shape,
-        metres) inside the solid model (grown by margin); column-wise, so batches of poses can
-        pass (N, M) coordinate arrays without reshaping."""
+        metres) inside the solid model (grown by margin; bar folded onto the L rod with
+        ``bar_retracted``); column-wise, so batches of poses can pass (N, M) coordinate arrays
+        without reshaping."""
         inside = np.zeros(np.shape(x), dtype=bool)
-        for b in self.solid_boxes_G(q):
+        for b in self.solid_boxes_G(q, bar_retracted):
             # Python floats keep float32 input in float32 (NumPy scalars would upcast it).
             cx, cy, cz = (float(v) for v in b.center)
             hx, hy, hz = (float(v) + margin for v in b.half_extents)

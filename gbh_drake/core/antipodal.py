@@ -1,0 +1,507 @@
+"""A learning-free antipodal grasp baseline for the hook gripper with its bar retracted.
+
+Why: the paper compares GbH with GraspNet (Sec. 3.1), whose weights we cannot have, and its
+fairness rule mounts "two straight fingers of the same length" for the baseline. With the bar
+retracted (:mod:`gbh_drake.core.gripper`: a revolute joint about ``x_G`` at the bend p3, angle
+``-pi/2``, the paper's Sec. 4 proposal) the hook gripper is exactly that: two 8 mm square rods,
+l_f = 8 cm long, opening up to l_w = 8 cm between their centre lines. The same sampler is the
+fallback beyond the paper: GbH first; when nothing hangable is found or reachable, retract the
+bar and pinch.
+
+Frames and units: everything is in W, the frame the mesh is given in (metres, radians unless a
+field says degrees). Poses ``X_WG`` (4x4) place the gripper frame G of :mod:`gbh_drake.core.
+gripper`: origin at the palm centre, ``+z_G`` the approach (palm toward fingertips), ``+y_G`` the
+closing axis from the L rod (retracted bar) toward the straight rod, ``x_G = y_G x z_G``. A finger
+position ``q`` is one finger's joint position (its rod's centre line at ``|y_G| = q``).
+
+The sampler (after ``GenerateAntipodalGraspCandidate`` of Russ Tedrake's ``manipulation`` course,
+``clutter.py``; our own code, vectorised, no pydrake):
+
+1. Draw ``n_samples`` of the object's Poisson-disk surface points ``A`` (outward normal ``n_A``)
+   with ``rng``.
+2. Closing axis along the normal: ``y_G = -n_A`` (the L rod's pad at A pushes into the object).
+   Cast a ray from just inside A along ``y_G``; its exit B (outward normal ``n_B``, the hit
+   face's) is the straight rod's contact. The width ``w = |AB|`` must fit: the rods' inner faces
+   touch A and B at ``q = w/2 + rod_width/2``, which must be at most ``q_open - opening_margin``
+   (w <= 6.6 cm with the defaults) and ``w >= min_width``.
+3. Friction cone: the angle between ``n_B`` and ``+y_G`` (and between ``n_A`` and ``-y_G``, zero
+   by construction) must be below ``atan(mu)``.
+4. Rotate the hand about the closing axis through the contacts' midpoint C: ``n_rolls`` angles
+   in ``[-max_roll_deg, +max_roll_deg]`` about the most downward approach perpendicular to
+   ``y_G`` (the course tries 7 rolls in +-60 deg, centre out, and keeps the first feasible; we
+   score all and rank). C is centred between the rods (the course's ``adjust_X_G``) at
+   ``contact_depth`` behind the rods' tip keypoint (z_G = l_f - contact_depth: the finger pads).
+5. Supporting surface: the lowest corner of the solid model, swept from the open gripper to the
+   contact opening, must be at least ``ground_clearance`` above the plane ``ground_normal . p =
+   ground_height``. If it is not, the hand is backed off along ``-z_G`` so that the contact
+   moves toward the fingertips, but not closer than ``min_contact_depth`` to them.
+6. Collision (the course rejects any point inside the gripper; GbH keeps N_c < p_c): N_c counts
+   the object's points inside the bar-retracted solid model swept along the descent (the open
+   gripper moving ``approach_distance`` along ``+z_G`` to X_WG) and then along the closing (each
+   rod from ``q_open`` to ``contact_tolerance`` short of its contact): material the hand would
+   pass through or that the rods would touch before A and B. Keep ``N_c < p_c``.
+
+The cost (lower is better), per candidate, in the course's spirit (``GraspCandidateCost``:
+``cost = 20 R_WG[2, 1] - sum_points (n . x_G)^2``, where the WSG's +y is its approach and +x its
+closing axis)::
+
+    cost = weight_direction * (z_G . up)                        # in [-1, 1]: -1 straight down
+         + weight_antipodal * (1 - ((n_A . y_G)^2 + (n_B . y_G)^2) / 2)   # in [0, 1]
+         + weight_com * d_com                                   # metres x (1/m)
+
+* direction: the course penalises its approach axis (WSG +y) not pointing down; ours is +z_G, so
+  ``z_G . up`` (up = the ground normal), -1 for a top-down approach, 0 for a side one.
+* antipodality: the course rewards ``(n . x_G)^2`` summed over the cloud's points between the
+  fingers; we take the two contacts' normals (the exact contacts of the ray construction) and
+  average, so the term does not grow with the sampling density.
+* centre of mass (not in the course): ``d_com`` is the distance from the CoM (the volume centroid,
+  or the surface centroid of an open scan) to the closing line AB: the lever arm of gravity about
+  the one axis a two-pad pinch resists only by the pads' torsional friction, so a pinch far from
+  the CoM lets the object swing out.
+* also differs: the course checks collisions against the scene with Drake's geometry queries; we
+  count points (as GbH does) and test the supporting plane analytically, and we also count the
+  material swept by the descent and by the closing rods (the course checks the final pose
+  only); the course keeps the first feasible roll of one sample per call, we rank every
+  (sample, roll) and return the top_k. ``score = exp(-(cost + weight_direction))`` maps the cost
+  to (0, 1] (1: top-down, perfectly antipodal, through the CoM); it is not GbH's S_total.
+
+Execution: retract the bar (bar joint at ``gripper.bar_retracted_angle = -pi/2``), open the
+fingers to ``q_pregrasp`` (= ``q_open``), reach ``X_WG`` along ``+z_G``, close with a force limit
+toward ``gripper.q_closed_retracted`` (rods touching); contact is expected at ``q``. ``X_WG @
+diag(-1, -1, 1, 1)`` (half a turn about ``z_G``) is the same grasp with the rods swapped, and the
+solid model with the bar retracted is symmetric under it: :func:`flipped` gives it, for a
+planner that cannot reach the first.
+"""
+
+# No ``from __future__ import annotations`` here: Drake's yaml_load_typed reads
+# AntipodalParams' field types at run time and needs real types, not strings.
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import open3d as o3d
+import trimesh
+
+from gbh_drake.core.geometry import frame_coordinates, orthonormal_basis, unit
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.object_model import ObjectModel, prepare_object
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.results import GbhInputError
+
+#: Grasp kind of this module (GbH's are "parallel" and "vertical").
+ANTIPODAL = "antipodal"
+
+#: Points x poses per chunk of the collision count (bounds the (chunk, N) temporaries).
+_CHUNK_POINTS = 400_000
+#: m: the exit ray starts this far inside the surface at A, so that it does not hit A's face.
+_RAY_START = 2e-4
+
+
+@dataclass
+class AntipodalParams:
+    """Parameters of the antipodal baseline; lengths metres, angles degrees."""
+
+    seed: int = 0
+    """Seed of the surface sampler (Poisson disk) when a mesh, not an ObjectModel, is given; the
+    grasp sampling itself draws from the ``rng`` argument (default: a generator seeded with
+    this)."""
+    n_points: int = 5000
+    """Poisson-disk surface points (the samples' pool and the collision cloud) for a mesh input."""
+    n_samples: int = 300
+    """Surface points A drawn as first contacts (without replacement; all if fewer)."""
+    n_rolls: int = 7
+    """Rotations about the closing axis tried per contact pair."""
+    max_roll_deg: float = 90.0
+    """Degrees: rolls span [-max, +max] about the most downward approach (the course: 60; 90
+    adds the side approaches a handle's pinch may need). At most 90: beyond, the approach would
+    point upward."""
+    contact_depth: float = 0.015
+    """m: the contacts' distance behind the rods' tip keypoint p2 (z_G = l_f): the finger pads."""
+    min_contact_depth: float = 0.006
+    """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
+    contacts are this close to the tips, no closer."""
+    opening_margin: float = 0.003
+    """m: the contact opening q must be at most q_open minus this (room to open around it)."""
+    min_width: float = 0.001
+    """m: thinner material between the contacts is not pinched."""
+    friction_coefficient: float = 0.4
+    """mu: both contact normals must lie within atan(mu) of the closing axis (21.8 deg)."""
+    contact_tolerance: float = 0.001
+    """m: the swept collision volume of the rods stops this short of the contacts."""
+    approach_distance: float = 0.10
+    """m: the open gripper descends along +z_G from this far back (the pick's pre-grasp offset,
+    ``PickParams.approach_distance``); the material it would pass through counts in N_c.
+    0: only the grasp pose and the closing are checked (as GbH's N_c)."""
+    p_c: int = 10
+    """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
+    collision_margin: float = 0.0
+    """m: every box of the solid model is grown by this for the point count."""
+    ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    """Unit anti-gravity direction (the supporting surface's normal) in W; normalised on use."""
+    ground_height: float = 0.0
+    """m: height of the supporting surface along ``ground_normal`` (as GbhParams')."""
+    ground_clearance: float = 0.002
+    """m: the swept solid model's lowest corner must be at least this far above the surface."""
+    check_ground: bool = True
+    """Apply the supporting-surface rule (off for objects floating in space)."""
+    weight_direction: float = 1.0
+    """Cost per unit of z_G . up (the approach's upward component)."""
+    weight_antipodal: float = 5.0
+    """Cost per unit of 1 - mean (n . y_G)^2 over the two contacts."""
+    weight_com: float = 10.0
+    """1/m: cost per metre between the CoM and the closing line."""
+    top_k: int = 10
+    """Number of best grasps returned."""
+
+    def check(self) -> None:
+        """Raise GbhInputError naming the first field whose value cannot work."""
+        problems = [
+            ("n_points", self.n_points >= 1),
+            ("n_samples", self.n_samples >= 1),
+            ("n_rolls", self.n_rolls >= 1),
+            ("max_roll_deg", 0.0 <= self.max_roll_deg <= 90.0),
+            ("contact_depth", 0.0 <= self.contact_depth),
+            ("min_contact_depth", 0.0 <= self.min_contact_depth <= self.contact_depth),
+            ("opening_margin", self.opening_margin >= 0.0),
+            ("min_width", self.min_width >= 0.0),
+            ("friction_coefficient", self.friction_coefficient > 0.0),
+            ("contact_tolerance", self.contact_tolerance >= 0.0),
+            ("approach_distance", self.approach_distance >= 0.0),
+            ("p_c", self.p_c >= 1),
+            ("ground_normal", len(self.ground_normal) == 3
+             and bool(np.linalg.norm(self.ground_normal) > 0)),
+            ("top_k", self.top_k >= 1),
+        ]
+        for name, ok in problems:
+            if not ok:
+                raise GbhInputError(
+                    f"AntipodalParams.{name} = {getattr(self, name)!r} is out of range")
+
+
+@dataclass(eq=False)
+class AntipodalGrasp:
+    """One pinch of the two-rod gripper (bar retracted); positions metres and directions unit
+    vectors in W. A is the L rod's contact (on the -y_G side), B the straight rod's."""
+
+    X_WG: np.ndarray
+    """(4, 4) pose of the gripper frame G (palm centre, +z_G approach, +y_G closing A -> B)."""
+    q: float
+    """m: one finger's joint position when both rods touch (width / 2 + rod_width / 2)."""
+    q_pregrasp: float
+    """m: one finger's joint position for the approach (the collision count's open end)."""
+    width: float
+    """m: |AB|, the material's thickness between the contacts."""
+    p_WA: np.ndarray
+    """(3,) the L rod's contact point."""
+    p_WB: np.ndarray
+    """(3,) the straight rod's contact point."""
+    n_WA: np.ndarray
+    """(3,) outward normal at A (sampled face's)."""
+    n_WB: np.ndarray
+    """(3,) outward normal at B (the exit face's)."""
+    contact_depth: float
+    """m: how far behind the rods' tip keypoint (z_G = l_f) the contacts are."""
+    angle_A: float
+    """rad: angle between n_WA and -y_G (0 by construction)."""
+    angle_B: float
+    """rad: angle between n_WB and +y_G (at most atan(mu))."""
+    com_distance: float
+    """m: distance from the object's CoM to the closing line AB."""
+    cost: float
+    """weight_direction * cost_direction + weight_antipodal * cost_antipodal + weight_com *
+    com_distance; lower is better."""
+    cost_direction: float
+    """z_G . up, in [-1, 1] (-1: straight down)."""
+    cost_antipodal: float
+    """1 - ((n_A . y_G)^2 + (n_B . y_G)^2) / 2, in [0, 1]."""
+    score: float
+    """exp(-(cost + weight_direction)), in (0, 1]: 1 for the ideal pinch (not GbH's S_total)."""
+    n_collisions: int
+    """N_c: object points inside the solid model swept along the descent (approach_distance)
+    and the closing from q_pregrasp to the contacts."""
+    ground_clearance: float
+    """m: height of the swept solid model's lowest corner above the supporting surface."""
+    sample_index: int
+    """Index of A in the object's surface points."""
+    kind: str = ANTIPODAL
+    bar_retracted: bool = True
+    """The grasp is for the gripper with its bar folded onto the L rod (always True here)."""
+
+
+@dataclass(eq=False)
+class AntipodalResult:
+    """What one :func:`plan_antipodal_grasps` call found, with counts that say why not more."""
+
+    ranked: list[AntipodalGrasp]
+    """At most top_k collision-free grasps, lowest cost first."""
+    counts: dict[str, int] = field(default_factory=dict)
+    """How many survived each step: samples, exits (ray hit), fits (width), friction (cone),
+    poses (x rolls), ground (surface rule), evaluated (collision counted), collision_free."""
+    timings: dict[str, float] = field(default_factory=dict)
+    """Wall-clock seconds: sampling (object preparation), contacts, poses, collision."""
+
+
+def flipped(X_WG: np.ndarray) -> np.ndarray:
+    """The same pinch with the rods swapped: ``X_WG`` turned half a turn about ``z_G``."""
+    return np.asarray(X_WG, dtype=float) @ np.diag([-1.0, -1.0, 1.0, 1.0])
+
+
+def sample_antipodal_grasps(
+    mesh: trimesh.Trimesh | ObjectModel,
+    params: AntipodalParams | None = None,
+    rng: np.random.Generator | int | None = None,
+    gripper: HookGripperGeometry = HOOK_GRIPPER,
+) -> list[AntipodalGrasp]:
+    """The best ``params.top_k`` antipodal grasps of ``mesh`` (vertices in W, metres, or a
+    prepared :class:`ObjectModel`, whose points, normals, CoM and ray scene are reused), lowest
+    cost first; empty when nothing fits. ``rng``: a numpy Generator or a seed (default
+    ``params.seed``); the same seed gives the same grasps. Raises GbhInputError for unusable
+    input."""
+    return plan_antipodal_grasps(mesh, params, rng, gripper).ranked
+
+
+def plan_antipodal_grasps(
+    mesh: trimesh.Trimesh | ObjectModel,
+    params: AntipodalParams | None = None,
+    rng: np.random.Generator | int | None = None,
+    gripper: HookGripperGeometry = HOOK_GRIPPER,
+) -> AntipodalResult:
+    """:func:`sample_antipodal_grasps` with the counts of each step and timings."""
+    params = AntipodalParams() if params is None else params
+    params.check()
+    if rng is None or isinstance(rng, int | np.integer):
+        rng = np.random.default_rng(params.seed if rng is None else int(rng))
+    t0 = time.perf_counter()
+    obj = mesh if isinstance(mesh, ObjectModel) else prepare_object(
+        mesh, GbhParams(seed=params.seed, n_points=params.n_points))
+    timings = {"sampling": time.perf_counter() - t0}
+    counts: dict[str, int] = {}
+    t = time.perf_counter()
+    pairs = _contact_pairs(obj, params, rng, gripper, counts)
+    timings["contacts"] = time.perf_counter() - t
+    t = time.perf_counter()
+    cand = _poses(obj, pairs, params, gripper, counts)
+    timings["poses"] = time.perf_counter() - t
+    t = time.perf_counter()
+    ranked = _rank_collision_free(obj, pairs, cand, params, gripper, counts)
+    timings["collision"] = time.perf_counter() - t
+    return AntipodalResult(ranked, counts, timings)
+
+
+# ---- step 1-3: contact pairs ---------------------------------------------------------------------
+def _contact_pairs(obj: ObjectModel, params: AntipodalParams, rng: np.random.Generator,
+                   gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
+    """Antipodal contact pairs (A, B) that fit between the rods, one row per kept sample."""
+    n = len(obj.points)
+    idx = rng.choice(n, size=min(params.n_samples, n), replace=False)
+    counts["samples"] = len(idx)
+    p_A = obj.points[idx]
+    n_A = unit(obj.normals[idx])
+    y = -n_A
+    rays = np.concatenate([p_A + _RAY_START * y, y], axis=1).astype(np.float32)
+    hit = obj.scene.cast_rays(o3d.core.Tensor(rays))
+    t_hit = hit["t_hit"].numpy().astype(float)
+    prim = hit["primitive_ids"].numpy().astype(np.int64)
+    exits = np.isfinite(t_hit)
+    counts["exits"] = int(exits.sum())
+    width = np.where(exits, t_hit + _RAY_START, np.inf)
+    r = 0.5 * gripper.rod_width
+    q = 0.5 * width + r
+    fits = exits & (width >= params.min_width) & (q <= gripper.q_open - params.opening_margin)
+    counts["fits"] = int(fits.sum())
+    face_normals = np.asarray(obj.mesh.face_normals)
+    n_B = np.zeros_like(n_A)
+    n_B[exits] = face_normals[prim[exits]]
+    cos_A = np.sum(n_A * -y, axis=1)
+    cos_B = np.sum(n_B * y, axis=1)
+    cone = np.cos(np.arctan(params.friction_coefficient))
+    keep = fits & (cos_A >= cone) & (cos_B >= cone)
+    counts["friction"] = int(keep.sum())
+    p_B = p_A + np.where(exits, width, 0.0)[:, None] * y
+    return {
+        "index": idx[keep], "p_A": p_A[keep], "p_B": p_B[keep], "n_A": n_A[keep],
+        "n_B": n_B[keep], "y": y[keep], "width": width[keep], "q": q[keep],
+        "cos_A": cos_A[keep], "cos_B": cos_B[keep],
+    }
+
+
+# ---- step 4-5: poses, cost, supporting surface ------------------------------------------------------
+def _poses(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalParams,
+           gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
+    """Every (pair, roll) pose that clears the supporting surface, with its cost, lowest first.
+    Rows index pairs through ``pair``."""
+    up = unit(np.asarray(params.ground_normal, dtype=float))
+    y = pairs["y"]
+    S = len(y)
+    if S == 0:
+        counts["poses"] = counts["ground"] = 0
+        empty = np.zeros(0)
+        return {"X": np.zeros((0, 4, 4)), "pair": np.zeros(0, dtype=int), "depth": empty,
+                "q_lo": empty, "q_hi": empty, "cost": empty, "cost_dir": empty,
+                "cost_anti": empty, "d_com": empty, "clearance": empty}
+    rolls = np.deg2rad(np.linspace(-params.max_roll_deg, params.max_roll_deg, params.n_rolls)
+                       if params.n_rolls > 1 else np.zeros(1))
+    # Most downward approach perpendicular to the closing axis (any, if the axis is vertical).
+    down = np.broadcast_to(-up, y.shape)
+    z0 = down - np.sum(down * y, axis=1, keepdims=True) * y
+    flat = np.linalg.norm(z0, axis=1) < 1e-6
+    z0 = np.where(flat[:, None], orthonormal_basis(y)[0], z0)
+    z0 = unit(z0)
+    x0 = np.cross(y, z0)
+    c, s = np.cos(rolls), np.sin(rolls)
+    z = unit(z0[:, None, :] * c[None, :, None] + x0[:, None, :] * s[None, :, None])  # (S, R, 3)
+    yy = np.broadcast_to(y[:, None, :], z.shape)
+    R = np.stack([np.cross(yy, z), yy, z], axis=-1).reshape(-1, 3, 3)  # columns x, y, z
+    pair = np.repeat(np.arange(S), len(rolls))
+    mid = 0.5 * (pairs["p_A"] + pairs["p_B"])[pair]
+    depth = np.full(len(pair), params.contact_depth)
+    lf = gripper.finger_length
+
+    # Supporting surface: lowest corner of the swept solid model, backed off along -z_G if need be.
+    q_lo = np.minimum(pairs["q"][pair] + params.contact_tolerance, gripper.q_open)
+    q_hi = np.full(len(pair), gripper.q_open)
+    lo, hi = _swept_boxes(q_lo, q_hi, gripper, 0.0, 0.0)  # (M, B, 3) each, in G
+    u_G = np.einsum("mji,j->mi", R, up)  # up in G
+    z_up = R[:, :, 2] @ up  # z_G . up
+    p_WG = mid - (lf - depth)[:, None] * R[:, :, 2]
+    if params.check_ground:
+        lowest = np.minimum(u_G[:, None, :] * lo, u_G[:, None, :] * hi).sum(axis=2).min(axis=1)
+        height = lowest + p_WG @ up - params.ground_height
+        short = params.ground_clearance - height  # > 0: too low by this much
+        need, can = short > 0.0, z_up < -1e-6  # backing off raises the hand only if it points down
+        backoff = np.where(need & can, short / np.maximum(-z_up, 1e-6), 0.0)
+        max_backoff = params.contact_depth - params.min_contact_depth + 1e-12
+        ok = ~need | (can & (backoff <= max_backoff))
+        backoff = np.where(ok, backoff, 0.0)
+        depth = depth - backoff
+        p_WG = mid - (lf - depth)[:, None] * R[:, :, 2]
+        clearance = height + backoff * (-z_up)
+    else:
+        ok = np.ones(len(pair), dtype=bool)
+        lowest = np.minimum(u_G[:, None, :] * lo, u_G[:, None, :] * hi).sum(axis=2).min(axis=1)
+        clearance = lowest + p_WG @ up - params.ground_height
+    counts["poses"] = len(pair)
+    counts["ground"] = int(ok.sum())
+
+    # Cost (module docstring).
+    axis_point, com = pairs["p_A"][pair], obj.com
+    v = com - axis_point
+    yw = R[:, :, 1]
+    d_com = np.linalg.norm(v - np.sum(v * yw, axis=1, keepdims=True) * yw, axis=1)
+    cost_dir = z_up
+    cost_anti = 1.0 - 0.5 * (pairs["cos_A"][pair] ** 2 + pairs["cos_B"][pair] ** 2)
+    cost = (params.weight_direction * cost_dir + params.weight_antipodal * cost_anti
+            + params.weight_com * d_com)
+    keep = np.flatnonzero(ok)
+    order = keep[np.argsort(cost[keep], kind="stable")]
+    X = np.zeros((len(order), 4, 4))
+    X[:, :3, :3] = R[order]
+    X[:, :3, 3] = p_WG[order]
+    X[:, 3, 3] = 1.0
+    return {
+        "X": X, "pair": pair[order], "depth": depth[order], "q_lo": q_lo[order],
+        "q_hi": q_hi[order], "cost": cost[order], "cost_dir": cost_dir[order],
+        "cost_anti": cost_anti[order], "d_com": d_com[order], "clearance": clearance[order],
+    }
+
+
+def _swept_boxes(q_lo: np.ndarray, q_hi: np.ndarray, gripper: HookGripperGeometry,
+                 margin: float, approach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper corners (M, B, 3), in G, of the bar-retracted solid model's B boxes swept
+    (along y_G) while each finger moves between ``q_lo`` and ``q_hi`` (M,), grown by ``margin``,
+    and extended by ``approach`` (m) along -z_G (the descent of the gripper open at q_hi).
+
+    The boxes come from :meth:`HookGripperGeometry.solid_boxes_G`; each box's centre moves
+    linearly with q (slope read off two openings), so its sweep is again a box. Extending every
+    box back along -z_G over-covers only where the rods close behind the palm (z_G < 0), which
+    the hand's own sweep covers: the union is exactly the descent plus the closing."""
+    qa, qb = gripper.q_closed_retracted, gripper.q_open
+    boxes_a = gripper.solid_boxes_G(qa, bar_retracted=True)
+    boxes_b = gripper.solid_boxes_G(qb, bar_retracted=True)
+    c_a = np.array([b.center for b in boxes_a], dtype=float)  # (B, 3)
+    slope = (np.array([b.center for b in boxes_b], dtype=float) - c_a) / (qb - qa)
+    half = np.array([b.half_extents for b in boxes_a], dtype=float) + margin
+    c_lo = c_a[None] + slope[None] * (q_lo - qa)[:, None, None]  # (M, B, 3)
+    c_hi = c_a[None] + slope[None] * (q_hi - qa)[:, None, None]
+    lo = np.minimum(c_lo, c_hi) - half[None]
+    lo[:, :, 2] -= approach
+    return lo, np.maximum(c_lo, c_hi) + half[None]
+
+
+# ---- step 6: collision count, lazily in cost order ---------------------------------------------------
+def _rank_collision_free(obj: ObjectModel, pairs: dict[str, np.ndarray],
+                         cand: dict[str, np.ndarray], params: AntipodalParams,
+                         gripper: HookGripperGeometry, counts: dict[str, int]
+                         ) -> list[AntipodalGrasp]:
+    """Count N_c in cost order, chunk by chunk, until top_k collision-free grasps are found (the
+    cost does not depend on N_c, so this is the top_k of counting them all)."""
+    points = np.asarray(obj.points, dtype=np.float32)
+    M = len(cand["X"])
+    step = max(8, _CHUNK_POINTS // max(len(points), 1))
+    ranked: list[AntipodalGrasp] = []
+    evaluated = 0
+    for k in range(0, M, step):
+        sl = slice(k, min(k + step, M))
+        n_c = count_in_swept_model(points, cand["X"][sl], cand["q_lo"][sl], cand["q_hi"][sl],
+                                   gripper, params.collision_margin, params.approach_distance)
+        evaluated = sl.stop
+        for j in np.flatnonzero(n_c < params.p_c):
+            ranked.append(_grasp(pairs, cand, k + int(j), int(n_c[j]), params))
+            if len(ranked) == params.top_k:
+                break
+        if len(ranked) == params.top_k:
+            break
+    counts["evaluated"] = evaluated
+    counts["collision_free"] = len(ranked)
+    return ranked
+
+
+def count_in_swept_model(points_W: np.ndarray, X_WG: np.ndarray, q_lo: np.ndarray,
+                         q_hi: np.ndarray, gripper: HookGripperGeometry = HOOK_GRIPPER,
+                         margin: float = 0.0, approach: float = 0.0) -> np.ndarray:
+    """N_c (M,) int: how many of ``points_W`` (N, 3, metres in W) lie inside the bar-retracted
+    solid model (boxes grown by ``margin``) swept while the fingers move between ``q_lo`` and
+    ``q_hi`` (M,) at each pose ``X_WG`` (M, 4, 4), and while the gripper, open at ``q_hi``,
+    descends to it along +z_G from ``approach`` metres back."""
+    X = np.asarray(X_WG, dtype=np.float32).reshape(-1, 4, 4)
+    p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
+    if len(X) == 0 or len(p) == 0:
+        return np.zeros(len(X), dtype=int)
+    lo, hi = _swept_boxes(np.asarray(q_lo, float).reshape(-1), np.asarray(q_hi, float).reshape(-1),
+                          gripper, margin, approach)
+    lo, hi = lo.astype(np.float32), hi.astype(np.float32)
+    x, y, z = frame_coordinates(X, p)
+    inside = np.zeros(x.shape, dtype=bool)
+    for b in range(lo.shape[1]):
+        box = (x >= lo[:, b, 0:1]) & (x <= hi[:, b, 0:1])
+        box &= (z >= lo[:, b, 2:3]) & (z <= hi[:, b, 2:3])
+        box &= (y >= lo[:, b, 1:2]) & (y <= hi[:, b, 1:2])
+        inside |= box
+    return inside.sum(axis=1)
+
+
+def _grasp(pairs: dict[str, np.ndarray], cand: dict[str, np.ndarray], i: int, n_c: int,
+           params: AntipodalParams) -> AntipodalGrasp:
+    s = int(cand["pair"][i])
+    cost = float(cand["cost"][i])
+    return AntipodalGrasp(
+        X_WG=cand["X"][i].copy(),
+        q=float(pairs["q"][s]),
+        q_pregrasp=float(cand["q_hi"][i]),
+        width=float(pairs["width"][s]),
+        p_WA=pairs["p_A"][s].copy(),
+        p_WB=pairs["p_B"][s].copy(),
+        n_WA=pairs["n_A"][s].copy(),
+        n_WB=pairs["n_B"][s].copy(),
+        contact_depth=float(cand["depth"][i]),
+        angle_A=float(np.arccos(np.clip(pairs["cos_A"][s], -1.0, 1.0))),
+        angle_B=float(np.arccos(np.clip(pairs["cos_B"][s], -1.0, 1.0))),
+        com_distance=float(cand["d_com"][i]),
+        cost=cost,
+        cost_direction=float(cand["cost_dir"][i]),
+        cost_antipodal=float(cand["cost_anti"][i]),
+        score=float(np.exp(-max(cost + params.weight_direction, 0.0))),
+        n_collisions=n_c,
+        ground_clearance=float(cand["clearance"][i]),
+        sample_index=int(pairs["index"][s]),
+    )
