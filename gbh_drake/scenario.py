@@ -20,17 +20,22 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
+from gbh_drake.config import (
+    GRASP_METHODS,
+    MonitorConfig,
+    ObjectConfig,
+    PickConfig,
+    RobotConfig,
+)
+from gbh_drake.core.antipodal import AntipodalParams
 from gbh_drake.core.params import GbhParams
 from gbh_drake.perception.config import ScanConfig
-from gbh_drake.planning.pick import PickParams
 from gbh_drake.yaml_check import YamlFieldError, check_yaml_against_schema
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
-#: grasp and judge it; ``settle`` = only let the object settle (a smoke test of the station).
+#: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
+#: the station).
 TASKS = ("pick", "settle")
-
-#: Franka's "ready" pose, the gripper pointing down over the table (rad).
-DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
 
 
 #: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
@@ -57,46 +62,6 @@ def default_directives() -> list[ModelDirective]:
 
 class ScenarioError(ValueError):
     """A scenario file is invalid; the message names the file and the field."""
-
-
-@dataclass
-class ObjectConfig:
-    """The object to pick."""
-
-    name: str = "mug_classic"
-    """A named object of the object set (``gbh objects list``); ignored when ``mesh`` is set."""
-    mesh: str = ""
-    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file. Metres
-    after ``scale``; its frame O has z up and the object rests on z = 0."""
-    scale: float = 1.0
-    """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
-    density: float = 0.0
-    """kg/m^3 for mass and inertia; 0 uses the named object's own density (or 600 for a mesh)."""
-    pose: Transform = field(
-        default_factory=lambda: Transform(translation=[0.55, 0.0, 0.0])
-    )
-    """X_WO, the object's pose on the table (W: world, z up, table top at z = 0). Takes Drake's
-    distributions (``!UniformVector``, ``!Rpy {deg: !UniformVector ...}``), sampled from ``seed``."""
-    drop_height: float = 0.002
-    """Extra height (m) above ``pose`` at the start, so the object settles onto the table."""
-
-
-@dataclass
-class RobotConfig:
-    """The Franka arm with the hook gripper."""
-
-    q_home: list[float] = field(default_factory=lambda: list(DEFAULT_Q_HOME))
-    """Arm joint positions (rad, 7 values) at the start and when idle."""
-    gripper_open: bool = True
-    """Whether the gripper starts open (q = l_w / 2) or closed."""
-    arm_kp: list[float] = field(default_factory=lambda: [4000.0] * 4 + [1500.0] * 3)
-    """Joint PD stiffness (N m / rad) of the simulated joint controller."""
-    arm_kd: list[float] = field(default_factory=lambda: [200.0] * 4 + [60.0] * 3)
-    """Joint PD damping (N m s / rad)."""
-    finger_kp: float = 800.0
-    """Finger position-controller stiffness (N/m)."""
-    finger_kd: float = 30.0
-    """Finger damping (N s / m)."""
 
 
 @dataclass
@@ -141,8 +106,20 @@ class Scenario:
     gbh: GbhParams = field(default_factory=GbhParams)
     """Grasping-by-Hanging parameters (paper values by default). Its ``seed`` is replaced by the
     scenario's ``seed``."""
-    pick: PickParams = field(default_factory=PickParams)
-    """How the chosen grasp is executed (approach, lift, carry, hold)."""
+    grasp_method: str = "gbh"
+    """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
+    (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
+    antipodal: AntipodalParams = field(default_factory=AntipodalParams)
+    """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
+    pick: PickConfig = field(default_factory=PickConfig)
+    """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
+    monitor: MonitorConfig = field(default_factory=MonitorConfig)
+    """The success rules (lifted height, closed-loop tolerance)."""
+    max_time: float = 60.0
+    """Simulated seconds after which a trial is cut off (it normally ends when the pick-and-carry
+    machine has finished)."""
+    replay_fps: float = 16.0
+    """Frames per second of the saved Meshcat replay (fewer frames, smaller file)."""
     output_dir: str = ""
     """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
     source_path: str = ""
@@ -230,8 +207,7 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
         fail("task", f"must be one of {', '.join(TASKS)}, got {scenario.task!r}")
     if len(scenario.scan_target) != 3:
         fail("scan_target", "needs 3 coordinates (m)")
-    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check),
-                        ("pick", scenario.pick.check)):
+    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check)):
         try:
             check()
         except ValueError as e:
@@ -244,9 +220,12 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
     if obj.drop_height < 0:
         fail("object.drop_height", f"must be >= 0, got {obj.drop_height}")
     robot = scenario.robot
-    gains = [*robot.arm_kp, *robot.arm_kd, robot.finger_kp, robot.finger_kd]
+    gains = [*robot.arm_kp, *robot.arm_kd, robot.hand.kp, robot.hand.kd]
     if min(gains) <= 0:
-        fail("robot", "PD gains (arm_kp, arm_kd, finger_kp, finger_kd) must be positive")
+        fail("robot", "PD gains (arm_kp, arm_kd, hand.kp, hand.kd) must be positive")
+    if scenario.grasp_method not in GRASP_METHODS:
+        fail("grasp_method", f"must be one of {', '.join(GRASP_METHODS)}, got "
+                             f"{scenario.grasp_method!r}")
     if scenario.visualization.publish_period <= 0:
         fail("visualization.publish_period", "must be positive (s)")
     names = [d.add_model.name for d in scenario.directives if d.add_model is not None]

@@ -2,10 +2,19 @@
 
 The model: link ``panda_hand`` (the Franka hand, frame H = Franka's hand frame, welded to the
 arm's flange ``panda_link8`` with a -45 deg yaw), a frame ``G`` (the gripper frame of
-:mod:`gbh_drake.core.gripper`) at the palm, and two prismatic fingers, ``straight_finger`` moving
+:mod:`gbh_drake.core.gripper`) at the palm, two prismatic fingers, ``straight_finger`` moving
 along +y_G and ``l_finger`` moving along -y_G, each joint position being ``q`` of the geometry
-module (so the opening is ``2 q``). Collision geometry is the solid model of the geometry module
-(boxes), with compliant-hydroelastic properties; visuals add Franka's hand and finger meshes.
+module (so the opening is ``2 q``), and the L rod's horizontal ``bar`` on a revolute joint
+``bar_joint`` at the bend p3 (about +x_G): at 0 the bar is deployed (the paper's hook), at
+-pi/2 it is folded back onto the L rod, which makes the hand a plain two-rod gripper (the joint
+the paper proposes in Sec. 4, used by the antipodal baseline and the GbH fallback).
+
+The fingers close until something stops them: the material they squeeze, or, with the bar
+deployed, the bar's tip on the straight rod (the loop is closed at q_closed; the joints' own
+lower limit is where the two rods touch, for the two-rod gripper). Their actuators' effort limit
+is Franka's peak grasp force; the hand driver (:mod:`gbh_drake.systems.hand_driver`) sets the
+grasp force below it. Collision geometry is the solid model of the geometry module (boxes), with
+compliant-hydroelastic properties; visuals add Franka's hand and finger meshes.
 
 Run ``python -m gbh_drake.modeling.gripper_sdf`` to rewrite the file; a test checks it is current.
 """
@@ -30,9 +39,23 @@ from gbh_drake.modeling.sdf_text import (
 
 GRIPPER_SDF = MODELS_DIR / "hook_gripper.sdf"
 FRANKA_MESHES = "package://pybullet_data/franka_panda/meshes/visual"
-#: Compliant modulus (Pa) of the rods, bar and hand; friction of their surface.
+#: Compliant modulus (Pa) of the rods, bar and hand.
 GRIPPER_MODULUS = 5e7
-GRIPPER_MU = 0.8
+#: Friction coefficient (static = dynamic) of the rods', bar's and hand's surface. The paper's
+#: rods are metal or printed plastic; against ceramic or plastic objects such pairs have
+#: coefficients of about 0.3-0.5 (e.g. steel on nylon 0.3-0.5, PLA on PLA about 0.35-0.5;
+#: engineering tables such as the Engineering ToolBox's "friction coefficients"). Drake combines
+#: two surfaces' coefficients as 2 mu1 mu2 / (mu1 + mu2): with objects at 0.4 the pair is 0.4.
+GRIPPER_MU = 0.4
+#: Effort limit (N) of each finger's actuator: Franka's peak grasp force.
+FINGER_EFFORT_LIMIT = 140.0
+#: Effort limit (N m) of the bar's actuator (a small servo; 10 N m holds 330 N at the bar's tip).
+BAR_EFFORT_LIMIT = 10.0
+#: Mass (kg) of the bar.
+BAR_MASS = 0.01
+#: Bar joint angle (rad) when deployed (the hook) and when folded onto the L rod.
+BAR_DEPLOYED = 0.0
+BAR_RETRACTED = -0.5 * np.pi
 ROD_RGBA = (0.55, 0.57, 0.6, 1.0)
 
 
@@ -85,9 +108,10 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
         "</link>",
         f'<frame name="G" attached_to="panda_hand">{pose(palm, relative_to="panda_hand")}</frame>',
     ]
+    l_rod, bar = g.l_finger_boxes()
     fingers = (
         ("straight_finger", g.straight_finger_boxes(), +1.0),
-        ("l_finger", g.l_finger_boxes(), -1.0),
+        ("l_finger", [l_rod], -1.0),
     )
     for name, boxes, sign in fingers:
         parts.append(f'<frame name="{name}_zero" attached_to="G">{pose(relative_to="G")}</frame>')
@@ -96,12 +120,33 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
             f'<joint name="{name}_joint" type="prismatic">'
             f"<parent>panda_hand</parent><child>{name}</child>"
             f'<axis><xyz expressed_in="G">0 {sign:g} 0</xyz>'
-            f"<limit><lower>{g.q_closed:.9g}</lower><upper>{g.q_open:.9g}</upper>"
-            "<effort>70</effort><velocity>0.2</velocity></limit>"
+            f"<limit><lower>{0.5 * g.rod_width:.9g}</lower><upper>{g.q_open:.9g}</upper>"
+            f"<effort>{FINGER_EFFORT_LIMIT:g}</effort><velocity>0.2</velocity></limit>"
             "<dynamics><damping>0</damping></dynamics></axis></joint>"
         )
+    parts += _bar(g, bar)
     parts += ["</model>", "</sdf>", ""]
     return "\n".join(parts)
+
+
+def _bar(g: HookGripperGeometry, bar: Box) -> list[str]:
+    """The bar as its own link on a revolute joint at the bend p3 of the L rod (about +x_G)."""
+    pivot = (0.0, 0.0, g.finger_length)  # p3 in the L finger's frame
+    in_pivot = Box(bar.name, tuple(np.asarray(bar.center) - pivot), bar.half_extents)
+    return [
+        f'<frame name="bar_pivot" attached_to="l_finger">{pose(pivot, relative_to="l_finger")}'
+        "</frame>",
+        f'<link name="bar">{pose(relative_to="bar_pivot")}'
+        f"{inertial(BAR_MASS, in_pivot.center, box_inertia(BAR_MASS, in_pivot.size))}"
+        f'{_box_element("visual", in_pivot, "bar", ROD_RGBA)}'
+        f'{_box_element("collision", in_pivot, "bar", ROD_RGBA)}</link>',
+        '<joint name="bar_joint" type="revolute"><parent>l_finger</parent><child>bar</child>'
+        '<pose relative_to="bar_pivot">0 0 0 0 0 0</pose>'
+        '<axis><xyz expressed_in="G">1 0 0</xyz>'
+        f"<limit><lower>{BAR_RETRACTED:.9g}</lower><upper>{BAR_DEPLOYED:.9g}</upper>"
+        f"<effort>{BAR_EFFORT_LIMIT:g}</effort><velocity>3</velocity></limit>"
+        "<dynamics><damping>0</damping></dynamics></axis></joint>",
+    ]
 
 
 def write_gripper_sdf(path: Path = GRIPPER_SDF) -> Path:

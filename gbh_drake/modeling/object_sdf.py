@@ -19,8 +19,9 @@ from gbh_drake.modeling.sdf_text import hydroelastic, inertial, material, mesh_g
 from gbh_drake.objects.export import obj_bytes
 from gbh_drake.objects.mass import mass_properties_detailed
 
-#: Friction of object surfaces (static = dynamic).
-OBJECT_MU = 0.6
+#: Friction of object surfaces (static = dynamic): ceramic, glass and plastic objects against
+#: the rods' metal or printed plastic are at about 0.3-0.5 (see ``gripper_sdf.GRIPPER_MU``).
+OBJECT_MU = 0.4
 
 
 @dataclass(frozen=True)

@@ -1,148 +1,202 @@
-"""A pick: transfer to the approach pose, descend, close the hook, lift, carry and hold.
+"""Plans one pick: approach, insert, close, lift until clear, carry, lower, release, retreat.
 
-Waypoints are solved by IK on straight gripper offsets along the approach direction; the arm
-moves between them with joint-space cubic segments. With a :class:`PickPlanning` the motion is
-also collision-checked: the transfer from home to the approach pose is planned by RRT-Connect
-around the table and the object (its convex hull, so the approach pose backs off along the
-approach axis until it is clear of it), and the short straight segments after it (descend,
-close, lift, carry) are checked against the table and the robot itself.
+:func:`plan_pick` turns a grasp (the open gripper's pose X_WG) into arm configurations for each
+waypoint, solved by IK on the planning model (no free body), checks the segments for collisions
+and plans the transfer from the robot's measured configuration to the approach pose by
+RRT-Connect around the scanned object's convex hull. It returns a :class:`PickPlan`, or a
+:class:`Refusal` that says why this grasp cannot be executed (IK infeasible at which waypoint,
+which segment collides, the planner gave up).
+
+Closing: parallel grasps close symmetrically about G (p_M, where the bar's tip meets the
+straight rod, stays at the hole's centre); vertical grasps close about the straight rod (the arm
+moves G along +y_G by each finger's travel, so the rod placed in the hole is not pushed into the
+material). The lift comes from the scan: the object, hanging from the hook point with its CoM
+below it, must clear the table by ``lift_clearance``.
 """
+
+from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 import numpy as np
 from pydrake.math import RigidTransform
 
+from gbh_drake.config import PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.planning.collision import PlanningModel
-from gbh_drake.planning.ik import solve_gripper_ik
+from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance
+from gbh_drake.core.results import VERTICAL
+from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
-from gbh_drake.planning.trajectories import MotionScript
+
+#: Grasp kind of the antipodal baseline (two straight rods, the bar folded away).
+ANTIPODAL = "antipodal"
+#: Steps (m) by which the approach pose backs off until it is clear of the object's hull.
+APPROACH_STEP = 0.05
 
 
 @dataclass
-class PickParams:
-    """How a chosen grasp is executed. Distances in metres, durations in seconds. (No
-    ``from __future__ import annotations`` in this module: yaml_load_typed needs real types.)"""
+class Refusal:
+    """Why the grasp of rank ``rank`` was not executed: ``reason`` is one of ``ik``,
+    ``collision``, ``planner``, ``approach``; ``where`` names the waypoint or segment."""
 
-    approach_distance: float = 0.10
-    """Pre-grasp offset back along the approach direction (+z_G reversed)."""
-    lift_height: float = 0.15
-    """Height the gripper rises (world +z) after closing."""
-    carry_offset: list[float] = field(default_factory=lambda: [0.0, 0.2, 0.0])
-    """Displacement (W) of the carry after the lift, e.g. to a drop-off spot; zeros: no carry."""
-    hold_time: float = 1.0
-    """Time the object is held still at the end (does it stay caged?)."""
-    plan_paths: bool = True
-    """Plan the transfer by RRT-Connect and collision-check every segment (False: IK only,
-    straight joint-space moves)."""
-    max_approach_distance: float = 0.25
-    """With planning: the approach pose backs off in 5 cm steps up to this distance until the
-    gripper is clear of the object's convex hull."""
+    rank: int
+    kind: str
+    reason: str
+    where: str = ""
 
-    def check(self) -> None:
-        """Raises ``ValueError`` naming the first field that cannot work."""
-        problems = [
-            ("approach_distance", self.approach_distance >= 0, "must be >= 0"),
-            ("lift_height", self.lift_height > 0, "must be positive"),
-            ("carry_offset", len(self.carry_offset) == 3, "needs 3 coordinates (m)"),
-            ("hold_time", self.hold_time > 0, "must be positive"),
-            ("max_approach_distance", self.max_approach_distance >= self.approach_distance,
-             "must be >= approach_distance"),
-        ]
-        for name, ok, message in problems:
-            if not ok:
-                raise ValueError(f"{name}: {message}")
+    def text(self) -> str:
+        what = {"ik": "no IK solution at", "collision": "collision in",
+                "planner": "RRT-Connect gave up on", "approach": "no clear approach for"}
+        return f"grasp #{self.rank + 1} ({self.kind}): {what[self.reason]} {self.where}".strip()
+
+    @property
+    def key(self) -> str:
+        """A short counting key, e.g. ``ik:lift``."""
+        return f"{self.reason}:{self.where}" if self.where else self.reason
 
 
 @dataclass
-class PickPlanning:
-    """Collision models for planning a pick: ``with_object`` (table, robot and the object's
-    convex hull, for the transfer) and ``without_object`` (table and robot, for the segments that
-    go into the handle and carry the object; run.py builds it without padding, since the grasp
-    itself may reach down to the table top); ``seed`` seeds RRT-Connect."""
+class PickPlan:
+    """Arm configurations (rad, 7 each) of one planned pick and what they were computed from."""
 
-    with_object: PlanningModel
-    without_object: PlanningModel
+    rank: int
+    kind: str
+    bar: float
+    """Bar angle (rad) for the whole pick (0: deployed hook; -pi/2: folded, two straight rods)."""
+    transfer: list[np.ndarray]
+    """From the start configuration to ``approach`` (RRT-Connect waypoints, ends included)."""
+    q: dict[str, np.ndarray] = field(default_factory=dict)
+    """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, ``retreat``."""
+    lift: float = 0.0
+    """How far (m) the gripper rises after closing."""
+    hook_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """The point (W, m) the object hangs from when closed, before the lift."""
+    place_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """Where (W, m) the hook point is when the object is released."""
+    keep_straight_rod: bool = False
+
+
+@dataclass
+class PickSetup:
+    """What planning a pick needs besides the grasp: the planning models (``near``: table and
+    robot, padding = the grasp's ground clearance, for the segments near the grasp; ``far``:
+    also the scanned object's hull, for the transfer), the scan's points and their centroid
+    (W, m), the pick parameters and the planner's seed."""
+
+    near: PlanningModel
+    far: PlanningModel | None
+    points_W: np.ndarray
+    com_W: np.ndarray
+    config: PickConfig
     seed: int = 0
 
 
-def pick_script(station, plant_context, X_WG: RigidTransform,
-                params: PickParams | None = None, *,
-                keep_straight_rod: bool = False, wait: float = 0.0,
-                planning: PickPlanning | None = None) -> MotionScript | None:
-    """The motion that picks with the open gripper at ``X_WG``; None when a waypoint has no IK
-    or, with ``planning``, when no collision-free motion was found.
-
-    ``plant_context`` gives the state IK holds fixed (the object where it lies); the robot first
-    waits ``wait`` seconds at home (e.g. for the object to settle). The fingers
-    close symmetrically about G, which keeps p_M (the bar tip's meeting point) fixed: right for
-    parallel grasps, whose p_M is at the hole's centre. With ``keep_straight_rod`` the arm moves
-    G along +y_G while the fingers close, by as much as each finger travels, so the straight rod
-    stays where the grasp put it and only the L rod sweeps in: right for vertical grasps, whose
-    straight rod is placed in the hole beside the material (closing symmetrically would push the
-    straight rod into that material)."""
-    params = params or PickParams()
-    plant = station.plant
-    G = plant.GetFrameByName("G", station.gripper)
+def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
+              bar: float = 0.0) -> PickPlan | Refusal:
+    """The plan that picks with the open gripper at ``X_WG`` (4, 4) starting from the arm at
+    ``q_start`` (7,), or the reason it cannot (see the module docstring). ``bar`` (rad): the
+    bar's angle during the pick. Without ``setup.far`` the transfer is a straight move."""
+    cfg = setup.config
+    g = HOOK_GRIPPER
+    X_WG = RigidTransform(np.asarray(X_WG))
     R = X_WG.rotation()
-    approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> fingertips; +y_G: L -> straight rod
-    shift = (HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed) if keep_straight_rod else 0.0
-    p_closed = X_WG.translation() + shift * closing_W
-    p_lift = p_closed + [0.0, 0.0, params.lift_height]
+    approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> tips; +y_G: L rod -> straight rod
+    keep_straight_rod = kind == VERTICAL
+    hook = kind != ANTIPODAL
+    q_closed = g.q_closed if hook else 0.5 * g.rod_width
+    open_hand, closed_hand = HandPose(g.q_open, bar), HandPose(q_closed, bar)
+    shift = (g.q_open - g.q_closed) if keep_straight_rod else 0.0
+    X_closed = RigidTransform(R, X_WG.translation() + shift * closing_W)
 
-    def ik(p, q_seed):
-        return solve_gripper_ik(plant, plant_context, station.arm, G, RigidTransform(R, p), q_seed)
+    def refuse(reason: str, where: str = "") -> Refusal:
+        return Refusal(rank, kind, reason, where)
 
-    # The grasp and what follows it: IK, then (with planning) the segments' collision checks.
-    waypoints, q = {}, station.q_home
-    for label, p in (("descend", X_WG.translation()), ("close", p_closed), ("lift", p_lift),
-                     ("carry", p_lift + np.asarray(params.carry_offset))):
-        q = ik(p, q)
-        if q is None:
-            return None
-        waypoints[label] = q
-    if planning is not None and not _segments_free(planning.without_object, waypoints):
-        return None
+    def ik(X: RigidTransform, seed, hand: HandPose):
+        return setup.near.ik(X, seed, hand)
 
-    # The approach pose (backed off until clear of the object) and the transfer to it.
-    transfer = None
-    distances = np.arange(params.approach_distance, params.max_approach_distance + 1e-9, 0.05)
-    for distance in distances if planning is not None else distances[:1]:
-        q_approach = ik(X_WG.translation() - distance * approach_W, waypoints["descend"])
-        if q_approach is None:
-            continue
-        if planning is None:
-            transfer = [station.q_home, q_approach]
+    q: dict[str, np.ndarray] = {}
+    q["grasp"] = ik(X_WG, q_start, open_hand)
+    if q["grasp"] is None:
+        return refuse("ik", "grasp")
+    q["closed"] = ik(X_closed, q["grasp"], closed_hand)
+    if q["closed"] is None:
+        return refuse("ik", "closed")
+
+    # Lift until the hanging object clears the table (from the scan), as far as the arm reaches.
+    hook_W = X_closed.multiply(g.keypoints_G(g.q_closed)["pM"]) if hook else \
+        X_closed.translation() + g.finger_length * approach_W
+    need = lift_for_clearance(setup.points_W, setup.com_W, hook_W, cfg.lift_clearance,
+                              swings=hook)
+    lift = float(np.clip(need, cfg.min_lift, cfg.max_lift))
+    q["lift"] = None
+    for dz in np.linspace(lift, max(cfg.min_lift, 0.5 * lift), 4):
+        q["lift"] = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
+        if q["lift"] is not None:
+            lift = float(dz)
             break
-        if not planning.without_object.edge_free(q_approach, waypoints["descend"],
-                                                 HOOK_GRIPPER.q_open):
+    if q["lift"] is None:
+        return refuse("ik", "lift")
+
+    # Carry: the hanging object's CoM (or, held rigidly, its hook offset) over the place.
+    com_offset = np.zeros(2) if hook else (hook_W - setup.com_W)[:2]
+    target_xy = np.asarray(cfg.place_position[:2], dtype=float) + com_offset
+    carry = np.array([*(target_xy - hook_W[:2]), lift])
+    q["carry"] = ik(_shifted(X_closed, carry), q["lift"], closed_hand)
+    if q["carry"] is None:
+        return refuse("ik", "carry")
+    low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
+    down = max(0.0, low - cfg.place_clearance)
+    q["place"] = ik(_shifted(X_closed, carry - [0.0, 0.0, down]), q["carry"], closed_hand)
+    if q["place"] is None:
+        return refuse("ik", "place")
+    X_place = setup.near.X_WG(q["place"], closed_hand)
+    # Back out along -z_G; if the arm cannot, straight up; if not even that, stay.
+    q["retreat"] = q["place"]
+    for d_W in (-cfg.retreat_distance * X_place.rotation().col(2),
+                [0.0, 0.0, cfg.retreat_distance]):
+        q_retreat = ik(_shifted(X_place, d_W), q["place"], open_hand)
+        if q_retreat is not None:
+            q["retreat"] = q_retreat
+            break
+
+    if cfg.plan_paths:
+        segments = (("descend", q["grasp"], q["closed"], open_hand),
+                    ("close", q["closed"], q["closed"], closed_hand),
+                    ("lift", q["closed"], q["lift"], closed_hand),
+                    ("carry", q["lift"], q["carry"], closed_hand),
+                    ("lower", q["carry"], q["place"], closed_hand))
+        for name, a, b, hand in segments:
+            if not setup.near.edge_free(a, b, hand):
+                return refuse("collision", name)
+
+    # The approach pose, backed off until clear of the object's hull, and the transfer to it.
+    distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
+    transfer, blocked = None, "approach"
+    for distance in distances if setup.far is not None else distances[:1]:
+        q_approach = ik(_shifted(X_WG, -distance * approach_W), q["grasp"], open_hand)
+        if q_approach is None:
+            blocked = "approach"
             continue
-        transfer = plan_rrt_connect(planning.with_object, station.q_home, q_approach,
-                                    HOOK_GRIPPER.q_open, seed=planning.seed)
+        if setup.far is None:
+            transfer = [np.asarray(q_start, dtype=float), q_approach]
+            break
+        if not setup.near.edge_free(q_approach, q["grasp"], open_hand):
+            continue
+        if not setup.far.free(q_approach, open_hand):
+            continue
+        transfer = plan_rrt_connect(setup.far, q_start, q_approach, open_hand, seed=setup.seed,
+                                    max_iterations=cfg.planner_iterations)
         if transfer is not None:
             break
+        blocked = "planner"
     if transfer is None:
-        return None
-
-    script = MotionScript().start(station.q_home, HOOK_GRIPPER.q_open)
-    if wait > 0:
-        script.hold(wait, "settle")
-    for q_via in transfer[1:-1]:
-        script.move_arm(q_via, "transfer")
-    script.move_arm(transfer[-1], "approach").move_arm(waypoints["descend"], "descend")
-    script.move(waypoints["close"], HOOK_GRIPPER.q_closed, "close", duration=0.6)
-    script.move_arm(waypoints["lift"], "lift")
-    if np.any(params.carry_offset):
-        script.move_arm(waypoints["carry"], "carry")
-    return script.hold(params.hold_time, "hold")
+        return refuse(blocked, "transfer" if blocked == "planner" else "grasp")
+    q["approach"] = transfer[-1]
+    place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
+        X_closed.inverse().multiply(hook_W))
+    return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
+                    keep_straight_rod)
 
 
-def _segments_free(model: PlanningModel, waypoints: dict) -> bool:
-    """Descend (open), close (open and closed ends), lift and carry (closed) clear of the table
-    and of the robot itself."""
-    q_o, q_c = HOOK_GRIPPER.q_open, HOOK_GRIPPER.q_closed
-    return (model.edge_free(waypoints["descend"], waypoints["close"], q_o)
-            and model.free(waypoints["close"], q_c)
-            and model.edge_free(waypoints["close"], waypoints["lift"], q_c)
-            and model.edge_free(waypoints["lift"], waypoints["carry"], q_c))
+def _shifted(X: RigidTransform, d_W) -> RigidTransform:
+    return RigidTransform(X.rotation(), X.translation() + np.asarray(d_W, dtype=float))

@@ -13,20 +13,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from gbh_drake.planning.collision import PlanningModel
+from gbh_drake.planning.model import HandPose, PlanningModel
 
 
-def plan_rrt_connect(model: PlanningModel, q_start, q_goal, q_finger: float, *,
+def plan_rrt_connect(model: PlanningModel, q_start, q_goal, hand: HandPose, *,
                      seed: int = 0, max_iterations: int = 3000, step: float = 0.2,
                      shortcuts: int = 60) -> list[np.ndarray] | None:
-    """Collision-free waypoints (rad, 7 each) from ``q_start`` to ``q_goal`` with the fingers
-    at ``q_finger``, or None if either end collides or no path was found in ``max_iterations``.
+    """Collision-free waypoints (rad, 7 each) from ``q_start`` to ``q_goal`` with the hand at
+    ``hand``, or None if either end collides or no path was found in ``max_iterations``.
 
     ``step`` (rad): the longest edge the trees grow at once (max-norm over the joints)."""
     q_start, q_goal = np.asarray(q_start, dtype=float), np.asarray(q_goal, dtype=float)
-    if not (model.free(q_start, q_finger) and model.free(q_goal, q_finger)):
+    if not (model.free(q_start, hand) and model.free(q_goal, hand)):
         return None
-    if model.edge_free(q_start, q_goal, q_finger):
+    if model.edge_free(q_start, q_goal, hand):
         return [q_start, q_goal]
     rng = np.random.default_rng(seed)
     lo, hi = model.arm_lower, model.arm_upper
@@ -39,7 +39,7 @@ def plan_rrt_connect(model: PlanningModel, q_start, q_goal, q_finger: float, *,
         delta = q_target - nodes[i]
         length = np.abs(delta).max()
         q_new = q_target if length <= step else nodes[i] + delta * (step / length)
-        if not model.edge_free(nodes[i], q_new, q_finger):
+        if not model.edge_free(nodes[i], q_new, hand):
             return None
         nodes.append(q_new)
         parents.append(i)
@@ -66,7 +66,7 @@ def plan_rrt_connect(model: PlanningModel, q_start, q_goal, q_finger: float, *,
         path = a[::-1] + b[1:]
         if grow is trees[1]:
             path = path[::-1]
-        return _shortcut(model, path, q_finger, rng, shortcuts)
+        return _shortcut(model, path, hand, rng, shortcuts)
     return None
 
 
@@ -80,7 +80,7 @@ def _branch(tree, k: int) -> list[np.ndarray]:
     return out
 
 
-def _shortcut(model: PlanningModel, path: list[np.ndarray], q_finger: float, rng,
+def _shortcut(model: PlanningModel, path: list[np.ndarray], hand: HandPose, rng,
               attempts: int) -> list[np.ndarray]:
     """Replaces stretches of ``path`` by straight, collision-free edges (random attempts)."""
     path = list(path)
@@ -88,6 +88,6 @@ def _shortcut(model: PlanningModel, path: list[np.ndarray], q_finger: float, rng
         if len(path) <= 2:
             break
         i, j = sorted(rng.choice(len(path), size=2, replace=False))
-        if j - i >= 2 and model.edge_free(path[i], path[j], q_finger):
+        if j - i >= 2 and model.edge_free(path[i], path[j], hand):
             path = path[: i + 1] + path[j:]
     return path

@@ -1,13 +1,13 @@
-"""Joint-space trajectories for the arm and the fingers, as Drake ``PiecewisePolynomial``s.
+"""Timed joint-space trajectories of the arm, as Drake ``PiecewisePolynomial``s.
 
-A :class:`MotionScript` is a list of timed keyframes (arm q, finger q); it becomes arm and finger
-trajectories, cubic between keyframes with zero velocity at each, whose ``TrajectorySource``s feed
-the station's desired-state inputs ([q, v]).
+Paths through waypoints become cubic segments with zero velocity at every waypoint, each segment
+as long as the slowest joint needs at :data:`VELOCITY_SCALE` of Franka's velocity limits (and at
+least ``min_duration``). Evaluate with :func:`sample`, which holds the ends.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Sequence
 
 import numpy as np
 from pydrake.trajectories import PiecewisePolynomial
@@ -18,63 +18,38 @@ VELOCITY_SCALE = 0.35
 FRANKA_V_MAX = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])
 
 
-@dataclass
-class MotionScript:
-    """Keyframes ``(t, q_arm (7,), q_finger)``: seconds, radians, metres (one finger's position)."""
-
-    times: list[float] = field(default_factory=list)
-    arm: list[np.ndarray] = field(default_factory=list)
-    finger: list[float] = field(default_factory=list)
-    labels: list[str] = field(default_factory=list)
-
-    def start(self, q_arm, q_finger: float, label: str = "start") -> MotionScript:
-        self.times.append(0.0)
-        self.arm.append(np.asarray(q_arm, dtype=float))
-        self.finger.append(float(q_finger))
-        self.labels.append(label)
-        return self
-
-    def move_arm(self, q_arm, label: str, *, min_duration: float = 0.5) -> MotionScript:
-        """Moves the arm to ``q_arm`` at a speed bounded by :data:`VELOCITY_SCALE` of the limits."""
-        q_arm = np.asarray(q_arm, dtype=float)
-        dq = np.abs(q_arm - self.arm[-1])
-        duration = max(min_duration, float(np.max(1.5 * dq / (VELOCITY_SCALE * FRANKA_V_MAX))))
-        return self._append(duration, q_arm, self.finger[-1], label)
-
-    def move(self, q_arm, q_finger: float, label: str, duration: float) -> MotionScript:
-        """Arm and fingers together, over ``duration`` s."""
-        return self._append(duration, np.asarray(q_arm, dtype=float), q_finger, label)
-
-    def hold(self, duration: float, label: str = "hold") -> MotionScript:
-        return self._append(duration, self.arm[-1], self.finger[-1], label)
-
-    def _append(self, duration, q_arm, q_finger, label) -> MotionScript:
-        self.times.append(self.times[-1] + float(duration))
-        self.arm.append(np.asarray(q_arm, dtype=float))
-        self.finger.append(float(q_finger))
-        self.labels.append(label)
-        return self
-
-    @property
-    def end_time(self) -> float:
-        return self.times[-1]
-
-    def time_of(self, label: str) -> float:
-        """End time of the keyframe named ``label``."""
-        return self.times[self.labels.index(label)]
-
-    def arm_trajectory(self) -> PiecewisePolynomial:
-        """Arm q(t): piecewise cubic with zero velocity at every keyframe (rad)."""
-        return _zero_velocity_cubic(self.times, np.stack(self.arm, axis=1))
-
-    def finger_trajectory(self) -> PiecewisePolynomial:
-        """Both fingers' q(t) (2 rows, metres): the same zero-velocity cubic time-scaling as the
-        arm, so that arm and fingers moving together (``move``) stay in step."""
-        return _zero_velocity_cubic(self.times, np.stack([self.finger, self.finger]))
+def segment_duration(q_a, q_b, *, velocity_scale: float = VELOCITY_SCALE,
+                     min_duration: float = 0.5) -> float:
+    """Seconds for a zero-velocity cubic from ``q_a`` to ``q_b`` (rad, 7 each): its peak
+    velocity, 1.5 times the mean, stays within ``velocity_scale`` of the limits."""
+    dq = np.abs(np.asarray(q_b, dtype=float) - np.asarray(q_a, dtype=float))
+    return max(min_duration, float(np.max(1.5 * dq / (velocity_scale * FRANKA_V_MAX))))
 
 
-def _zero_velocity_cubic(times: list[float], q: np.ndarray) -> PiecewisePolynomial:
-    """Cubic segments through the keyframes ``q`` (n, k) with zero velocity at each of them."""
-    if len(times) == 1:
-        return PiecewisePolynomial(q)
+def joint_path(waypoints: Sequence[np.ndarray], t0: float, *,
+               velocity_scale: float = VELOCITY_SCALE,
+               min_duration: float = 0.5) -> PiecewisePolynomial:
+    """Zero-velocity cubic through ``waypoints`` (rad, 7 each) starting at time ``t0`` (s)."""
+    q = np.stack([np.asarray(w, dtype=float) for w in waypoints], axis=1)
+    if q.shape[1] == 1:
+        q = np.concatenate([q, q], axis=1)
+    times = [t0]
+    for a, b in zip(q.T[:-1], q.T[1:], strict=True):
+        times.append(times[-1] + segment_duration(a, b, velocity_scale=velocity_scale,
+                                                  min_duration=min_duration))
     return PiecewisePolynomial.CubicHermite(times, q, np.zeros_like(q))
+
+
+def linear_move(q_a, q_b, t0: float, duration: float) -> PiecewisePolynomial:
+    """Constant joint velocity from ``q_a`` to ``q_b`` over ``duration`` s, from ``t0``."""
+    q = np.stack([np.asarray(q_a, dtype=float), np.asarray(q_b, dtype=float)], axis=1)
+    return PiecewisePolynomial.FirstOrderHold([t0, t0 + max(duration, 1e-3)], q)
+
+
+def sample(trajectory: PiecewisePolynomial, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Position and velocity at ``t``, holding the ends (zero velocity outside the range)."""
+    start, end = trajectory.start_time(), trajectory.end_time()
+    tc = min(max(t, start), end)
+    q = trajectory.value(tc).ravel()
+    v = trajectory.EvalDerivative(tc, 1).ravel() if start < t < end else np.zeros_like(q)
+    return q, v

@@ -12,20 +12,20 @@ from gbh_drake.systems.stage import AbstractStage
 class GraspScorer(AbstractStage):
     """Scores grasps (S_total = m S_beta S_alpha), drops N_c >= p_c, keeps the best k.
 
-    @system
-    name: GraspScorer
-    input_ports:
-    - grasp_candidates
-    output_ports:
-    - ranked_grasps
-    @endsystem
+    .. pydrake_system::
+
+        name: GraspScorer
+        input_ports:
+        - grasp_candidates
+        output_ports:
+        - ranked_grasps
 
     ``grasp_candidates``: ``list[GraspCandidate]``; ``ranked_grasps``: the same type, best first,
     at most ``params.top_k``. The input candidates are not modified (scores go on copies).
     """
 
     def __init__(self, params: GbhParams | None = None):
-        super().__init__("grasp_candidates", "ranked_grasps")
+        super().__init__("grasp_candidates", [], "ranked_grasps", [])
         self.params = params or GbhParams()
 
     def compute(self, value):

@@ -12,13 +12,13 @@ from gbh_drake.systems.stage import AbstractStage
 class GraspSynthesizer(AbstractStage):
     """Parallel and vertical hook grasps for every hanging structure, with N_c counted.
 
-    @system
-    name: GraspSynthesizer
-    input_ports:
-    - hanging_structures
-    output_ports:
-    - grasp_candidates
-    @endsystem
+    .. pydrake_system::
+
+        name: GraspSynthesizer
+        input_ports:
+        - hanging_structures
+        output_ports:
+        - grasp_candidates
 
     ``hanging_structures``: a :class:`~gbh_drake.systems.hangability_detector.Hangability`.
     ``grasp_candidates``: ``list[GraspCandidate]`` (X_WG of the open gripper, ``n_collisions``
@@ -27,7 +27,7 @@ class GraspSynthesizer(AbstractStage):
 
     def __init__(self, params: GbhParams | None = None,
                  gripper: HookGripperGeometry = HOOK_GRIPPER):
-        super().__init__("hanging_structures", "grasp_candidates")
+        super().__init__("hanging_structures", Hangability(), "grasp_candidates", [])
         self.params = params or GbhParams()
         self.gripper = gripper
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import trimesh
@@ -10,6 +11,8 @@ from gbh_drake.core.object_model import ObjectModel
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import detect
 from gbh_drake.core.results import GbhInputError, HangingStructure
+from gbh_drake.perception.scan import ScanResult
+from gbh_drake.systems.scanner import no_scan
 from gbh_drake.systems.stage import AbstractStage
 
 
@@ -18,37 +21,38 @@ class Hangability:
     """The detector's output: the prepared object (samples, CoM; None when the input was
     unusable), its hanging structures (in W) and a message when there are none."""
 
-    object: ObjectModel | None
+    object: ObjectModel | None = None
     structures: list[HangingStructure] = field(default_factory=list)
-    message: str = ""
+    message: str = "no input yet"
 
 
 class HangabilityDetector(AbstractStage):
     """Finds the structures an object can hang by.
 
-    @system
-    name: HangabilityDetector
-    input_ports:
-    - mesh_W
-    output_ports:
-    - hanging_structures
-    @endsystem
+    .. pydrake_system::
 
-    ``mesh_W``: a ``trimesh.Trimesh`` in W, or the Scanner's ``ScanResult`` (its ``mesh_W``).
-    ``hanging_structures``: a :class:`Hangability`. "Nothing hangable", an empty scan or an
-    unusable mesh are results (empty ``structures`` and a ``message``), not exceptions.
+        name: HangabilityDetector
+        input_ports:
+        - mesh_W
+        output_ports:
+        - hanging_structures
+
+    ``mesh_W``: the Scanner's :class:`~gbh_drake.perception.scan.ScanResult`, or any
+    ``trimesh.Trimesh`` in W. ``hanging_structures``: a :class:`Hangability`. "Nothing
+    hangable", an empty scan or an unusable mesh are results (empty ``structures`` and a
+    ``message``), not exceptions.
     """
 
-    def __init__(self, params: GbhParams | None = None):
-        super().__init__("mesh_W", "hanging_structures")
-        self.params = params or GbhParams()
+    def __init__(self, params: GbhParams | None = None, *, seed: int = 0):
+        """``seed``: the surface sampler's seed (the scenario derives it from its own)."""
+        super().__init__("mesh_W", no_scan("no input yet"), "hanging_structures", Hangability(),
+                         accepts=(ScanResult, trimesh.Trimesh))
+        self.params = dataclasses.replace(params or GbhParams(), seed=seed)
 
     def compute(self, value) -> Hangability:
-        if getattr(value, "empty", False):
+        if isinstance(value, ScanResult) and value.empty:
             return Hangability(None, [], value.message or "empty scan")
-        mesh = getattr(value, "mesh_W", value)
-        if not isinstance(mesh, trimesh.Trimesh):
-            return Hangability(None, [], f"mesh_W holds {type(value).__name__}, not a mesh")
+        mesh = value.mesh_W if isinstance(value, ScanResult) else value
         try:
             obj, structures = detect(mesh, self.params)
         except GbhInputError as e:

@@ -2,48 +2,60 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
-from pydrake.common.value import AbstractValue, Value
+import trimesh
+from pydrake.common.value import AbstractValue
 from pydrake.geometry import QueryObject
 from pydrake.systems.framework import LeafSystem
 
+from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.config import ScanConfig
+from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.scan import ScanResult, scan_object
 
 
 class Scanner(LeafSystem):
     """Scans the scene with simulated depth views and outputs the fused mesh in W.
 
-    @system
-    name: Scanner
-    input_ports:
-    - query_object
-    output_ports:
-    - mesh_W
-    @endsystem
+    .. pydrake_system::
 
-    ``query_object`` (abstract ``QueryObject``): connect the SceneGraph's query output port.
-    ``mesh_W`` (abstract :class:`~gbh_drake.perception.scan.ScanResult`): the mesh in W, the
-    points, the camera poses X_WC and timing; ``empty`` and ``message`` when nothing was seen.
+        name: Scanner
+        input_ports:
+        - query_object
+        output_ports:
+        - mesh_W
 
-    The scan is expensive (~0.5-1 s for 10 views), so ``mesh_W`` is cached. By default it is
-    computed once, at its first evaluation in a context, and kept however the scene moves
-    afterwards (scan first, then act). With ``rescan_on_change=True`` it is recomputed whenever
-    the query object's inputs (the poses in the scene) change.
+    ``query_object`` (``QueryObject``): connect the SceneGraph's query output port.
+    ``mesh_W`` (:class:`~gbh_drake.perception.scan.ScanResult`): the mesh in W, the points, the
+    camera poses X_WC and timing; ``empty`` and ``message`` when nothing was seen.
+
+    Two ways to use it. Without ``scan_time`` the output is a function of the input, cached
+    until the scene's poses change (evaluate it when you need a scan). With ``scan_time`` (s) the
+    Scanner takes one scan at that time, keeps it in its state and outputs it from then on (scan
+    first, then act); before that time the output is an empty result that says so.
     """
 
-    def __init__(self, config: ScanConfig, p_WT, *, rescan_on_change: bool = False):
-        """``p_WT`` (3,) m: the scan target in W (near the object's centre, above the table)."""
+    def __init__(self, config: ScanConfig, p_WT, *, scan_time: float | None = None,
+                 noise_seed: int = 0):
+        """``p_WT`` (3,) m: the scan target in W (near the object, above the table);
+        ``noise_seed``: seed of the depth noise (when ``config.noise``)."""
         super().__init__()
         config.validate()
         self._config = config
         self._p_WT = np.asarray(p_WT, dtype=float).reshape(3)
-        self._query_port = self.DeclareAbstractInputPort(
-            "query_object", AbstractValue.Make(QueryObject()))
-        prerequisites = ({self._query_port.ticket()} if rescan_on_change
-                         else {self.nothing_ticket()})
-        self.DeclareAbstractOutputPort("mesh_W", lambda: Value[object](), self._calc_mesh_W,
-                                       prerequisites_of_calc=prerequisites)
+        self._noise_seed = int(noise_seed)
+        self._query = self.DeclareAbstractInputPort("query_object",
+                                                    AbstractValue.Make(QueryObject()))
+        model = AbstractValue.Make(no_scan("not scanned yet"))
+        if scan_time is None:
+            self.DeclareAbstractOutputPort("mesh_W", model.Clone, self._calc_scan,
+                                           prerequisites_of_calc={self._query.ticket()})
+        else:
+            self._held = self.DeclareAbstractState(model)
+            self.DeclarePeriodicUnrestrictedUpdateEvent(1e9, float(scan_time), self._take_scan)
+            self.DeclareStateOutputPort("mesh_W", self._held)
 
     @property
     def config(self) -> ScanConfig:
@@ -53,7 +65,21 @@ class Scanner(LeafSystem):
     def p_WT(self) -> np.ndarray:
         return self._p_WT.copy()
 
-    def _calc_mesh_W(self, context, output) -> None:
-        query_object = self._query_port.Eval(context)
-        result: ScanResult = scan_object(query_object, self._config, self._p_WT)
-        output.set_value(result)
+    def scan(self, context) -> ScanResult:
+        """A scan of the scene as ``context`` has it now."""
+        config = dataclasses.replace(self._config, noise_seed=self._noise_seed)
+        return scan_object(self._query.Eval(context), config, self._p_WT)
+
+    def _calc_scan(self, context, output) -> None:
+        output.set_value(self.scan(context))
+
+    def _take_scan(self, context, state) -> None:
+        state.get_mutable_abstract_state(self._held).set_value(self.scan(context))
+
+
+def no_scan(message: str) -> ScanResult:
+    """An empty scan result that says why there is no scan."""
+    config = ScanConfig()
+    return ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), [],
+                      CameraIntrinsics.from_config(config), CropBox.around(np.zeros(3), config),
+                      empty=True, message=message)

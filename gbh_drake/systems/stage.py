@@ -2,21 +2,28 @@
 
 from __future__ import annotations
 
-from pydrake.common.value import AbstractValue, Value
+from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
 
 
 class AbstractStage(LeafSystem):
     """One abstract input port, one abstract output port computed by ``self.compute(value)``.
 
-    The output is cached and depends only on the input (``prerequisites_of_calc`` is the input
-    port's ticket), so a stage runs once per new input, not at every simulator step."""
+    Both ports are declared with typed model values (``input_model``, ``output_model``): a
+    default that documents the type and is what an unconnected or not-yet-computed port holds.
+    A value of the wrong type on the input fails in :meth:`compute`'s caller with a message
+    naming the system and port. The output is cached and depends only on the input
+    (``prerequisites_of_calc`` is the input port's ticket), so a stage runs once per new input,
+    not at every simulator step."""
 
-    def __init__(self, input_name: str, output_name: str):
+    def __init__(self, input_name: str, input_model, output_name: str, output_model,
+                 accepts: tuple[type, ...] = ()):
+        """``accepts``: the types the input may hold (default: the model's type)."""
         super().__init__()
-        self._input = self.DeclareAbstractInputPort(input_name, AbstractValue.Make(object()))
+        self._accepts = accepts or (type(input_model),)
+        self._input = self.DeclareAbstractInputPort(input_name, AbstractValue.Make(input_model))
         self.DeclareAbstractOutputPort(
-            output_name, lambda: Value[object](), self._calc,
+            output_name, lambda: AbstractValue.Make(output_model), self._calc,
             prerequisites_of_calc={self._input.ticket()},
         )
 
@@ -24,4 +31,10 @@ class AbstractStage(LeafSystem):
         raise NotImplementedError
 
     def _calc(self, context, output) -> None:
-        output.set_value(self.compute(self._input.Eval(context)))
+        value = self._input.Eval(context)
+        if not isinstance(value, self._accepts):
+            names = " or ".join(t.__name__ for t in self._accepts)
+            raise TypeError(f"{self.get_name() or type(self).__name__}: input "
+                            f"{self._input.get_name()!r} expects {names}, got "
+                            f"{type(value).__name__}")
+        output.set_value(self.compute(value))

@@ -1,0 +1,137 @@
+"""The robot's planning model: a collision checker and inverse kinematics over the fixed scene.
+
+A ``RobotDiagram`` built from the scenario's own directives (arm, gripper, table and anything a
+user added) plus obstacles the robot perceived (e.g. the scanned object's convex hull), welded
+to the world. It holds no free body: inverse kinematics is solved on this plant, so the free
+object's quaternion (unit only to ~1e-5 after a simulation) is never a decision variable that
+the unit-quaternion constraint could contradict. Collision checks are Drake's
+``SceneGraphCollisionChecker``; proximity treats meshes as their convex hulls.
+
+Configurations of the planning plant are the arm's seven joints plus the hand: both fingers'
+positions q (m, half the opening) and the bar's angle (rad), see :class:`HandPose`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+from pydrake.common import MemoryFile
+from pydrake.geometry import Convex, InMemoryMesh, ProximityProperties
+from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.multibody.inverse_kinematics import InverseKinematics
+from pydrake.multibody.parsing import ModelDirective, ModelDirectives, ProcessModelDirectives
+from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
+from pydrake.solvers import Solve
+
+from gbh_drake.modeling.package_map import add_packages
+
+#: Names of the robot's model instances (the directives must add them).
+ARM, GRIPPER = "panda", "hook_gripper"
+
+
+@dataclass(frozen=True)
+class HandPose:
+    """The hand's joints: each finger's position ``q`` (m) and the bar's angle (rad)."""
+
+    q: float
+    bar: float = 0.0
+
+    def positions(self) -> np.ndarray:
+        return np.array([self.q, self.q, self.bar])
+
+
+class PlanningModel:
+    """Collision checks and IK of the robot among fixed obstacles (see the module docstring)."""
+
+    def __init__(self, directives: Sequence[ModelDirective], *,
+                 obstacles: Sequence[trimesh.Trimesh] = (), padding: float = 0.005,
+                 edge_step_size: float = 0.01):
+        """``obstacles``: meshes in W added as convex obstacles; ``padding`` (m): clearance kept
+        between the robot and the environment; ``edge_step_size`` (rad): spacing of the
+        configurations checked along an edge."""
+        builder = RobotDiagramBuilder(time_step=0.0)
+        plant, parser = builder.plant(), builder.parser()
+        add_packages(parser.package_map())
+        ProcessModelDirectives(ModelDirectives(directives=list(directives)), plant, parser)
+        for i, mesh in enumerate(obstacles):
+            plant.RegisterCollisionGeometry(
+                plant.world_body(), RigidTransform(), _convex(mesh, f"obstacle_{i}"),
+                f"obstacle_{i}", ProximityProperties())
+        plant.Finalize()
+        self.plant = plant
+        self.arm = plant.GetModelInstanceByName(ARM)
+        self.gripper = plant.GetModelInstanceByName(GRIPPER)
+        self.G = plant.GetFrameByName("G", self.gripper)
+        self.checker = SceneGraphCollisionChecker(
+            model=builder.Build(), robot_model_instances=[self.arm, self.gripper],
+            edge_step_size=edge_step_size, env_collision_padding=padding,
+            self_collision_padding=0.0)
+        # The closed hook's bar tip rests on the straight rod by design.
+        straight = plant.GetBodyByName("straight_finger", self.gripper).index()
+        for name in ("l_finger", "bar"):
+            self.checker.SetCollisionFilteredBetween(
+                straight, plant.GetBodyByName(name, self.gripper).index(), True)
+        self._arm_dofs = _position_indices(plant, self.arm)
+        self._hand_dofs = _position_indices(plant, self.gripper)
+        self.arm_lower = plant.GetPositionLowerLimits()[self._arm_dofs]
+        self.arm_upper = plant.GetPositionUpperLimits()[self._arm_dofs]
+        self._context = plant.CreateDefaultContext()
+
+    def q_full(self, q_arm, hand: HandPose) -> np.ndarray:
+        """The planning plant's positions for arm joints ``q_arm`` (7,) and ``hand``."""
+        q = np.zeros(self.plant.num_positions())
+        q[self._arm_dofs] = q_arm
+        q[self._hand_dofs] = hand.positions()
+        return q
+
+    def free(self, q_arm, hand: HandPose) -> bool:
+        return bool(self.checker.CheckConfigCollisionFree(self.q_full(q_arm, hand)))
+
+    def edge_free(self, q_a, q_b, hand: HandPose) -> bool:
+        return bool(self.checker.CheckEdgeCollisionFree(self.q_full(q_a, hand),
+                                                        self.q_full(q_b, hand)))
+
+    def X_WG(self, q_arm, hand: HandPose) -> RigidTransform:
+        """Forward kinematics: the gripper frame G in W."""
+        self.plant.SetPositions(self._context, self.q_full(q_arm, hand))
+        return self.G.CalcPoseInWorld(self._context)
+
+    def ik(self, X_WG: RigidTransform, q_seed, hand: HandPose, *,
+           position_tolerance: float = 1e-3, angle_tolerance: float = 1e-2) -> np.ndarray | None:
+        """Arm joint positions (7,) that put G at ``X_WG`` within the tolerances (m, rad) with
+        the hand at ``hand``, near ``q_seed``, within the joint limits; None when infeasible."""
+        q_seed = np.asarray(q_seed, dtype=float)
+        self.plant.SetPositions(self._context, self.q_full(q_seed, hand))
+        ik = InverseKinematics(self.plant, self._context, with_joint_limits=True)
+        q = ik.q()
+        prog = ik.get_mutable_prog()
+        p = X_WG.translation()
+        ik.AddPositionConstraint(self.G, np.zeros(3), self.plant.world_frame(),
+                                 p - position_tolerance, p + position_tolerance)
+        ik.AddOrientationConstraint(self.G, RotationMatrix(), self.plant.world_frame(),
+                                    X_WG.rotation(), angle_tolerance)
+        hand_q = hand.positions()
+        prog.AddBoundingBoxConstraint(hand_q, hand_q, q[self._hand_dofs])
+        prog.AddQuadraticErrorCost(1e-2 * np.eye(len(self._arm_dofs)), q_seed, q[self._arm_dofs])
+        result = Solve(prog, self.q_full(q_seed, hand))
+        if not result.is_success():
+            return None
+        return result.GetSolution(q)[self._arm_dofs]
+
+
+def _convex(mesh: trimesh.Trimesh, name: str) -> Convex:
+    """A Drake ``Convex`` shape (the hull of ``mesh``), in memory."""
+    hull = mesh.convex_hull
+    text = trimesh.exchange.obj.export_obj(hull, include_normals=False, include_texture=False)
+    return Convex(InMemoryMesh(mesh_file=MemoryFile(text, ".obj", name)))
+
+
+def _position_indices(plant, instance) -> np.ndarray:
+    indices = []
+    for j in plant.GetJointIndices(instance):
+        joint = plant.get_joint(j)
+        indices.extend(range(joint.position_start(), joint.position_start() + joint.num_positions()))
+    return np.asarray(indices, dtype=int)

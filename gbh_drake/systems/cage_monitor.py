@@ -1,0 +1,295 @@
+"""The ``CageMonitor`` system: watches the object, the gripper and their contacts, and judges.
+
+It reads the plant's body poses and contact results every ``period`` seconds and keeps a
+running record (abstract state): when the object was lifted, whether and when it dropped and in
+which phase of the :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine, which gripper
+bodies touched it, the fingers' squeeze force, whether the hook's loop was closed. Its output is
+the :class:`Verdict` as it stands; once the machine has finished it is final.
+
+The rules (paper Sec. 3.1: a trial succeeds only if the object is picked up and transported
+without falling), fixed in :class:`~gbh_drake.config.MonitorConfig` before any experiment:
+
+* lifted: the object's lowest point is ``lifted_height`` above the table (z = 0 of W);
+* dropped: once lifted, its lowest point falls back below half of that (it lies on the table);
+* success: lifted during the lift or the carry, never dropped, and still lifted at the end of
+  the hold over the place position (all with the full grasp force);
+* held by a cage or by a pinch, decided by physics in the cage test: the squeeze is relaxed to
+  a few newtons; an object still hanging at the end with the hook's loop closed (both fingers at
+  their closed position: the bar's tip on the straight rod, the bar deployed) was caged; one
+  that slid out, or that stayed held with the loop open (material between the rods), was
+  pinched.
+
+Only contact holds the object: it is a free body throughout, never welded or attached.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
+from pydrake.multibody.plant import ContactResults, MultibodyPlant
+from pydrake.systems.framework import LeafSystem
+
+from gbh_drake.config import MonitorConfig
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+
+#: Outcomes of a trial.
+SUCCESS = "success"
+NOT_LIFTED = "not_lifted"
+DROPPED_DURING_LIFT = "dropped_during_lift"
+DROPPED_DURING_CARRY = "dropped_during_carry"
+NO_REACHABLE_GRASP = "no_reachable_grasp"
+NO_GRASP = "no_grasp"
+INCOMPLETE = "incomplete"
+#: How the object was held.
+CAGE, PINCH = "cage", "pinch"
+
+#: Phases in which the object should be in the air.
+_AIRBORNE = (Mode.LIFT, Mode.CARRY, Mode.HOLD, Mode.CAGE_TEST)
+#: Phases whose end decides success (the cage test only decides cage or pinch).
+_CARRIED = (Mode.LIFT, Mode.CARRY, Mode.HOLD)
+
+
+@dataclass
+class Verdict:
+    """What happened to the object. Lengths in metres, forces in newtons, times in seconds."""
+
+    outcome: str = INCOMPLETE
+    """success, not_lifted, dropped_during_lift, dropped_during_carry, no_reachable_grasp,
+    no_grasp or incomplete (the machine has not finished)."""
+    success: bool = False
+    reason: str = "the pick has not finished"
+    held_by: str = ""
+    """``cage`` or ``pinch`` when the object was carried, else empty."""
+    lifted_at: float = float("nan")
+    """Time when the object's lowest point first reached ``lifted_height``."""
+    dropped_at: float = float("nan")
+    dropped_phase: str = ""
+    max_clearance: float = 0.0
+    """Highest lowest point above the table while carried."""
+    clearance_after_hold: float = float("nan")
+    """Lowest point above the table at the end of the hold (full force)."""
+    touching: dict[str, list[str]] = field(default_factory=dict)
+    """Gripper bodies that touched the object in each phase."""
+    table_touch_while_carried: bool = False
+    """Whether the object touched the table during the lift or carry after being lifted."""
+    squeeze_force: float = float("nan")
+    """Mean squeeze force of the fingers during the carry and hold (N)."""
+    finger_q_cage_test: float = float("nan")
+    """Mean finger position at the end of the cage test (m; closed loop: q_closed)."""
+    cage_test_held: bool = False
+    """Whether the object was still held at the end of the cage test."""
+    loop_closed: bool = False
+    settled_at: list[float] = field(default_factory=list)
+    """The object's position (W) when planning began (after settling, when it was scanned)."""
+    released_at: list[float] = field(default_factory=list)
+    """The object's position (W) at the end, after release."""
+    released_on_table: bool = False
+    """Whether the object lies on the table, free of the gripper, at the end."""
+
+
+@dataclass
+class _Watch:
+    """The running record (abstract state)."""
+
+    verdict: Verdict = field(default_factory=Verdict)
+    lifted: bool = False
+    dropped: bool = False
+    force_sum: float = 0.0
+    force_n: int = 0
+    last_phase: str = ""
+
+
+class CageMonitor(LeafSystem):
+    """Judges the trial as it runs (see the module docstring).
+
+    .. pydrake_system::
+
+        name: CageMonitor
+        input_ports:
+        - body_poses
+        - contact_results
+        - hook_gripper.state
+        - hook_gripper.actuation
+        - pick_status
+        output_ports:
+        - verdict
+
+    ``body_poses``, ``contact_results``: the plant's outputs. ``hook_gripper.state`` (6) and
+    ``hook_gripper.actuation`` (3, N and N m): the gripper's measured state and its actuators'
+    efforts. ``pick_status``: the :class:`PickStatus` of the machine. ``verdict``: a
+    :class:`Verdict`.
+    """
+
+    def __init__(self, plant: MultibodyPlant, object_body_name: str, p_OV: np.ndarray,
+                 config: MonitorConfig | None = None, *, bar_deployed_max: float = 0.1):
+        """``plant``: the station's plant (read for body indices and geometry only);
+        ``object_body_name``: the free object's body; ``p_OV`` (n, 3): its vertices in its
+        body frame (its convex hull's suffice); ``bar_deployed_max`` (rad): the bar counts as
+        deployed below this angle magnitude."""
+        super().__init__()
+        self._config = config or MonitorConfig()
+        self._p_OV = np.asarray(p_OV, dtype=float).reshape(-1, 3)
+        self._bar_max = bar_deployed_max
+        body = plant.GetBodyByName(object_body_name)
+        self._object = body.index()
+        gripper = plant.GetModelInstanceByName("hook_gripper")
+        self._gripper_bodies = {plant.get_body(i).index(): plant.get_body(i).name()
+                                for i in plant.GetBodyIndices(gripper)}
+        self._table_bodies = {plant.get_body(i).index()
+                              for i in plant.GetBodyIndices(plant.GetModelInstanceByName("table"))}
+        inspector_ids = {}
+        for index in [self._object, *self._gripper_bodies, *self._table_bodies]:
+            for gid in plant.GetCollisionGeometriesForBody(plant.get_body(index)):
+                inspector_ids[gid] = index
+        self._geometry_body = inspector_ids
+        self._poses = self.DeclareAbstractInputPort("body_poses",
+                                                    AbstractValue.Make([RigidTransform()]))
+        self._contacts = self.DeclareAbstractInputPort("contact_results",
+                                                       AbstractValue.Make(ContactResults()))
+        self._hand = self.DeclareVectorInputPort("hook_gripper.state", 6)
+        self._actuation = self.DeclareVectorInputPort("hook_gripper.actuation", 3)
+        self._status = self.DeclareAbstractInputPort("pick_status",
+                                                     AbstractValue.Make(PickStatus()))
+        self._watch = self.DeclareAbstractState(AbstractValue.Make(_Watch()))
+        self.DeclarePeriodicUnrestrictedUpdateEvent(self._config.period, 0.0, self._update)
+        self.DeclareAbstractOutputPort("verdict", lambda: AbstractValue.Make(Verdict()),
+                                       self._calc_verdict,
+                                       prerequisites_of_calc={self.all_state_ticket()})
+
+    def _calc_verdict(self, context, output) -> None:
+        output.set_value(context.get_abstract_state(self._watch).get_value().verdict)
+
+    # ---- observation ------------------------------------------------------------------------
+    def lowest_point(self, X_WO: RigidTransform) -> float:
+        """Height (m) of the object's lowest point above the table (z = 0 of W)."""
+        R, p = X_WO.rotation().matrix(), X_WO.translation()
+        return float((self._p_OV @ R[2] + p[2]).min())
+
+    def touching(self, contacts: ContactResults) -> tuple[set[str], bool]:
+        """Names of the gripper bodies in contact with the object, and whether the table is."""
+        gripper, table = set(), False
+        for a, b in self._contact_pairs(contacts):
+            other = b if a == self._object else a if b == self._object else None
+            if other is None:
+                continue
+            if other in self._gripper_bodies:
+                gripper.add(self._gripper_bodies[other])
+            elif other in self._table_bodies:
+                table = True
+        return gripper, table
+
+    def _contact_pairs(self, contacts: ContactResults):
+        for i in range(contacts.num_hydroelastic_contacts()):
+            surface = contacts.hydroelastic_contact_info(i).contact_surface()
+            yield (self._geometry_body.get(surface.id_M()),
+                   self._geometry_body.get(surface.id_N()))
+        for i in range(contacts.num_point_pair_contacts()):
+            info = contacts.point_pair_contact_info(i)
+            yield info.bodyA_index(), info.bodyB_index()
+
+    # ---- judging ----------------------------------------------------------------------------------
+    def _update(self, context, state) -> None:
+        w: _Watch = copy.deepcopy(context.get_abstract_state(self._watch).get_value())
+        status: PickStatus = self._status.Eval(context)
+        v = w.verdict
+        t = context.get_time()
+        mode = status.mode
+        if status.finished and w.last_phase in (Mode.NO_GRASP.value, Mode.NO_REACHABLE_GRASP.value,
+                                                Mode.DONE.value):
+            return
+        X_WO = self._poses.Eval(context)[int(self._object)]
+        low = self.lowest_point(X_WO)
+        gripper, table = self.touching(self._contacts.Eval(context))
+        hand = self._hand.Eval(context)
+        if gripper:
+            seen = set(v.touching.get(mode.value, [])) | gripper
+            v.touching = {**v.touching, mode.value: sorted(seen)}
+        cfg = self._config
+        if mode == Mode.PLAN and not v.settled_at:
+            v.settled_at = X_WO.translation().tolist()
+        if mode in _AIRBORNE and not w.dropped:
+            if not w.lifted and low >= cfg.lifted_height and mode in _CARRIED:
+                w.lifted, v.lifted_at = True, t
+            if w.lifted:
+                v.max_clearance = max(v.max_clearance, low)
+                if mode in _CARRIED and table:
+                    v.table_touch_while_carried = True
+                if low < 0.5 * cfg.lifted_height:
+                    w.dropped, v.dropped_at, v.dropped_phase = True, t, mode.value
+        if mode in (Mode.CARRY, Mode.HOLD):
+            w.force_sum += float(-np.mean(self._actuation.Eval(context)[:2]))
+            w.force_n += 1
+            v.squeeze_force = w.force_sum / w.force_n
+        if mode == Mode.HOLD:
+            v.clearance_after_hold = low
+        if mode == Mode.CAGE_TEST:
+            v.finger_q_cage_test = float(np.mean(hand[:2]))
+            closed = HOOK_GRIPPER.q_closed + cfg.closed_tolerance
+            v.loop_closed = bool(np.all(hand[:2] <= closed) and abs(hand[2]) < self._bar_max)
+            v.cage_test_held = bool(not w.dropped and low >= 0.5 * cfg.lifted_height
+                                    and gripper)
+        if mode == Mode.DONE:
+            v.released_at = X_WO.translation().tolist()
+            v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
+        self._conclude(w, status)
+        w.last_phase = mode.value
+        state.get_mutable_abstract_state(self._watch).set_value(w)
+
+    def _conclude(self, w: _Watch, status: PickStatus) -> None:
+        """Outcome, held_by and reason from the record (final once the machine finished)."""
+        v = w.verdict
+        mode = status.mode
+        if mode == Mode.NO_GRASP:
+            v.outcome, v.reason = NO_GRASP, "no grasp to try"
+            return
+        if mode == Mode.NO_REACHABLE_GRASP:
+            counts: dict[str, int] = {}
+            for r in status.refusals:
+                counts[r.key] = counts.get(r.key, 0) + 1
+            why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
+            v.outcome = NO_REACHABLE_GRASP
+            v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
+            return
+        order = [m.value for m in Mode]
+        reached = order.index(mode.value)
+        if reached <= order.index(Mode.HOLD.value):
+            v.outcome, v.success = INCOMPLETE, False
+            v.reason = f"the pick is in its {mode.value} phase"
+            return
+        if w.dropped and v.dropped_phase in (Mode.LIFT.value, Mode.CARRY.value, Mode.HOLD.value):
+            v.outcome = DROPPED_DURING_LIFT if v.dropped_phase == Mode.LIFT.value else \
+                DROPPED_DURING_CARRY
+            v.success, v.held_by = False, ""
+            v.reason = f"dropped during the {v.dropped_phase} at t = {v.dropped_at:.2f} s"
+            return
+        if not w.lifted or not (v.clearance_after_hold >= self._config.lifted_height):
+            v.outcome, v.success, v.held_by = NOT_LIFTED, False, ""
+            touched = sorted({b for bodies in v.touching.values() for b in bodies})
+            if touched and v.touching.get(Mode.HOLD.value):
+                v.reason = (f"held by the gripper ({', '.join(v.touching[Mode.HOLD.value])}) "
+                            "but still touching the table: dragged, not lifted clear "
+                            f"(lowest point {100 * v.clearance_after_hold:.1f} cm)")
+            else:
+                v.reason = "the object was not lifted: the gripper came away without it"
+            return
+        v.outcome, v.success = SUCCESS, True
+        if mode == Mode.CAGE_TEST:
+            v.held_by, v.reason = "", "carried; the cage test is running"
+            return
+        caged = v.cage_test_held and v.loop_closed
+        v.held_by = CAGE if caged else PINCH
+        if caged:
+            v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
+                       "the squeeze relaxed"
+        elif v.cage_test_held:
+            v.reason = ("picked and carried; held by a pinch: the loop did not close "
+                        f"(fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
+                        f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm)")
+        else:
+            v.reason = "picked and carried; held by a pinch: it slid out when the squeeze " \
+                       "was relaxed"

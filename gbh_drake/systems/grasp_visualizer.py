@@ -1,0 +1,64 @@
+"""The ``GraspVisualizer`` system: draws the scan, the hanging structures and the grasps in Meshcat.
+
+In the style of the paper's Figs. 4-5 (:mod:`gbh_drake.viz.gbh_meshcat`): once the pick-and-carry
+machine has planned, the scanned mesh, the structures (c, v, rays) and the ranked grasps are
+drawn, with the executed one's solid model highlighted. It only publishes (no state): what it
+draws appears in the live view and in the saved replay.
+"""
+
+from __future__ import annotations
+
+from pydrake.common.value import AbstractValue
+from pydrake.geometry import Meshcat
+from pydrake.systems.framework import LeafSystem
+
+from gbh_drake.systems.hangability_detector import Hangability
+from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+from gbh_drake.systems.scanner import no_scan
+
+
+class GraspVisualizer(LeafSystem):
+    """Draws what GbH saw and chose, once, when the grasps have been planned.
+
+    .. pydrake_system::
+
+        name: GraspVisualizer
+        input_ports:
+        - scan
+        - hanging_structures
+        - grasps
+        - pick_status
+    """
+
+    def __init__(self, meshcat: Meshcat, *, period: float = 0.1, prefix: str = "gbh"):
+        super().__init__()
+        self._meshcat = meshcat
+        self._prefix = prefix
+        self._scan = self.DeclareAbstractInputPort("scan",
+                                                   AbstractValue.Make(no_scan("no input yet")))
+        self._structures = self.DeclareAbstractInputPort("hanging_structures",
+                                                         AbstractValue.Make(Hangability()))
+        self._grasps = self.DeclareAbstractInputPort("grasps", AbstractValue.Make([]))
+        self._status = self.DeclareAbstractInputPort("pick_status",
+                                                     AbstractValue.Make(PickStatus()))
+        self._drawn_for: int | None = None
+        self.DeclarePeriodicPublishEvent(period, 0.0, self._publish)
+
+    def _publish(self, context) -> None:
+        status: PickStatus = self._status.Eval(context)
+        if status.mode in (Mode.SETTLE, Mode.PLAN):
+            return
+        key = id(status.plan) if status.plan is not None else -1
+        if self._drawn_for == key:
+            return
+        from gbh_drake.viz.gbh_meshcat import clear, draw_grasps, draw_object, draw_structures
+
+        self._drawn_for = key
+        clear(self._meshcat, self._prefix)
+        scan = self._scan.Eval(context)
+        if len(scan.mesh_W.faces):
+            draw_object(self._meshcat, scan.mesh_W, self._prefix)
+        draw_structures(self._meshcat, self._structures.Eval(context).structures, self._prefix)
+        grasps = [g for g in self._grasps.Eval(context) if hasattr(g, "structure")]
+        if grasps:
+            draw_grasps(self._meshcat, grasps, self._prefix)

@@ -1,0 +1,320 @@
+"""The ``PickAndCarry`` system: a pick-and-place state machine for the hook gripper.
+
+In the style of the manipulation course's clutter-clearing ``Planner``: the mode lives in
+abstract state beside the trajectory it executes, one periodic unrestricted update reads mode,
+time and the measured robot state and switches modes, and every output is a pure function of
+state and time. Modes, in order::
+
+    SETTLE -> PLAN -> APPROACH -> INSERT -> CLOSE -> LIFT -> CARRY -> HOLD -> CAGE_TEST
+           -> LOWER -> RELEASE -> RETREAT -> DONE
+
+PLAN reads the ranked grasps (evaluating them runs the scan and the grasp pipeline once) and
+tries them in order from the measured configuration (:func:`gbh_drake.planning.pick.plan_pick`),
+keeping each refusal's reason; with a ``fallback_grasps`` input connected, those are tried when
+no primary grasp could be planned (GbH first, an antipodal grasp with the bar folded next). When
+nothing can be planned the machine ends in NO_GRASP or NO_REACHABLE_GRASP. CLOSE drives the
+fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
+squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
+slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
+fingers over the place position.
+"""
+
+from __future__ import annotations
+
+import copy
+import enum
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.multibody.parsing import ModelDirective
+from pydrake.systems.framework import BasicVector, LeafSystem
+
+from gbh_drake.config import HandConfig, PickConfig
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
+from gbh_drake.perception.scan import ScanResult
+from gbh_drake.planning.model import PlanningModel
+from gbh_drake.planning.pick import ANTIPODAL, PickPlan, PickSetup, Refusal, plan_pick
+from gbh_drake.planning.trajectories import joint_path, linear_move, sample
+from gbh_drake.systems.scanner import no_scan
+
+#: Seconds the machine waits after a motion's trajectory ends before the next mode.
+DWELL = 0.1
+
+
+class Mode(enum.Enum):
+    SETTLE = "settle"
+    PLAN = "plan"
+    APPROACH = "approach"
+    INSERT = "insert"
+    CLOSE = "close"
+    LIFT = "lift"
+    CARRY = "carry"
+    HOLD = "hold"
+    CAGE_TEST = "cage_test"
+    LOWER = "lower"
+    RELEASE = "release"
+    RETREAT = "retreat"
+    DONE = "done"
+    NO_GRASP = "no_grasp"
+    NO_REACHABLE_GRASP = "no_reachable_grasp"
+
+
+#: Modes in which the machine has stopped for good.
+FINAL_MODES = (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP)
+
+
+@dataclass
+class PickStatus:
+    """What the machine is doing and has done (the ``status`` output)."""
+
+    mode: Mode = Mode.SETTLE
+    phase_start: dict[str, float] = field(default_factory=dict)
+    """Simulated time (s) at which each mode was entered, by mode value."""
+    n_grasps: int = 0
+    """How many grasps were offered (primary and fallback)."""
+    plan: PickPlan | None = None
+    """The plan being executed (None until PLAN succeeds)."""
+    score: float = float("nan")
+    """The executed grasp's score."""
+    fallback: bool = False
+    """Whether the executed grasp came from ``fallback_grasps``."""
+    refusals: list[Refusal] = field(default_factory=list)
+    """Every grasp that was tried and could not be planned, with its reason."""
+    plan_seconds: float = 0.0
+    """Wall seconds spent planning."""
+
+    @property
+    def phase(self) -> str:
+        return self.mode.value
+
+    @property
+    def finished(self) -> bool:
+        return self.mode in FINAL_MODES
+
+
+@dataclass
+class _State:
+    status: PickStatus = field(default_factory=PickStatus)
+    arm: object = None
+    """The arm's current ``PiecewisePolynomial`` (None: hold ``q_hold``)."""
+    q_hold: np.ndarray = field(default_factory=lambda: np.zeros(7))
+    command: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """Hand command [q_target (m), force (N), bar angle (rad)]."""
+    until: float = 0.0
+    """The current mode's earliest end time (s)."""
+
+
+class PickAndCarry(LeafSystem):
+    """Plans and executes one pick (see the module docstring).
+
+    .. pydrake_system::
+
+        name: PickAndCarry
+        input_ports:
+        - grasps
+        - fallback_grasps (optional)
+        - scan
+        - panda.state
+        - hook_gripper.state
+        output_ports:
+        - panda.desired_state
+        - hook_gripper.command
+        - status
+
+    ``grasps``, ``fallback_grasps``: lists of grasps, best first, each with ``X_WG`` (4, 4, the
+    open gripper's pose in W) and ``kind`` (``parallel``, ``vertical`` or ``antipodal``; an
+    antipodal grasp is executed with the bar folded). ``scan``: the
+    :class:`~gbh_drake.perception.scan.ScanResult` (its points set the lift height and its convex
+    hull is an obstacle for the transfer). ``panda.state`` (14) and ``hook_gripper.state`` (6):
+    the measured robot. ``panda.desired_state`` (14): [q, v] for the arm's joint controllers;
+    ``hook_gripper.command`` (3) for the :class:`~gbh_drake.systems.hand_driver.HandDriver`;
+    ``status``: a :class:`PickStatus`.
+    """
+
+    def __init__(self, directives: Sequence[ModelDirective], config: PickConfig,
+                 hand: HandConfig, *, settle_time: float, ground_clearance: float = 0.003,
+                 seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01):
+        """``directives``: the scenario's fixed models (the planning model is built from them);
+        ``settle_time`` (s): when planning starts (the scan is taken then); ``ground_clearance``
+        (m): the clearance grasps keep from the table, kept by the segments near the grasp too
+        (less the IK's 1 mm tolerance); ``seed``: the planner's seed; ``bar_angle`` (rad): the
+        bar's angle before a grasp is chosen; ``period`` (s): how often the machine updates."""
+        super().__init__()
+        self._directives = list(directives)
+        self._config = config
+        self._hand = hand
+        self._settle_time = float(settle_time)
+        self._seed = int(seed)
+        self._bar = float(bar_angle)
+        self._near = PlanningModel(self._directives, padding=max(ground_clearance - 1e-3, 0.0))
+        self._grasps = self.DeclareAbstractInputPort("grasps", AbstractValue.Make([]))
+        self._fallback = self.DeclareAbstractInputPort("fallback_grasps", AbstractValue.Make([]))
+        self._scan = self.DeclareAbstractInputPort(
+            "scan", AbstractValue.Make(no_scan("not scanned yet")))
+        self._arm_state = self.DeclareVectorInputPort("panda.state", 14)
+        self._hand_state = self.DeclareVectorInputPort("hook_gripper.state", 6)
+        self._state = self.DeclareAbstractState(AbstractValue.Make(_State()))
+        self.DeclareInitializationUnrestrictedUpdateEvent(self._initialize)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
+        self.DeclareVectorOutputPort("panda.desired_state", 14, self._calc_arm,
+                                     prerequisites_of_calc={self.all_state_ticket(),
+                                                            self.time_ticket()})
+        self.DeclareVectorOutputPort("hook_gripper.command", 3, self._calc_hand,
+                                     prerequisites_of_calc={self.all_state_ticket()})
+        self.DeclareAbstractOutputPort("status", lambda: AbstractValue.Make(PickStatus()),
+                                       self._calc_status,
+                                       prerequisites_of_calc={self.all_state_ticket()})
+
+    # ---- outputs ------------------------------------------------------------------------------
+    def _calc_arm(self, context, output: BasicVector) -> None:
+        s: _State = context.get_abstract_state(self._state).get_value()
+        if s.arm is None:
+            output.SetFromVector(np.concatenate([s.q_hold, np.zeros(7)]))
+            return
+        q, v = sample(s.arm, context.get_time())
+        output.SetFromVector(np.concatenate([q, v]))
+
+    def _calc_hand(self, context, output: BasicVector) -> None:
+        output.SetFromVector(context.get_abstract_state(self._state).get_value().command)
+
+    def _calc_status(self, context, output) -> None:
+        output.set_value(context.get_abstract_state(self._state).get_value().status)
+
+    # ---- events ---------------------------------------------------------------------------------
+    def _initialize(self, context, state) -> None:
+        q = self._arm_state.Eval(context)[:7]
+        q_fingers = self._hand_state.Eval(context)[:2]
+        s = _State(q_hold=q.copy(),
+                   command=np.array([float(np.mean(q_fingers)), self._hand.force, self._bar]))
+        s.status.phase_start[Mode.SETTLE.value] = context.get_time()
+        state.get_mutable_abstract_state(self._state).set_value(s)
+
+    def _update(self, context, state) -> None:
+        s: _State = copy.copy(context.get_abstract_state(self._state).get_value())
+        s.status = copy.copy(s.status)
+        s.command = s.command.copy()
+        t = context.get_time()
+        mode = s.status.mode
+        if mode in FINAL_MODES or t < s.until:
+            return
+        step = getattr(self, f"_after_{mode.value}")
+        step(context, s, t)
+        state.get_mutable_abstract_state(self._state).set_value(s)
+
+    def _enter(self, s: _State, mode: Mode, t: float, *, arm=None, until: float | None = None):
+        s.status.mode = mode
+        s.status.phase_start = {**s.status.phase_start, mode.value: t}
+        if arm is not None:
+            s.arm = arm
+        s.until = (s.arm.end_time() + DWELL) if (arm is not None and until is None) else \
+            (until if until is not None else t)
+
+    def _move(self, s: _State, mode: Mode, t: float, waypoints, **kwargs) -> None:
+        self._enter(s, mode, t, arm=joint_path(waypoints, t, **kwargs))
+
+    # Each _after_<mode> runs once the mode's time is up and chooses the next mode.
+    def _after_settle(self, context, s: _State, t: float) -> None:
+        if t > self._settle_time:
+            self._enter(s, Mode.PLAN, t)
+
+    def _after_plan(self, context, s: _State, t: float) -> None:
+        start = time.perf_counter()
+        plan, score, fallback = self._plan(context, s)
+        s.status.plan_seconds += time.perf_counter() - start
+        if plan is None:
+            none = s.status.n_grasps == 0
+            self._enter(s, Mode.NO_GRASP if none else Mode.NO_REACHABLE_GRASP, t)
+            return
+        s.status.plan, s.status.score, s.status.fallback = plan, score, fallback
+        s.command[2] = plan.bar
+        q_now = self._arm_state.Eval(context)[:7]
+        self._move(s, Mode.APPROACH, t, [q_now, *plan.transfer[1:]])
+
+    def _after_approach(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        self._move(s, Mode.INSERT, t, [plan.q["approach"], plan.q["grasp"]],
+                   velocity_scale=0.15, min_duration=1.0)
+
+    def _after_insert(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        g = HOOK_GRIPPER
+        q_stop = 0.5 * g.rod_width  # beyond the loop's closure: the bar's tip or the material stops
+        duration = (g.q_open - (g.q_closed if plan.kind != ANTIPODAL else q_stop)) / \
+            self._hand.speed
+        s.command[:2] = [q_stop, self._hand.force]
+        arm = linear_move(plan.q["grasp"], plan.q["closed"], t, duration)
+        self._enter(s, Mode.CLOSE, t, arm=arm, until=t + duration + 0.3)
+
+    def _after_close(self, context, s: _State, t: float) -> None:
+        v_fingers = self._hand_state.Eval(context)[3:5]
+        started = s.status.phase_start[Mode.CLOSE.value]
+        timeout = started + (HOOK_GRIPPER.q_open / self._hand.speed) + 0.5
+        if np.max(np.abs(v_fingers)) > 2e-3 and t < timeout:
+            return  # still closing
+        plan = s.status.plan
+        self._move(s, Mode.LIFT, t, [plan.q["closed"], plan.q["lift"]], velocity_scale=0.2)
+
+    def _after_lift(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        self._move(s, Mode.CARRY, t, [plan.q["lift"], plan.q["carry"]], velocity_scale=0.25)
+
+    def _after_carry(self, context, s: _State, t: float) -> None:
+        self._enter(s, Mode.HOLD, t, until=t + self._config.hold_time)
+
+    def _after_hold(self, context, s: _State, t: float) -> None:
+        s.command[1] = self._config.cage_test_force
+        self._enter(s, Mode.CAGE_TEST, t, until=t + self._config.cage_test_time)
+
+    def _after_cage_test(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        s.command[1] = self._hand.force
+        self._move(s, Mode.LOWER, t, [plan.q["carry"], plan.q["place"]], velocity_scale=0.15)
+
+    def _after_lower(self, context, s: _State, t: float) -> None:
+        s.command[:2] = [HOOK_GRIPPER.q_open, self._hand.force]
+        travel = HOOK_GRIPPER.q_open - 0.5 * HOOK_GRIPPER.rod_width
+        self._enter(s, Mode.RELEASE, t, until=t + travel / self._hand.speed + 0.2)
+
+    def _after_release(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        self._move(s, Mode.RETREAT, t, [plan.q["place"], plan.q["retreat"]], velocity_scale=0.2)
+
+    def _after_retreat(self, context, s: _State, t: float) -> None:
+        s.q_hold = s.status.plan.q["retreat"]
+        self._enter(s, Mode.DONE, t)
+
+    # ---- planning -------------------------------------------------------------------------------
+    def _plan(self, context, s: _State) -> tuple[PickPlan | None, float, bool]:
+        """The first plannable grasp: primary grasps, then fallback ones (refusals recorded)."""
+        scan: ScanResult = self._scan.Eval(context)
+        lists = [(self._grasps.Eval(context), False)]
+        if self._fallback.HasValue(context):
+            lists.append((self._fallback.Eval(context), True))
+        offered = sum(len(g) for g, _ in lists)
+        s.status.n_grasps = offered
+        if offered == 0:
+            return None, float("nan"), False
+        points = np.asarray(scan.mesh_W.vertices) if len(scan.mesh_W.vertices) else \
+            np.zeros((0, 3))
+        far = None
+        if self._config.plan_paths and len(points) >= 4:
+            far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
+        setup = PickSetup(self._near, far, points,
+                          points.mean(axis=0) if len(points) else np.zeros(3), self._config,
+                          self._seed)
+        q_start = self._arm_state.Eval(context)[:7]
+        refusals = list(s.status.refusals)
+        for grasps, fallback in lists:
+            for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
+                bar = BAR_RETRACTED if grasp.kind == ANTIPODAL else BAR_DEPLOYED
+                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar)
+                if isinstance(result, PickPlan):
+                    s.status.refusals = refusals
+                    return result, float(getattr(grasp, "score", float("nan"))), fallback
+                refusals.append(result)
+        s.status.refusals = refusals
+        return None, float("nan"), False
