@@ -24,12 +24,14 @@ from scipy import ndimage
 @dataclass(frozen=True)
 class MassProperties:
     """``mass`` (kg), ``com`` (3,) (m), ``inertia`` (3, 3) about the CoM (kg m^2), ``method``
-    (``"exact"`` or ``"voxel"``)."""
+    (``"exact"`` or ``"voxel"``) and ``density`` (kg/m^3; with a given total mass, the uniform
+    density that gives it)."""
 
     mass: float
     com: np.ndarray
     inertia: np.ndarray
     method: str
+    density: float | None = None
 
 
 def is_exact_solid(mesh: trimesh.Trimesh) -> bool:
@@ -51,9 +53,38 @@ def mass_properties_detailed(
     if is_exact_solid(mesh):
         props = trimesh.triangles.mass_properties(mesh.triangles, density=density)
         return MassProperties(
-            float(props.mass), np.asarray(props.center_mass), np.asarray(props.inertia), "exact"
+            float(props.mass), np.asarray(props.center_mass), np.asarray(props.inertia), "exact",
+            float(density),
         )
     return _voxel_mass_properties(mesh, density, pitch)
+
+
+def mass_properties_for(
+    mesh: trimesh.Trimesh,
+    *,
+    density: float | None = None,
+    mass: float | None = None,
+    pitch: float | None = None,
+) -> MassProperties:
+    """Mass properties of ``mesh`` (uniform material) from either a ``density`` (kg/m^3) or a
+    total ``mass`` (kg); give exactly one.
+
+    With ``mass``, the body is the same uniform solid (same centre of mass, same method: exact or
+    voxel fill) at the density that gives that mass: the inertia of the density-based solution is
+    scaled by ``mass / (its mass)``. Use it when the mesh is filled but the real object is hollow
+    (a scanned mug): the mass is then right, the inertia that of a uniform solid of that mass.
+    """
+    if (density is None) == (mass is None):
+        raise ValueError("give exactly one of density (kg/m^3) or mass (kg)")
+    if density is not None:
+        if not (np.isfinite(density) and density > 0):
+            raise ValueError(f"density must be positive and finite, got {density}")
+        return mass_properties_detailed(mesh, float(density), pitch)
+    if not (np.isfinite(mass) and mass > 0):
+        raise ValueError(f"mass must be positive and finite, got {mass}")
+    unit = mass_properties_detailed(mesh, 1.0, pitch)
+    factor = float(mass) / unit.mass
+    return MassProperties(float(mass), unit.com, unit.inertia * factor, unit.method, factor)
 
 
 def mass_properties(
@@ -79,7 +110,7 @@ def _voxel_mass_properties(
     r = centres - com
     inertia = cell_mass * (np.eye(3) * np.einsum("ij,ij->", r, r) - r.T @ r)
     inertia += np.eye(3) * mass * pitch**2 / 6.0  # each cube's own inertia
-    return MassProperties(float(mass), com, inertia, "voxel")
+    return MassProperties(float(mass), com, inertia, "voxel", float(density))
 
 
 def filled_voxel_centres(mesh: trimesh.Trimesh, pitch: float, closing: int = 1) -> np.ndarray:

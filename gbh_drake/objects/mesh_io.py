@@ -3,82 +3,214 @@
 :func:`load_mesh_file` reads obj/stl/ply/glb/gltf/off with trimesh, merges a scene's geometries
 (with their transforms) into one mesh, scales it, and repairs: merges duplicate vertices, drops
 degenerate and duplicate faces and unreferenced vertices, fills small (triangle/quad) holes and
-makes winding and normals consistent and outward. It raises :class:`MeshImportError` (the message
-names the file) for a missing or empty file, something that is not a mesh, non-finite vertices,
-or zero/negative volume. A mesh that stays non-watertight is accepted: the reason is appended to
-``mesh.metadata["gbh_warnings"]`` (a list of str) and logged. Drake can use such a mesh as a rigid
-hydroelastic geometry; its mass properties then come from the voxel fill of
-:func:`gbh_drake.objects.mass.mass_properties`.
+makes winding and normals consistent and outward.
+
+Every failure raises :class:`MeshImportError` whose message is ``"<file>: <reason>"``; no
+exception of a third-party library escapes (their type and message are quoted in the reason and
+the original is kept in ``error.detail``, not chained, so no foreign traceback is printed).
+Refused:
+
+* a missing path, a directory, an empty file, a file over :data:`MAX_FILE_BYTES`, an unsupported
+  suffix, a ``scale`` that is not positive and finite;
+* bytes that do not parse as a mesh or hold no triangles (points, lines only), face indices that
+  point at missing vertices, more than :data:`MAX_FACES` triangles;
+* non-finite (nan/inf) coordinates on vertices that faces use (unused ones are dropped), or
+  coordinates beyond :data:`MAX_COORDINATE` metres after ``scale``;
+* nothing left after dropping degenerate faces, zero or negative volume (flat, a single triangle).
+
+Accepted with a warning (appended to ``mesh.metadata["gbh_warnings"]``, a list of str without the
+file name, and logged with it):
+
+* more than :data:`DECIMATE_ABOVE` triangles: quadric decimation (Open3D) down to that many
+  (about 2 s for 300k triangles, 14 s for 1M, measured here);
+* a mesh that stays non-watertight: Drake can use it as a rigid hydroelastic geometry; its mass
+  properties then come from the voxel fill of :func:`gbh_drake.objects.mass.mass_properties`;
+* a largest extent outside 1 cm - 1 m, with a ``scale`` hint
+  (:func:`gbh_drake.objects.plausibility.extent_warnings`).
 """
 
 from __future__ import annotations
 
 import logging
+import time
+import warnings as pywarnings
 from pathlib import Path
 
 import numpy as np
 import trimesh
+from scipy.spatial import ConvexHull, QhullError
+
+from gbh_drake.objects.plausibility import extent_warnings
 
 log = logging.getLogger(__name__)
 
 SUPPORTED_SUFFIXES = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
 #: Volumes (m^3) at or below this count as zero (a 1 mm cube is 1e-9 m^3).
 MIN_VOLUME = 1e-12
+#: Meshes with more triangles are decimated to this many (with a warning).
+DECIMATE_ABOVE = 200_000
+#: Meshes with more triangles are refused (decimating them would take minutes).
+MAX_FACES = 2_000_000
+#: Files larger than this (bytes) are refused before they are read (an ASCII STL of 2M
+#: triangles is ~500 MB).
+MAX_FILE_BYTES = 512 * 2**20
+#: Coordinates (m, after ``scale``) beyond this are refused: not an object at any plausible unit.
+MAX_COORDINATE = 1.0e4
 
 
 class MeshImportError(ValueError):
-    """A mesh file that cannot be used; the message names the file and the reason."""
+    """A mesh file that cannot be used; the message names the file and the reason.
+
+    ``detail`` holds the third-party exception behind it, if any (not chained on purpose)."""
+
+    def __init__(self, message: str, detail: BaseException | None = None):
+        super().__init__(message)
+        self.detail = detail
 
 
 def load_mesh_file(path, scale: float = 1.0) -> trimesh.Trimesh:
     """Load, merge, scale and repair the mesh in ``path`` (see the module docstring).
 
     ``scale`` multiplies the file's coordinates (e.g. 0.001 for millimetres). Returns a
-    trimesh in the file's frame, metres.
+    trimesh in the file's frame, metres, with ``metadata["gbh_warnings"]`` (list of str) and
+    ``metadata["source_path"]``. Raises :class:`MeshImportError`.
     """
     path = Path(path)
 
-    def fail(reason: str) -> MeshImportError:
-        return MeshImportError(f"{path}: {reason}")
+    def fail(reason: str, detail: BaseException | None = None) -> MeshImportError:
+        return MeshImportError(f"{path}: {reason}", detail)
 
-    if not path.is_file():
-        raise fail("file not found")
-    if path.stat().st_size == 0:
-        raise fail("file is empty")
-    suffix = path.suffix.lower()
-    if suffix not in SUPPORTED_SUFFIXES:
-        raise fail(f"unsupported format {suffix!r} (supported: {', '.join(SUPPORTED_SUFFIXES)})")
+    _check_file(path, fail)
     try:
-        loaded = trimesh.load(str(path), force="mesh", process=False)
-    except Exception as exc:  # trimesh raises many types for garbage input
-        raise fail(f"not a mesh or unparseable ({type(exc).__name__}: {exc})") from exc
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise fail("not a mesh: no triangles found")
-    vertices = np.asarray(loaded.vertices, dtype=np.float64)
-    if not np.all(np.isfinite(vertices)):
-        raise fail("non-finite vertex coordinates (nan or inf)")
+        scale = float(scale)
+    except (TypeError, ValueError):
+        raise fail(f"scale must be a positive number, got {scale!r}") from None
     if not (np.isfinite(scale) and scale > 0):
         raise fail(f"scale must be positive and finite, got {scale}")
-    mesh = trimesh.Trimesh(vertices * scale, np.asarray(loaded.faces), process=False)
-    with np.errstate(invalid="ignore", divide="ignore"):  # flat meshes: 0/0 in trimesh
-        warnings = _repair(mesh)
-        if len(mesh.faces) == 0:
-            raise fail("no faces left after removing degenerate ones")
-        _check_volume(mesh, fail)
-    if warnings:
-        for w in warnings:
-            log.warning("%s: %s", path, w)
+    loaded = _read(path, fail)
+    vertices, faces = _validated_arrays(loaded, fail)
+    vertices = vertices * float(scale)
+    reach = float(np.max(np.abs(vertices)))
+    if reach > MAX_COORDINATE:
+        raise fail(f"coordinates reach {reach:.3g} m after scale {scale:g} (limit "
+                   f"{MAX_COORDINATE:g} m): not an object; check the file's unit and scale")
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    try:
+        with np.errstate(all="ignore"), pywarnings.catch_warnings():  # flat meshes: 0/0
+            pywarnings.simplefilter("ignore")
+            _clean(mesh)
+            warnings: list[str] = []
+            if len(mesh.faces) == 0:
+                raise fail("no faces left after removing degenerate ones")
+            if len(mesh.faces) > DECIMATE_ABOVE:
+                warnings.append(_decimate(mesh, DECIMATE_ABOVE))
+            warnings += _repair(mesh)
+            _check_volume(mesh, fail)
+    except MeshImportError:
+        raise
+    except Exception as exc:  # noqa: BLE001  (trimesh/networkx/open3d on odd input)
+        raise fail(f"could not be repaired ({type(exc).__name__}: {exc})", exc) from None
+    warnings += extent_warnings(mesh, scale=scale)
+    for w in warnings:
+        log.warning("%s: %s", path, w)
     mesh.metadata["gbh_warnings"] = warnings
     mesh.metadata["source_path"] = str(path)
     return mesh
 
 
-def _repair(mesh: trimesh.Trimesh) -> list[str]:
-    """Repair in place; returns warnings about what could not be repaired."""
+def _check_file(path: Path, fail) -> None:
+    """Refuse what is not a readable, supported, reasonably sized file, before reading it."""
+    if path.is_dir():
+        raise fail("is a directory, not a mesh file")
+    if not path.is_file():
+        raise fail("file not found")
+    size = path.stat().st_size
+    if size == 0:
+        raise fail("file is empty")
+    if size > MAX_FILE_BYTES:
+        raise fail(f"file too large ({_bytes(size)}; limit {_bytes(MAX_FILE_BYTES)}): "
+                   f"decimate it first (e.g. MeshLab, Blender)")
+    suffix = path.suffix.lower()
+    if suffix not in SUPPORTED_SUFFIXES:
+        raise fail(f"unsupported format {suffix!r} (supported: {', '.join(SUPPORTED_SUFFIXES)})")
+
+
+def _bytes(n: int) -> str:
+    return f"{n / 2**20:.0f} MiB" if n >= 2**20 else f"{n} bytes"
+
+
+def _read(path: Path, fail) -> trimesh.Trimesh:
+    """trimesh's loader, with every exception and warning it raises turned into ours."""
+    try:
+        with pywarnings.catch_warnings(), np.errstate(all="ignore"):
+            pywarnings.simplefilter("ignore")
+            loaded = trimesh.load(str(path), force="mesh", process=False)
+    except Exception as exc:  # noqa: BLE001  (trimesh raises many types for garbage input)
+        raise fail(f"not a mesh or unparseable ({type(exc).__name__}: {exc})", exc) from None
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+        raise fail("not a mesh: no triangles found")
+    return loaded
+
+
+def _validated_arrays(loaded: trimesh.Trimesh, fail) -> tuple[np.ndarray, np.ndarray]:
+    """``(vertices (n, 3) float64, faces (m, 3) int64)``, checked; unused non-finite vertices
+    dropped."""
+    try:
+        vertices = np.asarray(loaded.vertices, dtype=np.float64).reshape(-1, 3)
+        faces = np.asarray(loaded.faces).reshape(-1, 3)
+    except (TypeError, ValueError) as exc:
+        raise fail(f"malformed vertex or face data ({type(exc).__name__}: {exc})", exc) from None
+    if not np.issubdtype(faces.dtype, np.integer):
+        raise fail("malformed face data (indices are not integers)")
+    faces = faces.astype(np.int64)
+    bad = (faces < 0) | (faces >= len(vertices))
+    if bad.any():
+        raise fail(f"{int(bad.any(axis=1).sum())} of {len(faces)} faces refer to missing "
+                   f"vertices (indices outside 1..{len(vertices)})")
+    if len(faces) > MAX_FACES:
+        raise fail(f"{len(faces)} triangles (limit {MAX_FACES}): decimate it first "
+                   f"(e.g. MeshLab, Blender)")
+    finite = np.all(np.isfinite(vertices), axis=1)
+    if not finite.all():
+        used = np.zeros(len(vertices), dtype=bool)
+        used[faces.ravel()] = True
+        n_bad = int((used & ~finite).sum())
+        if n_bad:
+            raise fail(f"non-finite vertex coordinates (nan or inf) on {n_bad} vertices "
+                       f"used by faces")
+        keep = np.flatnonzero(finite)
+        remap = np.full(len(vertices), -1, dtype=np.int64)
+        remap[keep] = np.arange(len(keep))
+        vertices, faces = vertices[keep], remap[faces]
+    return vertices, faces
+
+
+def _clean(mesh: trimesh.Trimesh) -> None:
+    """Merge duplicate vertices; drop degenerate and duplicate faces and unused vertices."""
     mesh.merge_vertices()
     mesh.update_faces(mesh.nondegenerate_faces())
     mesh.update_faces(mesh.unique_faces())
     mesh.remove_unreferenced_vertices()
+
+
+def _decimate(mesh: trimesh.Trimesh, target: int) -> str:
+    """Quadric decimation (Open3D) to ``target`` triangles, in place; returns the warning."""
+    import open3d as o3d
+
+    n_before, start = len(mesh.faces), time.perf_counter()
+    o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(mesh.vertices),
+                                         o3d.utility.Vector3iVector(mesh.faces))
+    reduced = o3d_mesh.simplify_quadric_decimation(int(target))
+    decimated = trimesh.Trimesh(np.asarray(reduced.vertices), np.asarray(reduced.triangles),
+                                process=False)
+    mesh.vertices, mesh.faces = decimated.vertices, decimated.faces
+    _clean(mesh)
+    return (f"{n_before} triangles (limit {DECIMATE_ABOVE}): decimated to {len(mesh.faces)} "
+            f"in {time.perf_counter() - start:.1f} s")
+
+
+def _repair(mesh: trimesh.Trimesh) -> list[str]:
+    """Repair in place; returns warnings about what could not be repaired."""
     if not mesh.is_watertight:
         trimesh.repair.fill_holes(mesh)
     trimesh.repair.fix_normals(mesh)
@@ -100,9 +232,9 @@ def _check_volume(mesh: trimesh.Trimesh, fail) -> None:
         if mesh.volume <= MIN_VOLUME:
             raise fail(f"zero or negative volume ({mesh.volume:.3g} m^3)")
         return
-    try:
-        hull_volume = mesh.convex_hull.volume
-    except Exception:  # qhull fails on flat or degenerate input
+    try:  # scipy directly: trimesh would retry and log qhull's traceback (at debug level)
+        hull_volume = float(ConvexHull(np.asarray(mesh.vertices)).volume)
+    except (QhullError, ValueError):  # flat or degenerate input
         hull_volume = 0.0
     if hull_volume <= MIN_VOLUME:
         raise fail(f"zero volume: the mesh is flat (convex hull {hull_volume:.3g} m^3)")

@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 import trimesh
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gbh_drake.objects import make_object, mass_properties
 from gbh_drake.objects.mass import mass_properties_detailed
@@ -56,3 +58,52 @@ def test_pybullet_mug_has_plausible_mass_properties():
 def test_rejects_bad_density():
     with pytest.raises(ValueError):
         mass_properties(trimesh.creation.box((1, 1, 1)), 0.0)
+
+
+def test_mass_given_directly_gives_that_mass():
+    from gbh_drake.objects import mass_properties_for
+
+    size = np.array([0.1, 0.2, 0.3])
+    box = trimesh.creation.box(size)
+    box.apply_translation((0.1, 0.0, 0.15))
+    props = mass_properties_for(box, mass=0.5)
+    assert props.mass == 0.5 and props.method == "exact"
+    assert props.density == pytest.approx(0.5 / size.prod())
+    np.testing.assert_allclose(props.com, (0.1, 0.0, 0.15), atol=1e-12)
+    a, b, c = size
+    expected = 0.5 / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
+    np.testing.assert_allclose(props.inertia, expected, rtol=1e-9, atol=1e-15)
+    by_density = mass_properties_for(box, density=props.density)
+    assert by_density.mass == pytest.approx(0.5)
+    np.testing.assert_allclose(by_density.inertia, props.inertia, rtol=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(mass=st.floats(1e-3, 10.0))
+def test_mass_given_directly_scales_the_inertia(mass):
+    from gbh_drake.objects import mass_properties_for
+
+    mesh = make_object("teacup").mesh
+    unit = mass_properties_for(mesh, density=1.0)
+    props = mass_properties_for(mesh, mass=mass)
+    assert props.mass == mass
+    np.testing.assert_allclose(props.inertia, unit.inertia * mass / unit.mass, rtol=1e-9)
+    np.testing.assert_array_equal(props.com, unit.com)
+
+
+def test_mass_given_directly_for_an_open_mesh_uses_the_voxel_fill():
+    from gbh_drake.objects import mass_properties_for
+
+    props = mass_properties_for(make_object("pybullet_mug").mesh, mass=0.3)
+    assert props.method == "voxel" and props.mass == pytest.approx(0.3)
+    assert np.all(np.linalg.eigvalsh(props.inertia) > 0)
+
+
+@pytest.mark.parametrize("kw", [{}, {"density": 1.0, "mass": 1.0}, {"mass": 0.0},
+                                {"mass": -1.0}, {"mass": float("nan")}, {"density": 0.0},
+                                {"density": float("inf")}])
+def test_mass_properties_for_refuses_bad_arguments(kw):
+    from gbh_drake.objects import mass_properties_for
+
+    with pytest.raises(ValueError):
+        mass_properties_for(trimesh.creation.box((0.1, 0.1, 0.1)), **kw)
