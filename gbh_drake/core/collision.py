@@ -1,9 +1,34 @@
-"""Collision checking by point counting (paper Sec. 2.3): N_c = object points inside the gripper.
+"""Collision checking by point counting (paper Sec. 2.3) and our checks of the closing motion.
 
-The solid model is :meth:`HookGripperGeometry.inside_solid_model` (hand, rods and bar boxes in
-G). Counting is batched: the G coordinates of every point for a chunk of poses are computed as
+* N_c (paper): object points inside the gripper's solid model (hand, rods and bar boxes of
+  :class:`HookGripperGeometry`, in G) at the grasp pose, open. The paper keeps N_c < p_c.
+* N_sweep (ours): object points that the moving parts of the gripper reach while it closes
+  (their swept volume, the closed pose included, grown by a margin of a fraction of the sample
+  spacing, since material can cut into a box between samples) and that are not inside the open
+  model. The paper checks the open pose only; a grasp whose closing meets material stops on it
+  (a pinch) instead of closing its loop around it (a cage), so the closing motion is checked
+  as well. The caged material, inside the closed loop's hole (:func:`closed_loop_interior_G`),
+  is outside every swept box; it counts only if it comes within the margin of a moving part.
+* ground distance (ours): the height of the lowest point of the solid model above the supporting
+  plane, over the open pose, the closing sweep and the closed pose.
+
+The closing motion of each kind (what the pick planner executes, gbh_drake/planning/pick.py),
+in the frame G of the grasp pose X_WG, with travel = q_open - q_closed:
+
+* parallel: the fingers close symmetrically about G: the straight finger moves by -travel along
+  y_G, the L finger by +travel, the hand stays; (p2 + p3)/2 and p_M stay where they were (the
+  grasp puts c near (p2 + p3)/2, grasp_synthesis);
+* vertical: the arm moves G along +y_G by travel while the fingers close, so the straight rod
+  stays put, the L finger moves by +2 travel and the hand by +travel.
+
+The solid model is made of boxes that translate along y_G, so the volume a box sweeps is that
+box extended along y_G by its displacement (exact, not a bound), and its corners at the open and
+the closed pose are the corners of the swept box.
+
+Counting is batched: the G coordinates of every point for a chunk of poses are computed as
 (chunk, N) arrays (broadcast multiply-adds, :func:`frame_coordinates`), and the box tests run on
-those arrays. :func:`ground_penetration` checks the same solid model against the supporting plane.
+those arrays; interval tests shared by several boxes (e.g. all rods have the same x extent) are
+computed once.
 """
 
 from __future__ import annotations
@@ -11,10 +36,142 @@ from __future__ import annotations
 import numpy as np
 
 from gbh_drake.core.geometry import frame_coordinates
-from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.gripper import HOOK_GRIPPER, Box, HookGripperGeometry
+from gbh_drake.core.results import PARALLEL, VERTICAL
 
 #: Points x poses processed per chunk (bounds the temporary (chunk, N) arrays to ~50 MB).
 _CHUNK_POINTS = 2_000_000
+
+
+# ---- the closing motion ------------------------------------------------------------------------
+def closing_displacements(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER
+                          ) -> tuple[float, float, float]:
+    """(hand, straight finger, L finger) displacements along y_G (metres) from the open grasp
+    pose to the closed gripper, in the frame G of the grasp pose, for a grasp ``kind``."""
+    travel = gripper.q_open - gripper.q_closed
+    if kind == PARALLEL:
+        return 0.0, -travel, travel
+    if kind == VERTICAL:
+        return travel, 0.0, 2.0 * travel
+    raise ValueError(f"unknown grasp kind {kind!r}")
+
+
+def _moving_boxes(gripper: HookGripperGeometry) -> list[tuple[Box, int]]:
+    """Boxes of the open gripper in G, each with the index (0 hand, 1 straight, 2 L finger) of
+    the body it belongs to."""
+    q = gripper.q_open
+    out = [(gripper.hand_box(), 0)]
+    for b in gripper.straight_finger_boxes():
+        out.append((_shifted(b, q), 1))
+    for b in gripper.l_finger_boxes():
+        out.append((_shifted(b, -q), 2))
+    return out
+
+
+def _shifted(b: Box, dy: float) -> Box:
+    c = np.asarray(b.center, dtype=float) + (0.0, dy, 0.0)
+    return Box(b.name, tuple(float(v) for v in c), b.half_extents)
+
+
+def closing_boxes_G(kind: str, q: float, gripper: HookGripperGeometry = HOOK_GRIPPER
+                    ) -> list[Box]:
+    """The solid model, in the frame G of the grasp pose (open gripper), when the fingers have
+    closed to finger position ``q`` (q_open: the grasp pose; q_closed: closed) along the closing
+    motion of ``kind``."""
+    q = gripper.check_opening(q)
+    t = (gripper.q_open - q) / (gripper.q_open - gripper.q_closed)
+    d = closing_displacements(kind, gripper)
+    return [_shifted(b, t * d[body]) for b, body in _moving_boxes(gripper)]
+
+
+def swept_boxes_G(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER) -> list[Box]:
+    """The volume the solid model sweeps from the grasp pose (open) to the closed gripper, as
+    boxes in the frame G of the grasp pose: each box extended along y_G by its displacement.
+    Contains the open and the closed solid model."""
+    d = closing_displacements(kind, gripper)
+    out = []
+    for b, body in _moving_boxes(gripper):
+        dy = d[body]
+        c = np.asarray(b.center, dtype=float) + (0.0, 0.5 * dy, 0.0)
+        h = np.asarray(b.half_extents, dtype=float) + (0.0, 0.5 * abs(dy), 0.0)
+        out.append(Box(b.name + "_swept", tuple(float(v) for v in c),
+                       tuple(float(v) for v in h)))
+    return out
+
+
+def moving_swept_boxes_G(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER) -> list[Box]:
+    """The boxes of :func:`swept_boxes_G` of the bodies that move while closing (the straight
+    finger stays for vertical grasps, the hand for parallel ones): what the closing motion can
+    run into. Static bodies are the open model's, which N_c checks."""
+    d = closing_displacements(kind, gripper)
+    return [s for s, (_, body) in zip(swept_boxes_G(kind, gripper), _moving_boxes(gripper),
+                                      strict=True) if d[body] != 0.0]
+
+
+def closed_loop_interior_G(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER) -> Box:
+    """The hole of the closed loop, in the frame G of the grasp pose: between the palm (z = 0)
+    and the bar's inner face (z = l_f - rod_width/2), between the two rods' inner faces (y), as
+    thick as the rods (x). Material that crosses this box when the gripper is closed is caged."""
+    r = 0.5 * gripper.rod_width
+    _, d_straight, d_l = closing_displacements(kind, gripper)
+    y_straight = gripper.q_open + d_straight
+    y_l = -gripper.q_open + d_l
+    lo, hi = y_l + r, y_straight - r
+    z_top = gripper.finger_length - r
+    return Box("loop_interior", (0.0, 0.5 * (lo + hi), 0.5 * z_top),
+               (r, 0.5 * (hi - lo), 0.5 * z_top))
+
+
+# ---- counting -------------------------------------------------------------------------------------
+def _box_union_masks(x: np.ndarray, y: np.ndarray, z: np.ndarray, box_sets: list[list[Box]],
+                     margins: list[float]) -> list[np.ndarray]:
+    """For each list of boxes, the mask of the points (G coordinates ``x, y, z``, arrays of one
+    shape) inside their union, boxes grown by that list's margin. Interval tests shared by
+    several boxes are computed once."""
+    cache: dict[tuple[int, float, float], np.ndarray] = {}
+    coords = (x, y, z)
+
+    def interval(axis: int, c: float, h: float) -> np.ndarray:
+        key = (axis, c, h)
+        if key not in cache:
+            cache[key] = np.abs(coords[axis] - c) <= h  # Python floats keep float32 float32
+        return cache[key]
+
+    out = []
+    for boxes, margin in zip(box_sets, margins, strict=True):
+        inside = np.zeros(np.shape(x), dtype=bool)
+        for b in boxes:
+            cx, cy, cz = (float(v) for v in b.center)
+            hx, hy, hz = (float(v) + margin for v in b.half_extents)
+            inside |= interval(2, cz, hz) & interval(0, cx, hx) & interval(1, cy, hy)
+        out.append(inside)
+    return out
+
+
+def _chunked_masks(points_W: np.ndarray, X_WG: np.ndarray, box_sets: list[list[Box]],
+                   margins: list[float]):
+    """Yields (slice of the poses, [mask (chunk, N) per box set]) over chunks of ``X_WG``."""
+    # float32 halves the memory traffic; its ~1e-7 relative error is far below any tolerance.
+    X = np.asarray(X_WG, dtype=np.float32).reshape(-1, 4, 4)
+    p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
+    step = max(1, _CHUNK_POINTS // max(len(p), 1))
+    for k in range(0, len(X), step):
+        x, y, z = frame_coordinates(X[k : k + step], p)
+        yield slice(k, k + step), _box_union_masks(x, y, z, box_sets, margins)
+
+
+def count_points_in_boxes(points_W: np.ndarray, X_WG: np.ndarray, box_sets: list[list[Box]],
+                          margin: float = 0.0) -> np.ndarray:
+    """(S, M) int: for each of the S lists of boxes (in G), how many of ``points_W`` (N, 3,
+    metres in W) lie inside their union (boxes grown by ``margin``) at each pose ``X_WG``
+    (M, 4, 4)."""
+    M = len(np.reshape(X_WG, (-1, 4, 4)))
+    counts = np.zeros((len(box_sets), M), dtype=int)
+    if len(np.reshape(points_W, (-1, 3))):
+        for sl, masks in _chunked_masks(points_W, X_WG, box_sets, [margin] * len(box_sets)):
+            for s, mask in enumerate(masks):
+                counts[s, sl] = mask.sum(axis=1)
+    return counts
 
 
 def count_points_in_gripper(
@@ -27,38 +184,63 @@ def count_points_in_gripper(
     """N_c (M,) int: how many of ``points_W`` (N, 3, metres in W) lie inside the gripper's solid
     model (boxes grown by ``margin`` metres) at each pose ``X_WG`` (M, 4, 4) with finger position
     ``q`` (metres; default fully open)."""
-    # float32 halves the memory traffic; its ~1e-7 relative error is far below any tolerance.
-    X = np.asarray(X_WG, dtype=np.float32).reshape(-1, 4, 4)
-    p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
-    counts = np.zeros(len(X), dtype=int)
-    if len(p) == 0:
-        return counts
-    step = max(1, _CHUNK_POINTS // len(p))
-    for k in range(0, len(X), step):
-        x, y, z = frame_coordinates(X[k : k + step], p)
-        counts[k : k + step] = gripper.inside_solid_model(x, y, z, q, margin).sum(axis=1)
-    return counts
+    return count_points_in_boxes(points_W, X_WG, [gripper.solid_boxes_G(q)], margin)[0]
+
+
+def count_open_and_sweep(points_W: np.ndarray, X_WG: np.ndarray, kind: str, margin: float = 0.0,
+                         gripper: HookGripperGeometry = HOOK_GRIPPER, sweep_margin: float = 0.0
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """(N_c, N_sweep), each (M,) int, for grasps of one ``kind`` at poses ``X_WG`` (M, 4, 4).
+
+    N_c (paper): the points inside the open solid model, boxes grown by ``margin``.
+    N_sweep: the points that the moving parts reach while closing (:func:`moving_swept_boxes_G`,
+    the closed pose included, grown by ``margin + sweep_margin``) and that are not already
+    counted in N_c. ``sweep_margin`` (m) makes up for the sampling: a surface can cut into a
+    box between two samples, up to about half their spacing deep, unseen by the count."""
+    open_boxes = closing_boxes_G(kind, gripper.q_open, gripper)
+    moving = moving_swept_boxes_G(kind, gripper)
+    n_open = np.zeros(len(np.reshape(X_WG, (-1, 4, 4))), dtype=int)
+    n_sweep = np.zeros_like(n_open)
+    if len(np.reshape(points_W, (-1, 3))):
+        for sl, (inside_open, swept) in _chunked_masks(points_W, X_WG, [open_boxes, moving],
+                                                       [margin, margin + sweep_margin]):
+            n_open[sl] = inside_open.sum(axis=1)
+            n_sweep[sl] = (swept & ~inside_open).sum(axis=1)
+    return n_open, n_sweep
+
+
+# ---- the supporting surface -----------------------------------------------------------------
+def box_corners(boxes: list[Box]) -> np.ndarray:
+    """(8 B, 3) corners of the boxes, in their frame (metres)."""
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    return np.concatenate([np.asarray(b.center) + signs * np.asarray(b.half_extents)
+                           for b in boxes])
 
 
 def solid_model_corners_G(q: float | None = None,
                           gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
     """(8 B, 3) corners of the solid model's B boxes in G (metres) at finger position ``q``."""
-    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-    return np.concatenate([np.asarray(b.center) + signs * np.asarray(b.half_extents)
-                           for b in gripper.solid_boxes_G(q)])
+    return box_corners(gripper.solid_boxes_G(q))
 
 
-def ground_penetration(X_WG: np.ndarray, ground_normal: np.ndarray, ground_height: float,
-                       gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
-    """(M,) metres: how deep the deepest corner of the solid model goes below the plane
-    ``ground_normal . p = ground_height`` (W), over the open and the closed gripper at each pose
-    X_WG (M, 4, 4). <= 0: the gripper stays clear of the plane. (Boxes are convex and the
-    fingers move linearly, so the corners at both openings bound every opening in between.)"""
+def ground_distance(X_WG: np.ndarray, kinds: list[str] | str, ground_normal: np.ndarray,
+                    ground_height: float, gripper: HookGripperGeometry = HOOK_GRIPPER
+                    ) -> np.ndarray:
+    """(M,) metres: height above the plane ``ground_normal . p = ground_height`` (W) of the
+    lowest point of the solid model over the grasp pose (open), the closing sweep and the closed
+    pose, for grasps of ``kinds`` (one per pose, or one for all) at poses X_WG (M, 4, 4).
+    Negative: the gripper goes that deep below the plane. (The swept boxes are convex and
+    contain every intermediate pose, so their lowest corner is the lowest point.)"""
     X = np.asarray(X_WG, dtype=float).reshape(-1, 4, 4)
+    kinds = [kinds] * len(X) if isinstance(kinds, str) else list(kinds)
     n = np.asarray(ground_normal, dtype=float)
     n = n / np.linalg.norm(n)
-    corners = np.concatenate([solid_model_corners_G(gripper.q_open, gripper),
-                              solid_model_corners_G(gripper.q_closed, gripper)])
-    # Height of each corner along n: n . (R p + t) = (R^T n) . p + n . t
-    heights = np.einsum("mij,i,cj->mc", X[:, :3, :3], n, corners) + (X[:, :3, 3] @ n)[:, None]
-    return ground_height - heights.min(axis=1)
+    out = np.zeros(len(X))
+    for kind in set(kinds):
+        sel = np.array([k == kind for k in kinds])
+        corners = box_corners(swept_boxes_G(kind, gripper))
+        # Height of each corner along n: n . (R p + t) = (R^T n) . p + n . t
+        heights = (np.einsum("mij,i,cj->mc", X[sel, :3, :3], n, corners)
+                   + (X[sel, :3, 3] @ n)[:, None])
+        out[sel] = heights.min(axis=1) - ground_height
+    return out

@@ -72,9 +72,11 @@ class GbhParams:
 
     # ---- grasp synthesis ------------------------------------------------------------------------
     parallel_grasps: bool = True
-    """Generate parallel grasps (bar along +-v_i, p_M at c_i)."""
+    """Generate parallel grasps (bar along +-v_i through c_i, the caged material centred between
+    the rods; grasp_synthesis says why not the paper's p_M at c_i)."""
     vertical_grasps: bool = True
-    """Generate vertical grasps (straight finger along +-v_i or the ground normal, p2 at q_m)."""
+    """Generate vertical grasps (straight finger along +-v_i or the ground normal, the bar's inner
+    face ``cage_clearance + d2`` beyond q_f)."""
     ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
     """Unit anti-gravity direction (ground normal) in W; normalised on use."""
     p_theta: float = 0.95
@@ -82,20 +84,46 @@ class GbhParams:
     d1: float = 0.01
     """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
     d2: float = 0.0
-    """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view."""
+    """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view.
+    Added on top of ``cage_clearance`` (see grasp_synthesis: the paper's p2 is a point of a
+    rod of no thickness; ours is the centre line of an 8 mm bar)."""
+    cage_clearance: float = 0.003
+    """Metres. A vertical grasp puts the bar's inner face (z_G = l_f - rod_width / 2) this far
+    beyond the farthest caged material point q_f (plus d2), so the bar closes past the material
+    instead of onto it. Ours, not the paper's: the paper's p2 has no thickness."""
     slice_half_width: float = 0.005
     """Metres. Half thickness of the slab (about the gripper's plane) that selects the caged
-    points Q of a vertical grasp; a bit more than half a rod so a sparse cloud still has points."""
+    points Q of a grasp (vertical: q_f; parallel: the material centred between the rods); a bit
+    more than half a rod so a sparse cloud still has points."""
 
     # ---- collision checking ------------------------------------------------------------------
     ground_height: float = 0.0
     """m: height of the supporting surface (the table top) along ``ground_normal``, in W."""
-    ground_margin: float = 0.001
-    """m: how far the gripper's solid model may dip below the supporting surface; grasps that
-    go deeper (fingers under a flat object on the table, fingers-up grasps from below) are not
-    ranked. A negative value turns the check off."""
+    ground_clearance: float = 0.003
+    """m: the gripper's solid model (hand, rods, bar) at the grasp pose, open, during the
+    closing sweep and closed, must stay at least this far above the supporting surface
+    (``ground_height`` along ``ground_normal``); grasps that come closer (rods under a flat
+    object lying on the table, fingers-up grasps from below) are not ranked. This is the one
+    clearance rule for ranking and planning: the motion planner pads the table by (at most)
+    this number for the segments near the grasp (descend, close, lift), so a ranked grasp is
+    not refused there for touching the table. A negative value turns the check off (e.g. an
+    object in free space)."""
     p_c: int = 10
-    """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper."""
+    """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper
+    (open, at the grasp pose)."""
+    p_sweep: int = 1
+    """Ours: a grasp is kept only if fewer than p_sweep object points lie in the volume the
+    gripper sweeps while closing (hand, rods and bar moving from the open to the closed pose,
+    the closed pose included) that are not already counted in N_c. Default 1: none, because
+    the closing motion must not meet material (that is a pinch, not a cage); see scoring.py."""
+    sweep_margin_spacings: float = 0.25
+    """Ours, in sample spacings (the Poisson-disk radius of the object's points: about 0.5 mm on
+    a key ring, 2.4 mm on a mug, 4.2 mm on a pot): for N_sweep the moving parts' swept boxes are
+    grown by this much, because material can cut into a box between two samples unseen. Only a
+    full spacing would guarantee that nothing is missed; 0.25 is a compromise measured on the
+    object set: it rejects the pot's grasp whose hand sweeps 1 mm into the rim between samples
+    4.2 mm apart (found with 20k samples), and keeps the headphones' top-down grasps, whose 24 mm
+    band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
     collision_margin: float = 0.0
     """Metres by which every box of the gripper's solid model is grown for the point count."""
 
@@ -106,6 +134,11 @@ class GbhParams:
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = 10
     """*paper*: number of best grasps returned for execution."""
+    min_miss_resultant: float = 0.2
+    """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
+    shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
+    direction and beta is pi/2 (neutral). One opening of angular width phi has a mean of length
+    sin(phi/2) / (phi/2), above 0.2 for phi < 290 degrees."""
 
     def check(self) -> None:
         """Raise GbhInputError naming the first field whose value cannot work."""
@@ -124,6 +157,10 @@ class GbhParams:
             ("d1", self.d1 >= 0.0),
             ("slice_half_width", self.slice_half_width > 0.0),
             ("p_c", self.p_c >= 1),
+            ("p_sweep", self.p_sweep >= 1),
+            ("sweep_margin_spacings", self.sweep_margin_spacings >= 0.0),
+            ("cage_clearance", self.cage_clearance >= 0.0),
+            ("min_miss_resultant", 0.0 <= self.min_miss_resultant <= 1.0),
             ("n_plane_normals", self.n_plane_normals >= 2),
             ("n_rays_per_plane", self.n_rays_per_plane >= 3),
             ("n_refine_normals", self.n_refine_normals >= 1),

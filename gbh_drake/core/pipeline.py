@@ -7,7 +7,7 @@ import time
 import numpy as np
 import trimesh
 
-from gbh_drake.core.collision import count_points_in_gripper, ground_penetration
+from gbh_drake.core.collision import count_open_and_sweep, ground_distance
 from gbh_drake.core.grasp_synthesis import synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import detect_hangable_structures
@@ -27,8 +27,8 @@ def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams
 
 def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,
                gripper: HookGripperGeometry = HOOK_GRIPPER) -> list[GraspCandidate]:
-    """Stage 2 (Sec. 2.3): parallel and vertical grasps with N_c counted on the object's points
-    (open gripper at X_WG)."""
+    """Stage 2 (Sec. 2.3): parallel and vertical grasps with N_c (open gripper at X_WG), N_sweep
+    (closing motion) and the ground distance computed on the object's points."""
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     count_collisions(obj, candidates, params, gripper)
     return candidates
@@ -36,18 +36,24 @@ def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: Gbh
 
 def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params: GbhParams,
                      gripper: HookGripperGeometry = HOOK_GRIPPER) -> None:
-    """Sets ``n_collisions`` (N_c: object points inside the open gripper) and
-    ``ground_penetration`` (how far the gripper dips below the supporting surface) of every
-    candidate."""
-    if candidates:
-        X = np.stack([g.X_WG for g in candidates])
-        n_c = count_points_in_gripper(obj.points, X, gripper.q_open, params.collision_margin,
-                                      gripper)
-        depth = ground_penetration(X, np.asarray(params.ground_normal), params.ground_height,
-                                   gripper)
-        for g, n, d in zip(candidates, n_c, depth, strict=True):
-            g.n_collisions = int(n)
-            g.ground_penetration = float(d)
+    """Sets ``n_collisions`` (N_c: object points inside the open gripper), ``n_sweep_collisions``
+    (points the closing motion meets) and ``ground_distance`` (how far above the supporting
+    surface the gripper stays, open, closing and closed) of every candidate."""
+    if not candidates:
+        return
+    X = np.stack([g.X_WG for g in candidates])
+    kinds = [g.kind for g in candidates]
+    n_c = np.zeros(len(candidates), dtype=int)
+    n_s = np.zeros(len(candidates), dtype=int)
+    for kind in dict.fromkeys(kinds):
+        sel = np.array([k == kind for k in kinds])
+        n_c[sel], n_s[sel] = count_open_and_sweep(
+            obj.points, X[sel], kind, params.collision_margin, gripper,
+            sweep_margin=params.sweep_margin_spacings * obj.spacing)
+    height = ground_distance(X, kinds, np.asarray(params.ground_normal), params.ground_height,
+                             gripper)
+    for g, n, s, d in zip(candidates, n_c, n_s, height, strict=True):
+        g.n_collisions, g.n_sweep_collisions, g.ground_distance = int(n), int(s), float(d)
 
 
 def score(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
@@ -63,8 +69,9 @@ def plan_grasps(
 ) -> GbhResult:
     """Run hangability detection, grasp synthesis, collision counting and scoring on ``mesh``
     (vertices in W, metres). Grasps are X_WG of the open gripper; ``result.ranked`` holds the
-    collision-free top-k. Raises GbhInputError for unusable input; nothing hangable gives empty
-    lists. ``result.timings`` has the seconds of each stage."""
+    collision-free top-k (open, closing and closed; scoring.rank_grasps). Raises GbhInputError
+    for unusable input; nothing hangable gives empty lists. ``result.timings`` has the seconds
+    of each stage."""
     params = GbhParams() if params is None else params
     clock = _StageClock()
     obj = prepare_object(mesh, params)

@@ -64,10 +64,17 @@ class GraspCandidate:
     h: np.ndarray
     """(3,) the contact point h_i^j this grasp was generated from, metres in W."""
     n_collisions: int = -1
-    """N_c: object points inside the gripper's solid model (open) at X_WG; -1 if not counted."""
-    ground_penetration: float = float("nan")
-    """m: depth of the gripper's deepest solid-model corner below the supporting surface, over
-    the open and the closed gripper at X_WG (<= 0: clear of it); nan if not computed."""
+    """N_c (paper): object points inside the gripper's solid model (open) at X_WG; -1 if not
+    counted."""
+    n_sweep_collisions: int = -1
+    """N_sweep (ours): object points that the moving parts of the gripper meet while closing
+    (inside the volume they sweep from the open to the closed pose, grown by the sweep margin,
+    and not inside the open model), i.e. material the loop would stop on; -1 if not counted.
+    See :mod:`gbh_drake.core.collision`."""
+    ground_distance: float = float("nan")
+    """m: height of the lowest point of the gripper's solid model above the supporting surface,
+    over the grasp pose (open), the closing sweep and the closed pose (negative: below it); nan
+    if not computed."""
     alpha: float = float("nan")
     """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
     beta: float = float("nan")
@@ -89,7 +96,8 @@ class GbhResult:
     candidates: list[GraspCandidate]
     """All synthesised grasps with N_c counted and scores computed (colliding ones included)."""
     ranked: list[GraspCandidate]
-    """Collision-free grasps (N_c < p_c), best score first, at most ``top_k``."""
+    """Collision-free grasps (N_c < p_c, N_sweep < p_sweep, at least ``ground_clearance`` above
+    the supporting surface), best score first, at most ``top_k``."""
     timings: dict[str, float] = field(default_factory=dict)
     """Wall-clock seconds per stage: sampling, hangability, synthesis, collision, scoring."""
     cpu_timings: dict[str, float] = field(default_factory=dict)

@@ -1,11 +1,43 @@
 """Grasp evaluation (paper Sec. 2.4): S_total = m_i * S_beta * S_alpha, ranking and top-k.
 
+The order is the paper's: grasp generation keeps the collision-free grasps (Sec. 2.3, N_c < p_c),
+they are scored S_total = m_i S_beta S_alpha, ranked from high to low, the ten best are taken
+(Sec. 3.1: "Ten predicted poses with the highest S_total value are selected and ranked"), and the
+motion planner then tries them in that order and executes the first it can reach (that loop is
+gbh_drake/run.py's). Our own collision checks (the closing sweep and the supporting surface,
+collision.py) belong to the same "collision-free" filter, so they are applied before ranking:
+a grasp they reject never takes one of the ten places.
+
+:func:`collision_free` is that filter:
+
+* N_c < p_c (paper): fewer than p_c object points inside the open gripper at the grasp pose;
+* N_sweep < p_sweep (ours): the closing motion (the parts that move from the open to the
+  closed pose, the closed pose included: both fingers of a parallel grasp; the L finger and the
+  hand of a vertical grasp, whose straight rod stays) meets fewer than p_sweep object points
+  besides those already counted in N_c, with the swept boxes grown by
+  ``sweep_margin_spacings`` sample spacings. Points inside the closed loop's interior (between
+  palm, rods and bar) are the caged material and are not in the swept volume, so they never
+  count; points where the rods or the bar go are material the loop would stop on, a pinch
+  instead of a cage. p_sweep = 1 by default: none;
+* ground distance >= ground_clearance (ours, skipped when ground_clearance < 0): the solid model,
+  open, sweeping and closed, stays that far above the supporting surface; the planner pads the
+  table by the same number near the grasp.
+
+The score terms:
+
 * alpha: angle between R n1 (n1 = -z_G, from the fingertips toward the wrist) and the
   anti-gravity direction; S_alpha = exp(-alpha^2 / gamma_alpha). A top-down approach has
   R n1 = up, alpha = 0, S_alpha = 1.
 * beta: angle between a_i (mean direction of the rays that miss: where the loop around c_i is
   open) and the direction from the held material toward c_i, u = unit(c_i - h); small beta means
-  the material held is opposite the opening. S_beta = 1 if m_i = 1, else exp(-beta^2/gamma_beta).
+  the material held is opposite the opening. S_beta = 1 if m_i = 1 (a closed loop has no
+  opening, a_i = 0 and beta is not used; beta is recorded as nan), else exp(-beta^2/gamma_beta).
+
+  When m_i < 1 but the missing rays' directions cancel (openings on opposite sides: the mean of
+  their unit directions is shorter than ``min_miss_resultant``), there is no opening direction:
+  beta is pi/2, neither rewarded nor the best. The length is taken from the structure's
+  ``miss_directions`` (its ``a`` is normalised, so it no longer says how well the misses
+  agree), or from ``a`` when a structure carries no miss directions.
 
   Sign choice (design.md Sec. 4): for vertical grasps u is R n2 (= +y_G), as in the paper. For
   parallel grasps u is the approach +z_G = -R n1, not the paper's R n1: with n1 pointing to the
@@ -18,7 +50,16 @@ import numpy as np
 
 from gbh_drake.core.geometry import angle_between, unit
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import PARALLEL, GraspCandidate
+from gbh_drake.core.results import PARALLEL, GraspCandidate, HangingStructure
+
+
+def miss_resultant(structure: HangingStructure) -> float:
+    """Length in [0, 1] of the mean of the unit directions of the rays that missed: about 1 for
+    one narrow opening, 0 when openings on opposite sides cancel (and for m = 1: no misses)."""
+    d = np.asarray(structure.miss_directions, dtype=float).reshape(-1, 3)
+    if len(d):
+        return float(np.linalg.norm(unit(d).mean(axis=0)))
+    return float(np.linalg.norm(structure.a))
 
 
 def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
@@ -31,29 +72,38 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
     # Direction from the caged material toward c_i: +z_G (parallel) or +y_G = R n2 (vertical).
     parallel = np.array([g.kind == PARALLEL for g in candidates])
     toward_c = np.where(parallel[:, None], R[:, :, 2], R[:, :, 1])
-    a = np.stack([g.structure.a for g in candidates])
+    structures = {id(g.structure): g.structure for g in candidates}
+    resultant = {k: miss_resultant(s) for k, s in structures.items()}
+    a = unit(np.stack([g.structure.a for g in candidates]))
+    rho = np.array([resultant[id(g.structure)] for g in candidates])
     m = np.array([g.structure.m for g in candidates])
+    closed = m >= 1.0
     alpha = angle_between(n1, up[None])
-    # When m < 1 but the missed rays cancel out (|a| small: openings on opposite sides), no
-    # side is safer than another: beta is taken as pi/2, neither rewarded nor best.
-    beta = np.where(np.linalg.norm(a, axis=1) > 0.5, angle_between(a, toward_c), np.pi / 2)
+    beta = np.where(rho >= params.min_miss_resultant, angle_between(a, toward_c), np.pi / 2)
+    beta = np.where(closed, np.nan, beta)
     s_alpha = np.exp(-(alpha**2) / params.gamma_alpha)
-    s_beta = np.where(m >= 1.0, 1.0, np.exp(-(beta**2) / params.gamma_beta))
+    s_beta = np.where(closed, 1.0, np.exp(-(np.nan_to_num(beta) ** 2) / params.gamma_beta))
     score = m * s_beta * s_alpha
     for g, al, be, sa, sb, s in zip(candidates, alpha, beta, s_alpha, s_beta, score, strict=True):
         g.alpha, g.beta, g.s_alpha, g.s_beta, g.score = (float(x) for x in (al, be, sa, sb, s))
 
 
+def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
+    """Whether ``g`` passes every collision check (module docstring): N_c < p_c (paper),
+    N_sweep < p_sweep and, unless ground_clearance < 0, ground distance >= ground_clearance.
+    Uncounted candidates (-1, nan) do not pass."""
+    return (0 <= g.n_collisions < params.p_c
+            and 0 <= g.n_sweep_collisions < params.p_sweep
+            and (params.ground_clearance < 0
+                 or bool(g.ground_distance >= params.ground_clearance)))
+
+
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
-    """The collision-free candidates (0 <= N_c < p_c, and not deeper than ``ground_margin`` below
-    the supporting surface), best S_total first, at most ``top_k``.
+    """The collision-free candidates (:func:`collision_free`), best S_total first, at most
+    ``top_k``: the paper's ten, in the order the planner tries them.
 
     Ties keep the synthesis order (stable sort), so the ranking is deterministic.
     """
-    free = [
-        g for g in candidates
-        if 0 <= g.n_collisions < params.p_c
-        and not (params.ground_margin >= 0 and g.ground_penetration > params.ground_margin)
-    ]
+    free = [g for g in candidates if collision_free(g, params)]
     order = np.argsort([-g.score for g in free], kind="stable")
     return [free[i] for i in order[: params.top_k]]

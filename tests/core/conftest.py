@@ -13,7 +13,7 @@ from gbh_drake.core.params import GbhParams
 def params() -> GbhParams:
     # The test shapes float in space, with no table under them: the supporting-surface check
     # is off here and tested on its own (test_ground.py).
-    return GbhParams(ground_margin=-1.0)
+    return GbhParams(ground_clearance=-1.0)
 
 
 @pytest.fixture(scope="session")

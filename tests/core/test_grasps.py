@@ -6,6 +6,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+import trimesh
 from gbh_shapes import CUP_RADIUS, RING_R, RING_r
 from scipy.spatial.transform import Rotation
 
@@ -15,7 +16,7 @@ from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.results import PARALLEL, VERTICAL, GraspCandidate, HangingStructure
-from gbh_drake.core.scoring import rank_grasps, score_grasps
+from gbh_drake.core.scoring import collision_free, miss_resultant, rank_grasps, score_grasps
 
 
 def linking_number(a: np.ndarray, b: np.ndarray) -> float:
@@ -76,17 +77,23 @@ def test_ring_grasps_link_the_ring_and_shifted_ones_do_not(ring_result, params):
     kinds = {g.kind for g in ring_result.candidates if g.n_collisions < params.p_c}
     assert kinds == {PARALLEL, VERTICAL}
     circle = ring_core_circle()
+    travel = HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed
     for g in ring_result.candidates:
         if g.n_collisions >= params.p_c:
             continue
-        # Parallel grasps close their loop around the ring with the ring in place (p_M at c);
-        # vertical grasps clamp the ring between the rods while closing, so their loop is
-        # checked at the grasp pose (open), where the ring passes between the rods.
-        q = HOOK_GRIPPER.q_closed if g.kind == PARALLEL else HOOK_GRIPPER.q_open
+        # At the grasp pose (open) the ring passes through the open loop (p5 p4 p2 p3) ...
+        q = HOOK_GRIPPER.q_open
         assert abs(linking_number(gripper_loop_W(g.X_WG, q), circle)) == pytest.approx(1, abs=1e-6)
         shifted = g.X_WG.copy()
         shifted[:3, 3] += g.X_WG[:3, 2] * -0.10  # 10 cm back along the approach
         assert linking_number(gripper_loop_W(shifted, q), circle) == pytest.approx(0, abs=1e-6)
+        # ... and through the closed one, where the closing motion puts it (parallel: about G;
+        # vertical: about the straight rod, G following the fingers along +y_G).
+        X_closed = g.X_WG.copy()
+        if g.kind == VERTICAL:
+            X_closed[:3, 3] += travel * g.X_WG[:3, 1]
+        loop = gripper_loop_W(X_closed, HOOK_GRIPPER.q_closed)
+        assert abs(linking_number(loop, circle)) == pytest.approx(1, abs=1e-6)
 
 
 def test_parallel_and_vertical_pose_conventions(ring_result, params):
@@ -98,7 +105,12 @@ def test_parallel_and_vertical_pose_conventions(ring_result, params):
         u = (s.c - g.h) / np.linalg.norm(s.c - g.h)
         kp = keypoints_W(g.X_WG)
         if g.kind == PARALLEL:
-            np.testing.assert_allclose(kp["pM"], s.c, atol=1e-9)
+            # c on the bar's centre line, at most the closed loop's half width from the middle
+            # of the fingertips (the caged material is centred between the rods; the ring's
+            # tube is symmetric, so here the shift is small).
+            off = s.c - 0.5 * (kp["p2"] + kp["p3"])
+            np.testing.assert_allclose(off - (off @ R[:, 1]) * R[:, 1], 0.0, atol=1e-9)
+            assert abs(off @ R[:, 1]) < 1e-3
             assert abs(R[:, 1] @ s.v) == pytest.approx(1.0)  # bar n2 along +-v
             np.testing.assert_allclose(R[:, 2], u, atol=1e-9)  # approach -n1 = unit(c - h)
         else:
@@ -113,13 +125,26 @@ def test_parallel_and_vertical_pose_conventions(ring_result, params):
 
 
 def test_vertical_grasp_tips_clear_the_caged_material(ring_result, params):
-    """p2 is at q_m: just past the ring's tube (radius 1 cm about the ring's plane) along the
-    finger, plus d2, whether the fingers point down (from above) or up."""
+    """The bar's inner face is cage_clearance + d2 beyond the ring's tube (radius 1 cm about the
+    ring's plane) along the finger, whether the fingers point down (from above) or up: p2, on
+    the bar's centre line, is half a rod further."""
     vertical = [g for g in ring_result.candidates if g.kind == VERTICAL]
     assert {np.sign(g.X_WG[2, 2]) for g in vertical} == {-1.0, 1.0}
     for g in vertical:
         p2 = keypoints_W(g.X_WG)["p2"]
-        assert p2 @ g.X_WG[:3, 2] == pytest.approx(RING_r + params.d2, abs=2e-3)
+        inner_face = p2 @ g.X_WG[:3, 2] - HOOK_GRIPPER.rod_width / 2
+        assert inner_face == pytest.approx(RING_r + params.cage_clearance + params.d2, abs=2e-3)
+
+
+def test_d2_adds_to_the_clearance(ring, params):
+    base = plan_grasps(ring, params)
+    one_view = plan_grasps(ring, dataclasses.replace(params, d2=0.005))
+    for a, b in zip(base.candidates, one_view.candidates, strict=True):
+        if a.kind == VERTICAL:
+            shift = (b.X_WG[:3, 3] - a.X_WG[:3, 3]) @ a.X_WG[:3, 2]
+            assert shift == pytest.approx(0.005, abs=1e-9)
+        else:
+            np.testing.assert_allclose(a.X_WG, b.X_WG)
 
 
 def test_ground_rule_snaps_only_near_vertical_directions(ring, params):
@@ -200,8 +225,9 @@ def test_scores_follow_the_paper_and_the_beta_sign_choice(params):
     assert g[0].s_beta == pytest.approx(1.0)
     assert g[0].alpha == pytest.approx(np.pi / 2)
     assert g[0].s_alpha == pytest.approx(np.exp(-(np.pi / 2) ** 2 / 0.04))
-    # A closed loop (m = 1) and a top-down approach (R n1 = up) score 1.
+    # A closed loop (m = 1) and a top-down approach (R n1 = up) score 1; beta has no meaning.
     assert (g[1].s_beta, g[1].s_alpha, g[1].score) == pytest.approx((1.0, 1.0, 1.0))
+    assert np.isnan(g[1].beta)
     # Vertical: beta uses R n2 = +y_G.
     assert g[2].beta == pytest.approx(0.0) and g[2].score == pytest.approx(0.7)
     assert g[3].beta == pytest.approx(np.pi)
@@ -209,7 +235,7 @@ def test_scores_follow_the_paper_and_the_beta_sign_choice(params):
     assert g[3].alpha == pytest.approx(np.pi)
 
     for x, n in zip(g, (0, 3, 12, 9), strict=True):
-        x.n_collisions = n
+        x.n_collisions, x.n_sweep_collisions, x.ground_distance = n, 0, 1.0
     ranked = rank_grasps(g, dataclasses.replace(params, top_k=2))
     assert ranked == [g[1], g[0]]  # g[2] collides (12 >= 10), g[3] scores ~0 and is cut by k
 
@@ -223,8 +249,6 @@ def test_pipeline_is_deterministic(mug, mug_result, params):
 
 
 def test_nothing_hangable_gives_empty_results(params):
-    import trimesh
-
     result = plan_grasps(trimesh.creation.box((0.1, 0.06, 0.04)), params)
     assert result.structures == [] and result.candidates == [] and result.ranked == []
     assert set(result.timings) == {"sampling", "hangability", "synthesis", "collision", "scoring"}
@@ -243,3 +267,86 @@ def test_cancelling_misses_give_a_neutral_beta(params):
     assert g[0].beta == pytest.approx(np.pi / 2)
     assert g[0].s_beta == pytest.approx(np.exp(-(np.pi / 2) ** 2 / params.gamma_beta))
     assert g[0].score < 0.8
+
+
+def test_ranking_filters_then_sorts_then_cuts(mug_result, params):
+    """The paper's order: collision-free grasps (our sweep and ground checks included), by
+    S_total, the top k; nothing left out scores higher than the last one kept unless it fails a
+    collision check."""
+    free = [g for g in mug_result.candidates if collision_free(g, params)]
+    assert mug_result.ranked == sorted(free, key=lambda g: -g.score)[: params.top_k]
+    cut = min(g.score for g in mug_result.ranked)
+    for g in mug_result.candidates:
+        if g not in mug_result.ranked and g.score > cut:
+            assert not collision_free(g, params)
+    for field, bad in (("n_collisions", params.p_c), ("n_sweep_collisions", params.p_sweep),
+                       ("ground_distance", params.ground_clearance - 1e-4)):
+        g = dataclasses.replace(mug_result.ranked[0], **{field: bad})
+        assert not collision_free(g, dataclasses.replace(params, ground_clearance=0.003))
+
+
+def test_closed_loops_score_s_beta_one_in_the_pipeline(ring_result):
+    """A closed loop (the ring, m = 1) has no opening direction: a = 0, S_beta = 1."""
+    assert ring_result.structures[0].m == 1.0
+    assert np.allclose(ring_result.structures[0].a, 0.0)
+    assert ring_result.ranked
+    for g in ring_result.ranked:
+        assert g.s_beta == 1.0 and np.isnan(g.beta)
+
+
+def _two_arcs(offset: float) -> trimesh.Trimesh:
+    """A ring (radius 3 cm, 4 mm wire) with two gaps on opposite sides (a 2 cm slab removed,
+    ``offset`` m off centre): two arcs that hold a rod between them."""
+    import manifold3d as m3d
+    from gbh_shapes import _to_trimesh, _torus
+
+    slab = m3d.Manifold.cube((0.02, 0.1, 0.02)).translate((-0.01 + offset, -0.05, -0.01))
+    return _to_trimesh(_torus(0.03, 0.004) - slab)
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.003])
+def test_cancelling_misses_give_a_neutral_beta_in_the_pipeline(params, offset):
+    """Two openings on opposite sides: m < 1 and the missing rays cancel, so beta = pi/2 for
+    every grasp, even when the gaps are a little uneven and the structure's normalised a is a
+    unit vector (offset 3 mm)."""
+    result = plan_grasps(_two_arcs(offset), params)
+    (s,) = result.structures
+    assert 0.5 < s.m < 1.0
+    assert miss_resultant(s) < params.min_miss_resultant
+    if offset:
+        assert np.linalg.norm(s.a) == pytest.approx(1.0)
+    assert result.ranked
+    for g in result.candidates:
+        assert g.beta == pytest.approx(np.pi / 2)
+        assert g.s_beta == pytest.approx(np.exp(-(np.pi / 2) ** 2 / params.gamma_beta))
+
+
+def test_one_opening_gives_a_beta(hook, params):
+    """One opening (a hook): the misses agree, beta is the angle to a_i and varies."""
+    result = plan_grasps(hook, params)
+    s = result.structures[0]
+    assert s.m < 1.0 and miss_resultant(s) > 0.5
+    betas = {round(g.beta, 3) for g in result.candidates if g.structure is s}
+    assert len(betas) > 2 and all(0.0 <= b <= np.pi for b in betas)
+
+
+def test_parallel_grasps_centre_the_caged_material_between_the_rods(params):
+    """A ring's structure moved 4 mm off the ring's mid-plane along its axis (c and its hit
+    points: the plane of the rays is not the material's mid-plane, as on the headphones' band):
+    the parallel grasps slide back along the bar until the tube is centred between the rods."""
+    import gbh_shapes
+
+    from gbh_drake.core.grasp_synthesis import parallel_anchor_G, parallel_grasp_poses
+
+    obj = prepare_object(gbh_shapes.make_ring(), params)
+    (s,) = plan_grasps(obj, params).structures
+    off_plane = dataclasses.replace(s, c=s.c + 0.004 * s.v, H=s.H + 0.004 * s.v)
+    X, _ = parallel_grasp_poses(off_plane, HOOK_GRIPPER, obj.points, params)
+    X_fixed, _ = parallel_grasp_poses(off_plane)  # no points: c at (p2 + p3) / 2
+    for a, b in zip(X, X_fixed, strict=True):
+        np.testing.assert_allclose(a[:3, :3], b[:3, :3])
+        assert transform_points(b, parallel_anchor_G()[None])[0] @ s.v == pytest.approx(0.004)
+        # Centred: (p2 + p3) / 2 back on the ring's mid-plane (z = 0), i.e. moved along the bar.
+        mid = transform_points(a, parallel_anchor_G()[None])[0]
+        assert mid[2] == pytest.approx(0.0, abs=1e-3)
+        np.testing.assert_allclose(np.cross(a[:3, 3] - b[:3, 3], a[:3, 1]), 0.0, atol=1e-12)

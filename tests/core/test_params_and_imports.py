@@ -16,9 +16,10 @@ from gbh_drake.core.results import GbhInputError
 def test_params_load_from_yaml_with_drake():
     from pydrake.common.yaml import yaml_load_typed
 
-    data = "{n_points: 3000, ground_normal: [0, 1, 0], d2: 0.005}"
+    data = "{n_points: 3000, ground_normal: [0, 1, 0], d2: 0.005, ground_clearance: -1}"
     p = yaml_load_typed(schema=GbhParams, data=data)
     assert (p.n_points, p.ground_normal, p.d2) == (3000, [0.0, 1.0, 0.0], 0.005)
+    assert p.ground_clearance == -1.0
     assert p.gamma_alpha == GbhParams().gamma_alpha
     with pytest.raises(RuntimeError, match="n_point"):
         yaml_load_typed(schema=GbhParams, data="{n_point: 3000}")
@@ -33,7 +34,9 @@ def test_params_fields_are_yaml_friendly_with_defaults():
 
 @pytest.mark.parametrize(
     "bad", [{"n_points": 0}, {"ground_normal": [0.0, 0.0]}, {"ground_normal": [0.0, 0.0, 0.0]},
-            {"p_theta": 1.5}, {"n_rays_per_plane": 2}]
+            {"p_theta": 1.5}, {"n_rays_per_plane": 2}, {"p_sweep": 0},
+            {"cage_clearance": -0.001}, {"min_miss_resultant": 1.5},
+            {"sweep_margin_spacings": -1.0}]
 )
 def test_out_of_range_params_name_the_field(bad):
     with pytest.raises(GbhInputError, match=next(iter(bad))):
