@@ -1,7 +1,7 @@
 """The ``gbh`` command line.
 
     gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: scenarios/default.yaml)
-    gbh diagram [SCENARIO.yaml]                        write the station's Graphviz diagram to diagrams/
+    gbh diagram [SCENARIO.yaml]                        write the station's and the trial's diagrams
     gbh objects list                                   the object set: sizes, masses, hangable parts
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
 """
@@ -35,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
     p_run.add_argument("--meshcat", action="store_true",
                        help="serve the live Meshcat view and wait for Enter before exiting")
 
-    p_diag = sub.add_parser("diagram", help="write the station's Graphviz diagram")
+    p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
     p_diag.add_argument("--out", default=str(REPO_ROOT / "diagrams"), help="output folder")
 
@@ -94,9 +94,12 @@ def _objects(action: str, out: str | None) -> int:
 
 def _diagram(scenario, out: Path) -> int:
     from gbh_drake.diagrams import write_diagram
-    from gbh_drake.run import build_diagram
+    from gbh_drake.trial import build_trial
 
-    for path in write_diagram(build_diagram(scenario).diagram, out, "station"):
+    trial = build_trial(scenario)
+    written = [*write_diagram(trial.station, out, "station", max_depth=1),
+               *write_diagram(trial.diagram, out, "trial", max_depth=1)]
+    for path in written:
         print(f"wrote {path}")
     return 0
 

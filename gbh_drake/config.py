@@ -10,7 +10,6 @@ the plane z = 0); lengths in metres, angles in radians unless a name says ``_deg
 newtons, times in seconds, masses in kilograms.
 """
 
-import typing
 from dataclasses import dataclass, field
 
 from pydrake.common.schema import Transform
@@ -62,7 +61,7 @@ class ObjectConfig:
     """X_WO, the object's pose on the table (its lowest point at z = 0 when the translation's z
     is 0). Takes Drake's distributions (``!UniformVector``, ``!Rpy {deg: !UniformVector ...}``),
     sampled from the scenario's seed. Ignored when ``random_pose`` is given."""
-    random_pose: typing.Optional[RandomRestingPose] = None
+    random_pose: RandomRestingPose | None = None
     """When given: a stable resting pose, yaw and position drawn from the seed."""
     drop_height: float = 0.002
     """Extra height (m) above the resting pose at the start, so the object settles onto the
@@ -124,9 +123,16 @@ class PickConfig:
     """The gripper rises at most this much (m); lower when the arm cannot reach higher."""
     place_position: list[float] = field(default_factory=lambda: [0.40, 0.30])
     """Where (x, y in W, m) the object is carried, lowered and released."""
-    place_clearance: float = 0.02
-    """The object is lowered until its estimated lowest point is this far (m) above the table,
-    then released."""
+    place_depth: float = 0.03
+    """The gripper is lowered until the hand's load drops (the object stands on the table: a
+    hook that still carries the object would drag it along as it opens), at most until the
+    object's estimated lowest point is this far (m) below the table top."""
+    unloaded_fraction: float = 0.4
+    """The object counts as set down when the hand's vertical load falls below this fraction of
+    what it was while carried (as Franka senses its external force)."""
+    unload_depth: float = 0.006
+    """Once set down, the gripper goes on down this far (m) so that the hook hangs free in the
+    hole before the fingers open (a bar pressed against the material would drag it along)."""
     cage_test_force: float = 2.0
     """Grasp force (N) during the cage test after the carry: with the squeeze relaxed to this
     force, a caged object keeps hanging on the closed loop and a pinched one slides out."""
@@ -135,6 +141,9 @@ class PickConfig:
     hold_time: float = 0.5
     """Time (s) the object is held still at the place position, full grasp force, before the
     cage test."""
+    release_shift: float = 0.015
+    """After opening, a hook grasp slides this far (m) along -y_G (toward the L rod's side) so
+    that the bar comes out of the hole before the gripper backs off; 0 for antipodal grasps."""
     retreat_distance: float = 0.10
     """After releasing, the gripper backs off this far (m) along -z_G."""
     plan_paths: bool = True

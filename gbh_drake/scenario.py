@@ -12,7 +12,6 @@ from the scenario's ``seed``).
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pydrake.common.schema import Transform
 from pydrake.common.yaml import yaml_load_typed
 from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
 from pydrake.multibody.plant import MultibodyPlantConfig
@@ -232,5 +231,23 @@ def validate_scenario(scenario: Scenario, origin: str) -> None:
     for required in ("panda", "hook_gripper", "table"):
         if required not in names:
             fail("directives", f"must add a model named {required!r} (the station needs it)")
+    problem = directive_problem(scenario.directives)
+    if problem:
+        fail("directives", problem)
     if scenario.plant_config.time_step <= 0:
         fail("plant_config.time_step", "gbh_drake needs a discrete plant (time_step > 0)")
+
+
+def directive_problem(directives: list[ModelDirective]) -> str:
+    """What Drake's parser says of ``directives`` (a missing file, a bad frame name...), or ""."""
+    from pydrake.multibody.parsing import ModelDirectives, ProcessModelDirectives
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from gbh_drake.modeling.package_map import make_parser
+
+    plant = MultibodyPlant(0.0)
+    try:
+        ProcessModelDirectives(ModelDirectives(directives=directives), plant, make_parser(plant))
+    except RuntimeError as e:
+        return str(e)
+    return ""

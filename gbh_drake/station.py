@@ -4,7 +4,8 @@ Inside: a discrete ``MultibodyPlant`` (hydroelastic contact) and a ``SceneGraph`
 render engine, holding the Franka arm ``panda``, the ``hook_gripper`` welded to its flange, the
 ``table`` (all from the scenario's directives) and the free object (added in memory). The arm's
 seven joints are driven by the plant's implicit PD controllers (joint position control, like
-Franka's joint impedance mode; gains set by actuator name); the fingers by the force-limited
+Franka's joint impedance mode; gains set by actuator name); the fingers, which a coupler
+constraint moves together as Franka's rack does, by the force-limited
 :class:`~gbh_drake.systems.hand_driver.HandDriver`. Gravity is compensated on the robot (disabled
 on its model instances), as Franka's controller does, and acts fully on the object. Cameras
 (``CameraConfig``) and Meshcat visualisation (``VisualizationConfig``) are applied as in Drake's
@@ -19,6 +20,7 @@ port                        kind    what
 ``panda.state``             output  [q (7), v (7)] measured
 ``hook_gripper.state``      output  [q_straight, q_l, bar, v_straight, v_l, w_bar] measured
 ``hook_gripper.actuation``  output  the fingers' and bar's actuator efforts (N, N, N m)
+``hook_gripper.load``       output  the force (N, W) the flange exerts on the hand: its load
 ``object.state``            output  the object's [quaternion (4), p (3), w (3), v (3)] in W
 ``body_poses``              output  every body's pose in W (the plant's ``body_poses``)
 ``contact_results``         output  the plant's ``contact_results``
@@ -49,6 +51,7 @@ from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.systems.hand_driver import HandDriver
+from gbh_drake.systems.wrist_load import WristLoad
 
 #: Name of the VTK render engine that cameras use.
 RENDERER_NAME = "default"
@@ -104,6 +107,10 @@ class Station(Diagram):
         for name in HAND_ACTUATORS[:2]:
             actuator = plant.GetJointActuatorByName(name, gripper)
             actuator.set_effort_limit(min(actuator.effort_limit(), hand.max_force))
+        # Franka's fingers are driven by one motor through a rack: they move together.
+        plant.AddCouplerConstraint(
+            joint0=plant.GetJointByName(HAND_ACTUATORS[0], gripper),
+            joint1=plant.GetJointByName(HAND_ACTUATORS[1], gripper), gear_ratio=1.0, offset=0.0)
         plant.set_gravity_enabled(arm, False)
         plant.set_gravity_enabled(gripper, False)
         plant.Finalize()
@@ -113,10 +120,17 @@ class Station(Diagram):
         plant.SetDefaultPositions(gripper, [q_finger, q_finger, bar_angle])
 
         # The hand's force-limited drive.
-        driver = builder.AddNamedSystem("hand_driver", HandDriver(hand, plant.time_step()))
+        driver = builder.AddNamedSystem("hand_driver", HandDriver(hand))
         builder.Connect(plant.get_state_output_port(gripper), driver.GetInputPort("state"))
         builder.Connect(driver.GetOutputPort("desired_state"),
                         plant.get_desired_state_input_port(gripper))
+
+        # The load the hand carries, as Franka estimates its external wrench.
+        wrist = builder.AddNamedSystem(
+            "wrist_load", WristLoad(plant, plant.GetBodyByName("panda_hand", gripper)))
+        builder.Connect(plant.get_reaction_forces_output_port(),
+                        wrist.GetInputPort("reaction_forces"))
+        builder.Connect(plant.get_body_poses_output_port(), wrist.GetInputPort("body_poses"))
 
         # Cameras and visualisation. Their LCM publishers (images, Meldis messages) go to an
         # in-memory bus: Drake's default LCM bus is UDP multicast, i.e. network traffic.
@@ -134,6 +148,7 @@ class Station(Diagram):
         builder.ExportOutput(plant.get_state_output_port(gripper), "hook_gripper.state")
         builder.ExportOutput(plant.get_net_actuation_output_port(gripper),
                              "hook_gripper.actuation")
+        builder.ExportOutput(wrist.GetOutputPort("load_W"), "hook_gripper.load")
         builder.ExportOutput(plant.get_state_output_port(body.model_instance()), "object.state")
         builder.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
         builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")

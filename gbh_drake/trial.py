@@ -22,10 +22,12 @@ import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
+from pydrake.common.value import AbstractValue
 from pydrake.geometry import Meshcat
 from pydrake.math import RollPitchYaw
 from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
+from pydrake.systems.primitives import ConstantValueSource
 
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
 from gbh_drake.modeling.object_asset import ObjectAsset, initial_object_pose, load_object_asset
@@ -110,9 +112,10 @@ class TrialRecord:
 
 
 def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
-                asset: ObjectAsset | None = None) -> Trial:
+                asset: ObjectAsset | None = None, grasps: list | None = None) -> Trial:
     """The trial diagram of ``scenario`` (see the module docstring); ``asset`` replaces the
-    scenario's object."""
+    scenario's object; ``grasps`` (each with ``X_WG`` and ``kind``) are executed instead of the
+    method's own (e.g. a grasp of your own, through the same planner, physics and judge)."""
     seeds = derive_seeds(scenario.seed)
     asset = asset or load_object_asset(scenario.object, scenario.directory)
     X_WO = initial_object_pose(scenario.object, asset, seeds.pose)
@@ -153,11 +156,14 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
             ground_clearance=scenario.gbh.ground_clearance))
         builder.Connect(scanner.GetOutputPort("mesh_W"), antipodal.get_input_port())
     primary = antipodal if method == "antipodal" else scorer
+    if grasps is not None:
+        primary = builder.AddNamedSystem("given_grasps",
+                                         ConstantValueSource(AbstractValue.Make(list(grasps))))
     builder.Connect(primary.get_output_port(), pick.GetInputPort("grasps"))
     if method == "gbh_fallback":
         builder.Connect(antipodal.get_output_port(), pick.GetInputPort("fallback_grasps"))
     builder.Connect(scanner.GetOutputPort("mesh_W"), pick.GetInputPort("scan"))
-    for name in ("panda.state", "hook_gripper.state"):
+    for name in ("panda.state", "hook_gripper.state", "hook_gripper.load"):
         builder.Connect(station.GetOutputPort(name), pick.GetInputPort(name))
     for name in ("panda.desired_state", "hook_gripper.command"):
         builder.Connect(pick.GetOutputPort(name), station.GetInputPort(name))

@@ -99,11 +99,32 @@ class PlanningModel:
         self.plant.SetPositions(self._context, self.q_full(q_arm, hand))
         return self.G.CalcPoseInWorld(self._context)
 
-    def ik(self, X_WG: RigidTransform, q_seed, hand: HandPose, *,
+    def ik(self, X_WG: RigidTransform, q_seed, hand: HandPose, *, restarts: int = 0,
            position_tolerance: float = 1e-3, angle_tolerance: float = 1e-2) -> np.ndarray | None:
         """Arm joint positions (7,) that put G at ``X_WG`` within the tolerances (m, rad) with
-        the hand at ``hand``, near ``q_seed``, within the joint limits; None when infeasible."""
+        the hand at ``hand``, near ``q_seed``, within the joint limits; None when infeasible.
+
+        SNOPT is local: when it fails from ``q_seed`` it is restarted from up to ``restarts``
+        other guesses (the middle of the joint ranges, then configurations drawn from a
+        generator seeded by the target pose, so the answer does not depend on call order)."""
         q_seed = np.asarray(q_seed, dtype=float)
+        q = self._ik_from(X_WG, q_seed, hand, position_tolerance, angle_tolerance)
+        if q is not None or restarts <= 0:
+            return q
+        rng = np.random.default_rng(
+            np.frombuffer(np.round(X_WG.GetAsMatrix34(), 6).tobytes(), dtype=np.uint32))
+        guesses = [0.5 * (self.arm_lower + self.arm_upper)]
+        guesses += [rng.uniform(self.arm_lower, self.arm_upper) for _ in range(restarts - 1)]
+        for guess in guesses:
+            q = self._ik_from(X_WG, q_seed, hand, position_tolerance, angle_tolerance, guess)
+            if q is not None:
+                return q
+        return None
+
+    def _ik_from(self, X_WG: RigidTransform, q_seed, hand: HandPose, position_tolerance: float,
+                 angle_tolerance: float, guess=None) -> np.ndarray | None:
+        """One SNOPT solve from ``guess`` (default ``q_seed``), with a cost pulling toward
+        ``q_seed``."""
         self.plant.SetPositions(self._context, self.q_full(q_seed, hand))
         ik = InverseKinematics(self.plant, self._context, with_joint_limits=True)
         q = ik.q()
@@ -116,7 +137,7 @@ class PlanningModel:
         hand_q = hand.positions()
         prog.AddBoundingBoxConstraint(hand_q, hand_q, q[self._hand_dofs])
         prog.AddQuadraticErrorCost(1e-2 * np.eye(len(self._arm_dofs)), q_seed, q[self._arm_dofs])
-        result = Solve(prog, self.q_full(q_seed, hand))
+        result = Solve(prog, self.q_full(q_seed if guess is None else guess, hand))
         if not result.is_success():
             return None
         return result.GetSolution(q)[self._arm_dofs]

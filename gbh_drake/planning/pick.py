@@ -66,7 +66,8 @@ class PickPlan:
     transfer: list[np.ndarray]
     """From the start configuration to ``approach`` (RRT-Connect waypoints, ends included)."""
     q: dict[str, np.ndarray] = field(default_factory=dict)
-    """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, ``retreat``."""
+    """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, ``slide``,
+    ``retreat``."""
     lift: float = 0.0
     """How far (m) the gripper rises after closing."""
     hook_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -111,11 +112,13 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     def refuse(reason: str, where: str = "") -> Refusal:
         return Refusal(rank, kind, reason, where)
 
-    def ik(X: RigidTransform, seed, hand: HandPose):
-        return setup.near.ik(X, seed, hand)
+    def ik(X: RigidTransform, seed, hand: HandPose, restarts: int = 0):
+        # Waypoints after the grasp follow from the previous one (no restarts: a restart could
+        # land in another arm configuration and swing the arm while it holds the object).
+        return setup.near.ik(X, seed, hand, restarts=restarts)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = ik(X_WG, q_start, open_hand)
+    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
     q["closed"] = ik(X_closed, q["grasp"], closed_hand)
@@ -123,8 +126,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return refuse("ik", "closed")
 
     # Lift until the hanging object clears the table (from the scan), as far as the arm reaches.
-    hook_W = X_closed.multiply(g.keypoints_G(g.q_closed)["pM"]) if hook else \
-        X_closed.translation() + g.finger_length * approach_W
+    # The object hangs on the bar's middle (hooks) or is held between the rods' pads.
+    hook_W = X_closed.translation() + g.finger_length * approach_W
     need = lift_for_clearance(setup.points_W, setup.com_W, hook_W, cfg.lift_clearance,
                               swings=hook)
     lift = float(np.clip(need, cfg.min_lift, cfg.max_lift))
@@ -145,19 +148,11 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     if q["carry"] is None:
         return refuse("ik", "carry")
     low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
-    down = max(0.0, low - cfg.place_clearance)
+    down = max(0.0, low + cfg.place_depth)  # the deepest; lowering stops once set down
     q["place"] = ik(_shifted(X_closed, carry - [0.0, 0.0, down]), q["carry"], closed_hand)
     if q["place"] is None:
         return refuse("ik", "place")
-    X_place = setup.near.X_WG(q["place"], closed_hand)
-    # Back out along -z_G; if the arm cannot, straight up; if not even that, stay.
-    q["retreat"] = q["place"]
-    for d_W in (-cfg.retreat_distance * X_place.rotation().col(2),
-                [0.0, 0.0, cfg.retreat_distance]):
-        q_retreat = ik(_shifted(X_place, d_W), q["place"], open_hand)
-        if q_retreat is not None:
-            q["retreat"] = q_retreat
-            break
+    q["slide"], q["retreat"] = release_path(setup.near, q["place"], hook, cfg, bar)
 
     if cfg.plan_paths:
         segments = (("descend", q["grasp"], q["closed"], open_hand),
@@ -173,7 +168,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
     transfer, blocked = None, "approach"
     for distance in distances if setup.far is not None else distances[:1]:
-        q_approach = ik(_shifted(X_WG, -distance * approach_W), q["grasp"], open_hand)
+        q_approach = ik(_shifted(X_WG, -distance * approach_W), q["grasp"], open_hand,
+                        restarts=1)
         if q_approach is None:
             blocked = "approach"
             continue
@@ -196,6 +192,28 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         X_closed.inverse().multiply(hook_W))
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
                     keep_straight_rod)
+
+
+def release_path(model: PlanningModel, q_place: np.ndarray, hook: bool, cfg: PickConfig,
+                 bar: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """After the fingers opened at ``q_place``: slide the bar out of the hole along -y_G (hook
+    grasps), then back out along -z_G; where the arm cannot, straight up; if not even that, stay.
+    Returns (q_slide, q_retreat)."""
+    g = HOOK_GRIPPER
+    open_hand = HandPose(g.q_open, bar)
+    X_place = model.X_WG(q_place, open_hand)
+    q_slide, X_slid = q_place, X_place
+    if hook and cfg.release_shift > 0:
+        X = _shifted(X_place, -cfg.release_shift * X_place.rotation().col(1))
+        q = model.ik(X, q_place, open_hand)
+        if q is not None:
+            q_slide, X_slid = q, X
+    for d_W in (-cfg.retreat_distance * X_place.rotation().col(2),
+                [0.0, 0.0, cfg.retreat_distance]):
+        q_retreat = model.ik(_shifted(X_slid, d_W), q_slide, open_hand)
+        if q_retreat is not None:
+            return q_slide, q_retreat
+    return q_slide, q_slide
 
 
 def _shifted(X: RigidTransform, d_W) -> RigidTransform:

@@ -46,10 +46,14 @@ def linear_move(q_a, q_b, t0: float, duration: float) -> PiecewisePolynomial:
     return PiecewisePolynomial.FirstOrderHold([t0, t0 + max(duration, 1e-3)], q)
 
 
-def sample(trajectory: PiecewisePolynomial, t: float) -> tuple[np.ndarray, np.ndarray]:
-    """Position and velocity at ``t``, holding the ends (zero velocity outside the range)."""
+def sample(trajectory: PiecewisePolynomial, t: float,
+           derivative: PiecewisePolynomial | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Position and velocity at ``t``, holding the ends (zero velocity outside the range);
+    ``derivative``: the trajectory's derivative, if already at hand."""
     start, end = trajectory.start_time(), trajectory.end_time()
     tc = min(max(t, start), end)
     q = trajectory.value(tc).ravel()
-    v = trajectory.EvalDerivative(tc, 1).ravel() if start < t < end else np.zeros_like(q)
-    return q, v
+    if not start < t < end:
+        return q, np.zeros_like(q)
+    v = (derivative.value(tc) if derivative is not None else trajectory.EvalDerivative(tc, 1))
+    return q, v.ravel()

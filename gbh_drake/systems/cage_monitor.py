@@ -103,6 +103,11 @@ class _Watch:
     force_n: int = 0
     last_phase: str = ""
 
+    def __deepcopy__(self, memo):
+        """Shallow: updates replace members instead of mutating them (Drake copies abstract
+        state at every update; a deep copy of the plan and trajectories would be wasted)."""
+        return copy.copy(self)
+
 
 class CageMonitor(LeafSystem):
     """Judges the trial as it runs (see the module docstring).
@@ -194,13 +199,13 @@ class CageMonitor(LeafSystem):
 
     # ---- judging ----------------------------------------------------------------------------------
     def _update(self, context, state) -> None:
-        w: _Watch = copy.deepcopy(context.get_abstract_state(self._watch).get_value())
+        w: _Watch = copy.copy(context.get_abstract_state(self._watch).get_value())
+        w.verdict = copy.copy(w.verdict)  # (its lists and dicts are replaced, never mutated)
         status: PickStatus = self._status.Eval(context)
         v = w.verdict
         t = context.get_time()
         mode = status.mode
-        if status.finished and w.last_phase in (Mode.NO_GRASP.value, Mode.NO_REACHABLE_GRASP.value,
-                                                Mode.DONE.value):
+        if mode in (Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP) and w.last_phase == mode.value:
             return
         X_WO = self._poses.Eval(context)[int(self._object)]
         low = self.lowest_point(X_WO)

@@ -15,7 +15,8 @@ the actuators' desired state:
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 from pydrake.systems.framework import BasicVector, LeafSystem
 
 from gbh_drake.config import HandConfig
@@ -42,8 +43,9 @@ class HandDriver(LeafSystem):
     ``desired_state`` (6): the same layout, for the plant's desired-state input of the gripper.
     """
 
-    def __init__(self, config: HandConfig, time_step: float):
-        """``time_step`` (s): how often the set point moves (the plant's step)."""
+    def __init__(self, config: HandConfig, time_step: float = 0.005):
+        """``time_step`` (s): how often the set point moves (a few plant steps: the stiff drive
+        smooths the steps of ``speed * time_step``)."""
         super().__init__()
         self._config = config
         self._dt = float(time_step)
@@ -59,20 +61,21 @@ class HandDriver(LeafSystem):
 
     def _move_set_point(self, context, discrete_state) -> None:
         q_ref = context.get_discrete_state(self._q_ref).get_value()
-        q_target = self._command.Eval(context)[Q_TARGET]
-        step = np.clip(q_target - q_ref, -self._config.speed * self._dt,
-                       self._config.speed * self._dt)
-        discrete_state.set_value(self._q_ref, q_ref + step)
+        q_target = float(self._command.Eval(context)[Q_TARGET])
+        step = self._config.speed * self._dt
+        discrete_state.set_value(self._q_ref, [min(max(q_target, q - step), q + step)
+                                               for q in q_ref])
 
     def _calc_desired_state(self, context, output: BasicVector) -> None:
-        command = self._command.Eval(context)
+        q_target, force, bar = (float(c) for c in self._command.Eval(context))
         x = self._state.Eval(context)
-        q_ref = context.get_discrete_state(self._q_ref).get_value()
-        force = float(np.clip(command[FORCE], 0.0, self._config.max_force))
-        reach = force / self._config.kp
-        q_d = np.clip(q_ref, x[:2] - reach, x[:2] + reach)
-        # Moving set points ask for the drive's speed; blocked or arrived fingers for none.
-        moving = np.abs(q_ref - command[Q_TARGET]) > 1e-9
-        v_d = np.where(moving & (q_d == q_ref),
-                       np.sign(command[Q_TARGET] - q_ref) * self._config.speed, 0.0)
-        output.SetFromVector([*q_d, command[BAR_ANGLE], *v_d, 0.0])
+        reach = min(max(force, 0.0), self._config.max_force) / self._config.kp
+        q_d, v_d = [], []
+        for q_ref, q in zip(context.get_discrete_state(self._q_ref).get_value(), x[:2],
+                            strict=True):
+            desired = min(max(q_ref, q - reach), q + reach)
+            # A moving set point asks for the drive's speed; blocked or arrived fingers for none.
+            moving = abs(q_ref - q_target) > 1e-9 and desired == q_ref
+            q_d.append(desired)
+            v_d.append(math.copysign(self._config.speed, q_target - q_ref) if moving else 0.0)
+        output.SetFromVector([*q_d, bar, *v_d, 0.0])

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
@@ -36,13 +37,22 @@ from gbh_drake.config import HandConfig, PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
 from gbh_drake.perception.scan import ScanResult
-from gbh_drake.planning.model import PlanningModel
-from gbh_drake.planning.pick import ANTIPODAL, PickPlan, PickSetup, Refusal, plan_pick
+from gbh_drake.planning.model import HandPose, PlanningModel
+from gbh_drake.planning.pick import (
+    ANTIPODAL,
+    PickPlan,
+    PickSetup,
+    Refusal,
+    plan_pick,
+    release_path,
+)
 from gbh_drake.planning.trajectories import joint_path, linear_move, sample
 from gbh_drake.systems.scanner import no_scan
 
 #: Seconds the machine waits after a motion's trajectory ends before the next mode.
 DWELL = 0.1
+#: Below this hand load (N) lowering cannot sense the set-down and goes to the planned depth.
+MIN_SENSED_LOAD = 0.3
 
 
 class Mode(enum.Enum):
@@ -101,11 +111,22 @@ class _State:
     status: PickStatus = field(default_factory=PickStatus)
     arm: object = None
     """The arm's current ``PiecewisePolynomial`` (None: hold ``q_hold``)."""
+    arm_dot: object = None
+    """Its time derivative."""
     q_hold: np.ndarray = field(default_factory=lambda: np.zeros(7))
     command: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """Hand command [q_target (m), force (N), bar angle (rad)]."""
     until: float = 0.0
     """The current mode's earliest end time (s)."""
+    load: float = 0.0
+    """The hand's vertical load (N) while the object was held still over the place."""
+    release: tuple | None = None
+    """(q_slide, q_retreat) when the object was set down before the planned place pose."""
+
+    def __deepcopy__(self, memo):
+        """Shallow: updates replace members instead of mutating them (Drake copies abstract
+        state at every update; a deep copy of the plan and trajectories would be wasted)."""
+        return copy.copy(self)
 
 
 class PickAndCarry(LeafSystem):
@@ -120,6 +141,7 @@ class PickAndCarry(LeafSystem):
         - scan
         - panda.state
         - hook_gripper.state
+        - hook_gripper.load
         output_ports:
         - panda.desired_state
         - hook_gripper.command
@@ -130,7 +152,9 @@ class PickAndCarry(LeafSystem):
     antipodal grasp is executed with the bar folded). ``scan``: the
     :class:`~gbh_drake.perception.scan.ScanResult` (its points set the lift height and its convex
     hull is an obstacle for the transfer). ``panda.state`` (14) and ``hook_gripper.state`` (6):
-    the measured robot. ``panda.desired_state`` (14): [q, v] for the arm's joint controllers;
+    the measured robot; ``hook_gripper.load`` (3, N, W): the force the flange exerts on the
+    hand (the object's weight while it hangs; lowering stops when it drops).
+    ``panda.desired_state`` (14): [q, v] for the arm's joint controllers;
     ``hook_gripper.command`` (3) for the :class:`~gbh_drake.systems.hand_driver.HandDriver`;
     ``status``: a :class:`PickStatus`.
     """
@@ -157,6 +181,7 @@ class PickAndCarry(LeafSystem):
             "scan", AbstractValue.Make(no_scan("not scanned yet")))
         self._arm_state = self.DeclareVectorInputPort("panda.state", 14)
         self._hand_state = self.DeclareVectorInputPort("hook_gripper.state", 6)
+        self._load = self.DeclareVectorInputPort("hook_gripper.load", 3)
         self._state = self.DeclareAbstractState(AbstractValue.Make(_State()))
         self.DeclareInitializationUnrestrictedUpdateEvent(self._initialize)
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
@@ -175,8 +200,7 @@ class PickAndCarry(LeafSystem):
         if s.arm is None:
             output.SetFromVector(np.concatenate([s.q_hold, np.zeros(7)]))
             return
-        q, v = sample(s.arm, context.get_time())
-        output.SetFromVector(np.concatenate([q, v]))
+        output.SetFromVector(np.concatenate(sample(s.arm, context.get_time(), s.arm_dot)))
 
     def _calc_hand(self, context, output: BasicVector) -> None:
         output.SetFromVector(context.get_abstract_state(self._state).get_value().command)
@@ -199,17 +223,22 @@ class PickAndCarry(LeafSystem):
         s.command = s.command.copy()
         t = context.get_time()
         mode = s.status.mode
-        if mode in FINAL_MODES or t < s.until:
+        if mode in FINAL_MODES:
             return
-        step = getattr(self, f"_after_{mode.value}")
-        step(context, s, t)
+        if t < s.until:
+            # Some modes watch the robot while they run (``_during_<mode>``, True: changed).
+            watch = getattr(self, f"_during_{mode.value}", None)
+            if watch is None or not watch(context, s, t):
+                return
+        else:
+            getattr(self, f"_after_{mode.value}")(context, s, t)
         state.get_mutable_abstract_state(self._state).set_value(s)
 
     def _enter(self, s: _State, mode: Mode, t: float, *, arm=None, until: float | None = None):
         s.status.mode = mode
         s.status.phase_start = {**s.status.phase_start, mode.value: t}
         if arm is not None:
-            s.arm = arm
+            s.arm, s.arm_dot = arm, arm.derivative(1)
         s.until = (s.arm.end_time() + DWELL) if (arm is not None and until is None) else \
             (until if until is not None else t)
 
@@ -266,6 +295,7 @@ class PickAndCarry(LeafSystem):
         self._enter(s, Mode.HOLD, t, until=t + self._config.hold_time)
 
     def _after_hold(self, context, s: _State, t: float) -> None:
+        s.load = float(self._load.Eval(context)[2])
         s.command[1] = self._config.cage_test_force
         self._enter(s, Mode.CAGE_TEST, t, until=t + self._config.cage_test_time)
 
@@ -274,17 +304,38 @@ class PickAndCarry(LeafSystem):
         s.command[1] = self._hand.force
         self._move(s, Mode.LOWER, t, [plan.q["carry"], plan.q["place"]], velocity_scale=0.15)
 
+    def _during_lower(self, context, s: _State, t: float) -> bool:
+        """Once the object stands on the table (the hand's load drops), goes on down by
+        ``unload_depth`` only, so that the hook hangs free in the hole, and releases there."""
+        if s.release is not None or s.load < MIN_SENSED_LOAD or \
+                self._load.Eval(context)[2] > self._config.unloaded_fraction * s.load:
+            return False
+        q_now = sample(s.arm, t)[0]
+        plan = s.status.plan
+        hand = HandPose(HOOK_GRIPPER.q_closed, plan.bar)
+        X = self._near.X_WG(q_now, hand)
+        X_down = RigidTransform(X.rotation(), X.translation() -
+                                [0.0, 0.0, self._config.unload_depth])
+        q_down = self._near.ik(X_down, q_now, hand)
+        q_down = q_now if q_down is None else q_down
+        s.release = (q_down, *release_path(self._near, q_down, plan.kind != ANTIPODAL,
+                                           self._config, plan.bar))
+        self._enter(s, Mode.LOWER, s.status.phase_start[Mode.LOWER.value],
+                    arm=joint_path([q_now, q_down], t, velocity_scale=0.1, min_duration=0.3))
+        return True
+
     def _after_lower(self, context, s: _State, t: float) -> None:
         s.command[:2] = [HOOK_GRIPPER.q_open, self._hand.force]
         travel = HOOK_GRIPPER.q_open - 0.5 * HOOK_GRIPPER.rod_width
         self._enter(s, Mode.RELEASE, t, until=t + travel / self._hand.speed + 0.2)
 
     def _after_release(self, context, s: _State, t: float) -> None:
-        plan = s.status.plan
-        self._move(s, Mode.RETREAT, t, [plan.q["place"], plan.q["retreat"]], velocity_scale=0.2)
+        q = s.status.plan.q
+        path = s.release or (q["place"], q["slide"], q["retreat"])
+        self._move(s, Mode.RETREAT, t, list(path), velocity_scale=0.2)
 
     def _after_retreat(self, context, s: _State, t: float) -> None:
-        s.q_hold = s.status.plan.q["retreat"]
+        s.q_hold = s.release[-1] if s.release else s.status.plan.q["retreat"]
         self._enter(s, Mode.DONE, t)
 
     # ---- planning -------------------------------------------------------------------------------

@@ -11,6 +11,11 @@ def test_objects_list(capsys):
 
 def test_diagram_writes_dot(tmp_path):
     assert main(["diagram", "--out", str(tmp_path)]) == 0
-    dot = (tmp_path / "station.dot").read_text()
-    for name in ("scanner", "hangability_detector", "grasp_synthesizer", "grasp_scorer"):
-        assert name in dot
+    station = (tmp_path / "station.dot").read_text()
+    for port in ("panda.desired_state", "hook_gripper.command", "panda.state",
+                 "hook_gripper.state", "body_poses", "contact_results", "query_object"):
+        assert port in station
+    trial = (tmp_path / "trial.dot").read_text()
+    for name in ("scanner", "hangability_detector", "grasp_synthesizer", "grasp_scorer",
+                 "pick_and_carry", "cage_monitor", "station"):
+        assert name in trial

@@ -1,5 +1,6 @@
 """The GbH LeafSystems on their own: fixed inputs, cached outputs, cloneable contexts."""
 
+import pytest
 from pydrake.systems.framework import DiagramBuilder
 
 from gbh_drake.core.params import GbhParams
@@ -47,9 +48,9 @@ def test_nothing_hangable_is_a_result():
     assert isinstance(result, Hangability) and result.message == "no hangable structure found"
 
 
-def test_wrong_input_type_is_a_message():
+def test_wrong_input_type_names_the_system_and_port():
     diagram, detector, _ = _chain()
     context = diagram.CreateDefaultContext()
     diagram.get_input_port().FixValue(context, "not a mesh")
-    result = detector.get_output_port().Eval(detector.GetMyContextFromRoot(context))
-    assert result.structures == [] and "not a mesh" in result.message
+    with pytest.raises(TypeError, match="mesh_W.*ScanResult or Trimesh.*str"):
+        detector.get_output_port().Eval(detector.GetMyContextFromRoot(context))

@@ -9,7 +9,12 @@ from pydrake.systems.framework import DiagramBuilder
 
 from gbh_drake import MODELS_DIR, REPO_ROOT
 from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.modeling.gripper_sdf import GRIPPER_SDF, make_gripper_sdf
+from gbh_drake.modeling.gripper_sdf import (
+    BAR_DEPLOYED,
+    BAR_RETRACTED,
+    GRIPPER_SDF,
+    make_gripper_sdf,
+)
 from gbh_drake.modeling.package_map import make_parser
 
 
@@ -38,12 +43,15 @@ def _gripper_plant():
     return diagram, plant, scene_graph, gripper
 
 
-@pytest.mark.parametrize("q", [HOOK_GRIPPER.q_closed, 0.03, HOOK_GRIPPER.q_open])
-def test_collision_boxes_match_solid_model(q):
+@pytest.mark.parametrize(("q", "retracted"), [
+    (HOOK_GRIPPER.q_closed, False), (0.03, False), (HOOK_GRIPPER.q_open, False),
+    (HOOK_GRIPPER.q_closed_retracted, True), (0.03, True)])
+def test_collision_boxes_match_solid_model(q, retracted):
     diagram, plant, scene_graph, gripper = _gripper_plant()
     context = diagram.CreateDefaultContext()
     plant_context = plant.GetMyContextFromRoot(context)
-    plant.SetPositions(plant_context, gripper, [q, q])
+    bar = BAR_RETRACTED if retracted else BAR_DEPLOYED
+    plant.SetPositions(plant_context, gripper, [q, q, bar])
     inspector = scene_graph.model_inspector()
     G = plant.GetFrameByName("G")
     found = {}
@@ -54,11 +62,12 @@ def test_collision_boxes_match_solid_model(q):
             shape = inspector.GetShape(gid)
             assert isinstance(shape, DrakeBox)
             X_GGeom = X_GB @ inspector.GetPoseInFrame(gid)
-            np.testing.assert_allclose(X_GGeom.rotation().matrix(), np.eye(3), atol=1e-12)
-            found[inspector.GetName(gid).split("::")[-1]] = (
-                X_GGeom.translation(), np.array([shape.width(), shape.depth(), shape.height()])
-            )
-    expected = {b.name: b for b in HOOK_GRIPPER.solid_boxes_G(q)}
+            # Boxes are axis-aligned in G (the folded bar is turned a quarter about x_G).
+            R = np.abs(X_GGeom.rotation().matrix())
+            size = R @ np.array([shape.width(), shape.depth(), shape.height()])
+            np.testing.assert_allclose(R, np.round(R), atol=1e-9)
+            found[inspector.GetName(gid).split("::")[-1]] = (X_GGeom.translation(), size)
+    expected = {b.name: b for b in HOOK_GRIPPER.solid_boxes_G(q, bar_retracted=retracted)}
     assert set(found) == set(expected)
     for name, box in expected.items():
         np.testing.assert_allclose(found[name][0], box.center, atol=1e-9, err_msg=name)
@@ -75,7 +84,7 @@ def test_keypoints_lie_on_the_model():
     diagram, plant, _, gripper = _gripper_plant()
     plant_context = plant.GetMyContextFromRoot(diagram.CreateDefaultContext())
     q = 0.03
-    plant.SetPositions(plant_context, gripper, [q, q])
+    plant.SetPositions(plant_context, gripper, [q, q, BAR_DEPLOYED])
     G = plant.GetFrameByName("G")
     p = HOOK_GRIPPER.keypoints_G(q)
     straight = plant.GetBodyByName("straight_finger").body_frame()
@@ -91,11 +100,15 @@ def test_keypoints_lie_on_the_model():
     assert bar.center[1] + bar.half_extents[1] == pytest.approx(p["p1"][1])
     np.testing.assert_allclose(HOOK_GRIPPER.n1_G, [0, 0, -1])
     np.testing.assert_allclose(HOOK_GRIPPER.n2_G, [0, 1, 0])
-    # The fingers' joint limits are the closed and open positions of the geometry module.
+    # The fingers' joints range from the rods touching (the bar folded; with the bar out its
+    # tip stops them at q_closed) to fully open; the bar's from folded to deployed.
     for name in ("straight_finger_joint", "l_finger_joint"):
         joint = plant.GetJointByName(name)
-        assert joint.position_lower_limits()[0] == pytest.approx(HOOK_GRIPPER.q_closed)
+        assert joint.position_lower_limits()[0] == pytest.approx(HOOK_GRIPPER.q_closed_retracted)
         assert joint.position_upper_limits()[0] == pytest.approx(HOOK_GRIPPER.q_open)
+    bar = plant.GetJointByName("bar_joint")
+    assert bar.position_lower_limits()[0] == pytest.approx(HOOK_GRIPPER.bar_retracted_angle)
+    assert bar.position_upper_limits()[0] == pytest.approx(BAR_DEPLOYED)
 
 
 def test_closed_gripper_closes_the_loop():

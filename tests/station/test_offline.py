@@ -9,7 +9,6 @@ import pytest
 
 from gbh_drake import MODELS_DIR, REPO_ROOT
 from gbh_drake.run import run
-from gbh_drake.station import ObjectAsset
 
 # Spelled in pieces so that a plain grep for them over the repository finds only real uses.
 FORBIDDEN = ("package://" + "drake_models", "open3d" + ".data", "urllib" + ".request",
@@ -81,19 +80,20 @@ def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     """A whole run (pick task) connects nowhere but the loopback, opens no UDP socket (Drake's
     default LCM bus would be UDP multicast) and listens on the loopback only (Meshcat)."""
     scenario.settle_time = 0.05
-    asset = ObjectAsset("staple", staple_mesh, 500.0, (0.2, 0.4, 0.8, 1.0), "test")
-    summary = run(scenario, object_asset=asset)
-    assert summary.sim_time >= 0.05 and summary.pick is not None
+    scenario.max_time = 0.3  # scan, plan and the first motions
+    scenario.object.mesh = "staple.obj"
+    staple_mesh.export(scenario.directory / "staple.obj")
+    summary = run(scenario)
+    assert summary.record.sim_time >= 0.05 and summary.record.n_grasps_offered > 0
     assert _network_exposure() == []
 
 
-def test_cameras_publish_nowhere(scenario, staple_mesh):
+def test_cameras_publish_nowhere(scenario):
     """Scenario cameras (CameraConfig) publish to the in-memory bus, not UDP multicast."""
     from pydrake.systems.sensors import CameraConfig
 
     scenario.cameras = [CameraConfig(name="overhead", fps=10.0)]
     scenario.settle_time = 0.2
     scenario.task = "settle"
-    asset = ObjectAsset("staple", staple_mesh, 500.0, (0.2, 0.4, 0.8, 1.0), "test")
-    run(scenario, object_asset=asset)
+    run(scenario)
     assert _network_exposure() == []

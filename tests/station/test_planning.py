@@ -1,26 +1,25 @@
-"""Collision-checked motion: RRT-Connect around the table and the object, seeded, re-checked."""
+"""Collision-checked motion and IK on the planning model (no free bodies): RRT-Connect around
+the table and a scanned object's hull, seeded, re-checked."""
 
 import numpy as np
 import pytest
-from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
-from gbh_drake.modeling.object_sdf import write_object_model
+from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.objects import make_object
-from gbh_drake.planning.collision import make_planning_model
+from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
+from gbh_drake.scenario import Scenario
 
-Q_OPEN = 0.04
+OPEN = HandPose(HOOK_GRIPPER.q_open)
 
 
 @pytest.fixture(scope="module")
-def kettle_model(tmp_path_factory):
-    from gbh_drake.scenario import Scenario
-
-    spec = make_object("kettle")
-    files = write_object_model(spec.mesh, "kettle", tmp_path_factory.mktemp("kettle"),
-                               density=spec.density)
-    return Scenario(), make_planning_model(Scenario(), str(files.sdf),
-                                           RigidTransform([0.45, 0.0, 0.0]))
+def kettle_model():
+    mesh = make_object("kettle").mesh.copy()
+    mesh.apply_translation([0.45, 0.0, 0.0])
+    scenario = Scenario()
+    return scenario, PlanningModel(scenario.directives, obstacles=[mesh])
 
 
 def _blocked_goal(model, q0):
@@ -28,7 +27,7 @@ def _blocked_goal(model, q0):
     rng = np.random.default_rng(3)
     for _ in range(200):
         q1 = rng.uniform(model.arm_lower, model.arm_upper)
-        if model.free(q1, Q_OPEN) and not model.edge_free(q0, q1, Q_OPEN):
+        if model.free(q1, OPEN) and not model.edge_free(q0, q1, OPEN):
             return q1
     raise AssertionError("no blocked goal found")
 
@@ -36,14 +35,14 @@ def _blocked_goal(model, q0):
 def test_rrt_connect_goes_around_obstacles_and_repeats(kettle_model):
     scenario, model = kettle_model
     q0 = np.asarray(scenario.robot.q_home)
-    assert model.free(q0, Q_OPEN)
+    assert model.free(q0, OPEN)
     q1 = _blocked_goal(model, q0)
-    path = plan_rrt_connect(model, q0, q1, Q_OPEN, seed=0)
+    path = plan_rrt_connect(model, q0, q1, OPEN, seed=0)
     assert path is not None and len(path) >= 3
     np.testing.assert_array_equal(path[0], q0)
     np.testing.assert_array_equal(path[-1], q1)
-    assert all(model.edge_free(a, b, Q_OPEN) for a, b in zip(path[:-1], path[1:], strict=True))
-    again = plan_rrt_connect(model, q0, q1, Q_OPEN, seed=0)
+    assert all(model.edge_free(a, b, OPEN) for a, b in zip(path[:-1], path[1:], strict=True))
+    again = plan_rrt_connect(model, q0, q1, OPEN, seed=0)
     assert len(again) == len(path)
     assert all(np.array_equal(a, b) for a, b in zip(again, path, strict=True))
 
@@ -52,28 +51,34 @@ def test_start_in_collision_has_no_path(kettle_model):
     scenario, model = kettle_model
     q_down = np.asarray(scenario.robot.q_home, dtype=float).copy()
     q_down[1], q_down[3] = 1.5, -0.5  # the arm folded down into the table
-    assert not model.free(q_down, Q_OPEN)
-    assert plan_rrt_connect(model, q_down, scenario.robot.q_home, Q_OPEN) is None
+    assert not model.free(q_down, OPEN)
+    assert plan_rrt_connect(model, q_down, scenario.robot.q_home, OPEN) is None
 
 
-def test_the_object_is_an_obstacle(kettle_model):
-    """A gripper pose inside the kettle's hull collides with it, but not without the object."""
-    from pydrake.systems.framework import DiagramBuilder
-
-    from gbh_drake.planning.ik import solve_gripper_ik
-    from gbh_drake.station import ObjectAsset, add_station
-
+def test_the_object_is_an_obstacle_and_ik_reaches_into_it(kettle_model):
+    """A gripper pose inside the kettle's hull collides with it, but not without the object;
+    IK itself (on the model without free bodies) reaches the pose exactly."""
     scenario, model = kettle_model
-    empty = make_planning_model(scenario, None, None)
-    box = make_object("box")  # any object: the station only serves the IK here
-    station = add_station(DiagramBuilder(), scenario,
-                          object_asset=ObjectAsset("box", box.mesh, 500.0, (1, 1, 1, 1), "t"))
-    plant = station.plant
-    context = plant.CreateDefaultContext()
-    G = plant.GetFrameByName("G", station.gripper)
+    empty = PlanningModel(scenario.directives)
     # Top-down, palm 12 cm above the table over the kettle's centre: fingers inside its body.
     X_WG = RigidTransform(RotationMatrix(np.diag([1.0, -1.0, -1.0])), [0.45, 0.0, 0.12])
-    q = solve_gripper_ik(plant, context, station.arm, G, X_WG, station.q_home)
+    q = empty.ik(X_WG, scenario.robot.q_home, OPEN)
     assert q is not None
-    assert not model.free(q, Q_OPEN)
-    assert empty.free(q, Q_OPEN)
+    np.testing.assert_allclose(empty.X_WG(q, OPEN).translation(), X_WG.translation(), atol=1e-3)
+    assert not model.free(q, OPEN)
+    assert empty.free(q, OPEN)
+
+
+def test_ik_restarts_find_what_one_seed_misses():
+    """A reachable pose SNOPT misses from the home configuration (about one random pose in
+    eleven over the workspace did): restarts from other guesses find it, deterministically."""
+    model = PlanningModel(Scenario().directives)
+    X_WG = RigidTransform(RollPitchYaw([2.452, -1.714, 0.774]), [0.538, -0.13, 0.187])
+    q_home = np.asarray(Scenario().robot.q_home)
+    assert model.ik(X_WG, q_home, OPEN, restarts=0) is None
+    found = model.ik(X_WG, q_home, OPEN, restarts=3)
+    assert found is not None
+    X = model.X_WG(found, OPEN)
+    np.testing.assert_allclose(X.translation(), X_WG.translation(), atol=1.01e-3)
+    assert X.rotation().InvertAndCompose(X_WG.rotation()).ToAngleAxis().angle() <= 0.0101
+    np.testing.assert_array_equal(found, model.ik(X_WG, q_home, OPEN, restarts=3))

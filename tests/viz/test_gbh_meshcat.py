@@ -20,7 +20,7 @@ def test_draws_structures_rays_and_grasps(meshcat):
     from gbh_drake.viz.gbh_meshcat import clear, draw_grasps, draw_object, draw_structures
 
     mesh = make_hook()
-    result = plan_grasps(mesh, GbhParams(ground_margin=-1.0))  # the hook floats in space
+    result = plan_grasps(mesh, GbhParams(ground_clearance=-1.0))  # the hook floats in space
     (s,) = result.structures
     assert 0 < len(s.miss_directions) == s.n_rays - len(s.H)
     np.testing.assert_allclose(s.a, s.miss_directions.mean(0) / np.linalg.norm(
