@@ -20,9 +20,9 @@ from pydrake.geometry import (
     Mesh,
     ProximityProperties,
 )
+from pydrake.math import RigidTransform
 from pydrake.multibody.plant import CoulombFriction, MultibodyPlant
 from pydrake.multibody.tree import RotationalInertia, SpatialInertia
-from pydrake.math import RigidTransform
 
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.modeling.object_sdf import OBJECT_MU
