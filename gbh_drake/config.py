@@ -53,6 +53,10 @@ class ObjectConfig:
     turns its units into metres. It is placed resting on the table whatever its origin."""
     scale: float = 1.0
     """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
+    orientation: str = "keep"
+    """How a ``mesh`` file stands on the table: ``keep`` (the file's z is up), ``nearest_stable``
+    (its stable resting pose nearest to that) or ``most_probable`` (its likeliest resting
+    pose)."""
     density: float = 0.0
     """kg/m^3 for mass and inertia; 0: the named object's own density (600 for a mesh)."""
     mass: float = 0.0

@@ -16,13 +16,10 @@ from pathlib import Path
 import numpy as np
 import trimesh
 from pydrake.common import RandomGenerator
-from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.math import RigidTransform
 
 from gbh_drake.config import ObjectConfig
 from gbh_drake.modeling.object_sdf import model_name
-
-#: Density (kg/m^3) of a mesh object when the scenario gives neither density nor mass.
-DEFAULT_MESH_DENSITY = 600.0
 
 
 @dataclass
@@ -48,71 +45,67 @@ class ObjectAsset:
 
 def make_asset(name: str, mesh: trimesh.Trimesh, *, density: float = 0.0, mass: float = 0.0,
                rgba=(0.85, 0.45, 0.2, 1.0), source: str = "") -> ObjectAsset:
-    """An asset from ``mesh`` (any origin: it is moved to rest on z = 0) with its mass from
-    ``mass`` (kg) when positive, else ``density`` (kg/m^3; default for meshes when 0)."""
-    from gbh_drake.objects.mass import mass_properties_detailed
+    """An asset from ``mesh`` in memory (any origin: it is placed to rest on z = 0, centred on
+    its footprint) with its mass from ``mass`` (kg) when positive, else ``density`` (kg/m^3;
+    600 when 0), and the plausibility warnings of an imported mesh."""
+    from gbh_drake.objects import prepare_mesh_object
 
-    mesh = rest_on_ground(mesh)
-    props = mass_properties_detailed(mesh, density or DEFAULT_MESH_DENSITY)
-    inertia = np.asarray(props.inertia, dtype=float)
-    total = float(props.mass)
-    if mass > 0:
-        inertia = inertia * (mass / total)
-        total = float(mass)
-    return ObjectAsset(name, mesh, total, np.asarray(props.com, dtype=float), inertia,
-                       tuple(rgba), source)
+    prepared = prepare_mesh_object(mesh, source=source or name, density=density or None,
+                                   mass=mass or None)
+    return _asset(name, prepared, rgba, source)
 
 
-def rest_on_ground(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
-    """``mesh`` translated so that its lowest point is at z = 0 and its footprint's bounding box
-    is centred on x = y = 0 (a copy; the input is unchanged)."""
-    lo, hi = mesh.bounds
-    shift = np.array([-0.5 * (lo[0] + hi[0]), -0.5 * (lo[1] + hi[1]), -lo[2]])
-    if np.allclose(shift, 0.0):
-        return mesh
-    moved = mesh.copy()
-    moved.apply_translation(shift)
-    return moved
+def _asset(name: str, prepared, rgba, source: str) -> ObjectAsset:
+    props = prepared.mass_properties
+    return ObjectAsset(name, prepared.mesh, float(props.mass), np.asarray(props.com, float),
+                       np.asarray(props.inertia, float), tuple(rgba), source,
+                       list(prepared.warnings))
 
 
 def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
     """The object of ``config``: a named object of the set, or a mesh file (relative paths
-    against ``base_dir``) through the same import."""
+    against ``base_dir``) placed resting on the table, with plausibility warnings (size, mass)
+    that name the file and hint at ``scale``, ``mass`` or ``density``."""
     # Imported here: the object set pulls in manifold3d and is not needed for other uses.
-    from gbh_drake.objects import load_mesh_file, make_object
+    from gbh_drake.objects import load_mesh_object, make_object, mass_properties_for
 
     if config.mesh:
         path = Path(config.mesh).expanduser()
         path = path if path.is_absolute() else Path(base_dir) / path
-        mesh = load_mesh_file(path, scale=config.scale)
-        asset = make_asset(path.stem, mesh, density=config.density, mass=config.mass,
-                           source=str(path))
-        asset.warnings = list(mesh.metadata.get("gbh_warnings", []))
-        return asset
+        prepared = load_mesh_object(path, scale=config.scale, density=config.density or None,
+                                    mass=config.mass or None, orientation=config.orientation)
+        return _asset(path.stem, prepared, (0.85, 0.45, 0.2, 1.0), str(path))
     spec = make_object(config.name)
     mesh = spec.mesh
     if config.scale != 1.0:
         mesh = mesh.copy()
         mesh.apply_scale(config.scale)
-    return make_asset(spec.name, mesh, density=config.density or spec.density, mass=config.mass,
-                      rgba=spec.rgba, source=f"object set: {spec.name}")
+    if config.mass > 0:
+        props = mass_properties_for(mesh, mass=config.mass)
+    else:
+        props = mass_properties_for(mesh, density=config.density or spec.density)
+    return ObjectAsset(spec.name, mesh, float(props.mass), np.asarray(props.com, float),
+                       np.asarray(props.inertia, float), tuple(spec.rgba),
+                       f"object set: {spec.name}")
 
 
 def initial_object_pose(config: ObjectConfig, asset: ObjectAsset, seed: int) -> RigidTransform:
-    """X_WO at the start, from ``seed``: ``config.random_pose`` when given, else
-    ``config.pose``; raised so that no part starts below the table, plus ``drop_height``."""
-    if config.random_pose is not None:
-        from gbh_drake.objects.placement import sample_resting_pose
+    """X_WO at the start, from ``seed``: ``config.random_pose`` when given (a stable resting
+    pose by its probability, or upright, a yaw and a position), else ``config.pose``; either
+    way the lowest point is put on the table (never inside it), plus ``drop_height``."""
+    from gbh_drake.objects import lift_to_table, sample_resting_pose
 
+    if config.random_pose is not None:
         rp = config.random_pose
         X, _ = sample_resting_pose(asset.mesh, np.random.default_rng(seed), rp.x, rp.y,
-                                   np.radians(rp.yaw_deg), stable=rp.stable)
-        X_WO = RigidTransform(np.asarray(X))
-    elif config.pose.IsDeterministic():
-        X_WO = config.pose.GetDeterministicValue()
+                                   np.radians(rp.yaw_deg), com=asset.com_O,
+                                   orientation="stable" if rp.stable else "natural")
     else:
-        X_WO = config.pose.Sample(RandomGenerator(seed))
-    R = X_WO.rotation().matrix()
-    low = float((np.asarray(asset.mesh.vertices) @ R[2]).min() + X_WO.translation()[2])
-    lift = max(0.0, -low) + config.drop_height
-    return RigidTransform(RotationMatrix(R), X_WO.translation() + [0.0, 0.0, lift])
+        pose = config.pose
+        X_WO = pose.GetDeterministicValue() if pose.IsDeterministic() else \
+            pose.Sample(RandomGenerator(seed))
+        X = lift_to_table(asset.mesh, X_WO.GetAsMatrix4(), z_table=X_WO.translation()[2]
+                          if X_WO.translation()[2] > 0 else 0.0)
+    X = np.array(X, dtype=float)
+    X[2, 3] += config.drop_height
+    return RigidTransform(X)
