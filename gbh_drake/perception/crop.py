@@ -1,8 +1,7 @@
-"""The workspace crop: an axis-aligned box of W around the scan target, above the table.
+"""Axis-aligned boxes of W: the workspace bound around the scan target, regions of interest.
 
-Depth pixels are kept only inside the box before fusion (that removes the robot, the far table
-and the background) and the fused mesh is cut to the box with a floor just above the table top
-z = 0 (that removes the table itself).
+The workspace box (``CropBox.workspace``) is a generous bound: nothing outside it is scanned, and
+the object is segmented inside it (``gbh_drake.perception.segment``), not cut to it.
 """
 
 from __future__ import annotations
@@ -30,6 +29,23 @@ class CropBox:
         h = config.crop_half_size_xy
         floor = config.crop_z_min if z_min is None else z_min
         return CropBox((x - h, y - h, floor), (x + h, y + h, config.crop_z_max))
+
+    @staticmethod
+    def workspace(p_WT, config: ScanConfig, table_height: float | None = None) -> CropBox:
+        """The workspace box: +-``crop_half_size_xy`` around target p_WT in x and y, from a
+        little below the table (at height ``table_height`` (m) under T; unbounded if None) to
+        ``crop_z_max`` above it."""
+        x, y = np.asarray(p_WT, dtype=float)[:2]
+        h = config.crop_half_size_xy
+        if table_height is None:
+            return CropBox((x - h, y - h, -10.0), (x + h, y + h, 10.0))
+        floor = table_height - max(0.05, 2.0 * config.sdf_trunc)
+        return CropBox((x - h, y - h, floor), (x + h, y + h, table_height + config.crop_z_max))
+
+    def intersect(self, other: CropBox) -> CropBox:
+        """The box common to ``self`` and ``other`` (may be empty: lower above upper)."""
+        return CropBox(tuple(np.maximum(self.lower_W, other.lower_W).tolist()),
+                       tuple(np.minimum(self.upper_W, other.upper_W).tolist()))
 
     def corners(self) -> np.ndarray:
         """The 8 corners (8, 3) in W (m)."""

@@ -16,9 +16,10 @@ def valid_depth(depth: np.ndarray) -> np.ndarray:
 def backproject(u: np.ndarray, v: np.ndarray, z: np.ndarray,
                 intrinsics: CameraIntrinsics) -> np.ndarray:
     """p_CQ (3, ...), metres, in camera frame C, of pixels at column u, row v with depth z
-    (coordinates first: each is a contiguous array)."""
-    return np.stack([(u - intrinsics.cx) * z / intrinsics.fx,
-                     (v - intrinsics.cy) * z / intrinsics.fy, z])
+    (coordinates first: each is a contiguous array). The ray goes through the pixel's centre,
+    (u + 0.5, v + 0.5) in Drake's convention (see ``CameraIntrinsics``)."""
+    return np.stack([(u + 0.5 - intrinsics.cx) * z / intrinsics.fx,
+                     (v + 0.5 - intrinsics.cy) * z / intrinsics.fy, z])
 
 
 def points_C(depth: np.ndarray, intrinsics: CameraIntrinsics) -> np.ndarray:
@@ -35,8 +36,9 @@ def image_window(p_WQ: np.ndarray, intrinsics: CameraIntrinsics, X_WC: RigidTran
     z_min, z_max = p_CQ[:, 2].min(), p_CQ[:, 2].max()
     if z_min <= 0:
         return slice(0, intrinsics.height), slice(0, intrinsics.width), 0.0, z_max
-    u = intrinsics.fx * p_CQ[:, 0] / p_CQ[:, 2] + intrinsics.cx
-    v = intrinsics.fy * p_CQ[:, 1] / p_CQ[:, 2] + intrinsics.cy
+    # Pixel coordinates of the points (pixel u, v is centred at u + 0.5, v + 0.5).
+    u = intrinsics.fx * p_CQ[:, 0] / p_CQ[:, 2] + intrinsics.cx - 0.5
+    v = intrinsics.fy * p_CQ[:, 1] / p_CQ[:, 2] + intrinsics.cy - 0.5
     u0, u1 = np.clip([np.floor(u.min()), np.ceil(u.max()) + 1], 0, intrinsics.width).astype(int)
     v0, v1 = np.clip([np.floor(v.min()), np.ceil(v.max()) + 1], 0, intrinsics.height).astype(int)
     return slice(v0, v1), slice(u0, u1), z_min, z_max

@@ -1,11 +1,29 @@
-"""A whole scan: render depth views around a target, (optionally) add noise, fuse, crop, clean.
+"""A whole scan: find the object, aim the views at it, render, segment, fuse, cut and cap.
 
-``scan_object`` works on a SceneGraph ``QueryObject``; ``scan_depth_images`` does the same from
-depth images already in hand (e.g. from a real camera). Neither needs a running simulation.
+``scan_object`` works on a SceneGraph ``QueryObject``:
+
+1. **First look** (``first_look``): two small, wide depth views from the sides of the nominal
+   target T find the table plane (``table.fit_table_plane``) and the object's cluster
+   (``segment.segment_points``: the cluster nearest T that rests on the table and is not the
+   robot). If the object reaches the edge of those views, a second look is aimed at it from
+   farther away.
+2. **Aimed views**: the ``num_views`` views look at the centre of the object's bounding sphere
+   from the distance at which the sphere fits the field of view (``viewpoints.fit_view_distance``).
+3. **Segmentation**: the views' points near the object are segmented again; only the object's
+   pixels and the table's around it are fused (TSDF), everything else (robot, other objects) is
+   dropped.
+4. **Cut and cap**: the mesh is cut just above the table and its bottom capped, except where
+   the cameras saw the table through the object (``cap.cap_bottom``).
+
+``scan_depth_images`` does steps 3-4 from depth images already in hand (e.g. from a real camera).
+Neither needs a running simulation. Problems that do not stop the scan (the object reaches an
+image border or the workspace bound, no table plane found, ...) are listed in
+``ScanResult.warnings``; an empty scan says why in ``message``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -16,12 +34,21 @@ from pydrake.geometry import QueryObject
 from pydrake.math import RigidTransform
 
 from gbh_drake.perception.camera import CameraIntrinsics, make_depth_camera, render_depth_images
+from gbh_drake.perception.cap import CapReport, cap_bottom, cut_at_height
+from gbh_drake.perception.cleanup import keep_large_components
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.depth import valid_depth
-from gbh_drake.perception.fusion import fuse_depth_images
+from gbh_drake.perception.fusion import integrate, masked_depths, view_points
 from gbh_drake.perception.noise import add_depth_noise
-from gbh_drake.perception.viewpoints import camera_poses
+from gbh_drake.perception.segment import bounding_sphere, box_faces_reached, segment_points
+from gbh_drake.perception.table import TablePlane, fit_table_plane
+from gbh_drake.perception.viewpoints import (
+    camera_poses,
+    first_look_poses,
+    fit_view_distance,
+    half_fov,
+)
 
 
 @dataclass
@@ -30,18 +57,41 @@ class ScanResult:
     why (nothing is raised)."""
 
     mesh_W: trimesh.Trimesh
-    """The fused, cropped, cleaned mesh (m, in W); not watertight (open at the table)."""
+    """The fused, segmented, cleaned mesh (m, in W), cut ``crop_z_min`` above the table and
+    capped there except over holes the cameras saw the table through."""
     p_WQ: np.ndarray
-    """Measured points (n, 3) inside the crop box (m, in W), from all views."""
-    X_WCs: list[RigidTransform]
+    """Measured points (n, 3) of the object (m, in W), from all views."""
+    X_WCs: list[RigidTransform] = field(default_factory=list)
     """Pose of each camera C in W."""
-    intrinsics: CameraIntrinsics
-    crop: CropBox
-    """The workspace box (W) the mesh was cut to."""
+    intrinsics: CameraIntrinsics | None = None
+    crop: CropBox | None = None
+    """The workspace box (W): nothing outside it was scanned."""
     timing: dict[str, float] = field(default_factory=dict)
-    """Wall-clock seconds: ``render``, ``fuse``."""
+    """Wall-clock seconds of the stages, which add up to the whole scan: ``first_look`` (render
+    and segment), ``render`` (the views), ``segment`` (noise, points, table and clusters),
+    ``fuse`` (TSDF, cut, clean-up), ``cap``."""
     empty: bool = False
     message: str = ""
+    warnings: list[str] = field(default_factory=list)
+    """What may be wrong with a non-empty scan (e.g. the object reaches an image border or the
+    workspace bound: part of it may be missing). Empty when all is well."""
+    table: TablePlane | None = None
+    """The table plane found (or assumed): ``table.as_ground()`` gives GbhParams' ground."""
+    aim_W: np.ndarray | None = None
+    """(3,) m: the point the views looked at (the object's centre when aimed, else T)."""
+    view_distance: float = 0.0
+    """Camera-to-``aim_W`` distance (m) of the views."""
+    object_radius: float = 0.0
+    """Radius (m) of the object's bounding sphere from the first look (0 if not aimed)."""
+    first_look_X_WCs: list[RigidTransform] = field(default_factory=list)
+    """Poses of the first look's cameras (not fused)."""
+    cap: CapReport = field(default_factory=CapReport)
+    """What capping the bottom did."""
+
+    @staticmethod
+    def empty_result(message: str) -> ScanResult:
+        """An empty result that says why there is no scan."""
+        return ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), empty=True, message=message)
 
     def o3d_mesh(self):
         """``mesh_W`` as an ``open3d.geometry.TriangleMesh`` (with vertex normals)."""
@@ -52,50 +102,244 @@ class ScanResult:
         return mesh.compute_vertex_normals()
 
 
-def scan_object(query_object: QueryObject, config: ScanConfig, p_WT) -> ScanResult:
-    """Scans whatever the cameras see around the target p_WT (m, in W) with ``config``'s views.
+@dataclass
+class FirstLook:
+    """What the first look found: the table and the object's whereabouts."""
+
+    X_WCs: list[RigidTransform]
+    table: TablePlane
+    p_W_object: np.ndarray
+    """(n, 3) the object's points seen (empty if none)."""
+    reference_W: np.ndarray | None = None
+    """(3,) a point on the object (the one nearest T), to find it again."""
+    centre_W: np.ndarray | None = None
+    radius: float = 0.0
+    warnings: list[str] = field(default_factory=list)
+    message: str = ""
+    """Why nothing was found ("" if the object was)."""
+
+    @property
+    def found(self) -> bool:
+        return len(self.p_W_object) > 0
+
+
+def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
+                noise_seed: int | None = None) -> ScanResult:
+    """Scans the object near the target p_WT (m, in W) with ``config``'s views.
 
     ``query_object`` comes from the SceneGraph's ``query`` output port; its renderer
-    ``config.renderer_name`` must exist. The robot, the table and everything outside the crop
-    box are removed."""
+    ``config.renderer_name`` must exist. ``noise_seed`` (if given) replaces
+    ``config.noise_seed``. With ``config.aim_views`` a first look finds the object and the views
+    are aimed at it; the table, the robot and everything else are segmented away."""
     config.validate()
-    X_WCs = camera_poses(config, p_WT)
+    if noise_seed is not None:
+        config = dataclasses.replace(config, noise_seed=int(noise_seed))
+    p_WT = np.asarray(p_WT, dtype=float).reshape(3)
+    start = time.perf_counter()
+    look = first_look(query_object, config, p_WT) if config.aim_views else None
+    look_s = time.perf_counter() - start
+    aim, distance, warnings = p_WT, config.distance, []
+    if look is not None and look.found:
+        distance, limited = fit_view_distance(look.radius, config)
+        aim = look.centre_W
+        if limited:
+            warnings.append(
+                f"the object's bounding sphere (radius {look.radius:.3f} m) needs views from "
+                f"{config.fov_margin * look.radius / np.sin(half_fov(config)):.2f} m to fit the "
+                f"field of view; they are at distance_max = {config.distance_max:.2f} m")
+    X_WCs = camera_poses(config, aim, distance)
     start = time.perf_counter()
     depths = render_depth_images(query_object, make_depth_camera(config), X_WCs)
     render_s = time.perf_counter() - start
-    result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT)
-    result.timing = {"render": render_s, **result.timing}
+    result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT,
+                               first_look=look)
+    result.aim_W, result.view_distance = np.asarray(aim, dtype=float), float(distance)
+    result.warnings = warnings + result.warnings
+    if look is not None:
+        result.first_look_X_WCs = look.X_WCs
+        result.object_radius = look.radius
+    result.timing = {"first_look": look_s, "render": render_s, **result.timing}
     return result
+
+
+def first_look(query_object: QueryObject, config: ScanConfig, p_WT) -> FirstLook:
+    """Finds the table and the object from two small wide views from the sides of p_WT (see
+    ``viewpoints.first_look_poses``); looks again, aimed and farther, if the object reaches the
+    edge of those views."""
+    p_WT = np.asarray(p_WT, dtype=float).reshape(3)
+    scale = config.first_look_scale
+    small = dataclasses.replace(config, width=max(config.width // scale, 8),
+                                height=max(config.height // scale, 6))
+    camera, intrinsics = make_depth_camera(small), CameraIntrinsics.from_config(small)
+    rng = np.random.default_rng([config.noise_seed, 1])
+    # Clusters on a grid coarse enough for the small images' sampling: two pixels' footprint at
+    # the look's distance (surfaces seen at up to 60 deg stay connected).
+    footprint = 2.0 * np.tan(np.deg2rad(0.5 * config.fov_y_deg)) / intrinsics.height
+    coarse = dataclasses.replace(
+        config, cluster_cell=max(config.cluster_cell, 2.0 * footprint * config.first_look_distance),
+        min_cluster_points=max(5, config.min_cluster_points // scale ** 2), min_cell_points=1)
+    target, distance, reference = p_WT, config.first_look_distance, None
+    look = None
+    for _ in range(2):
+        X_WCs = first_look_poses(config, target, distance)
+        depths = render_depth_images(query_object, camera, X_WCs)
+        if config.noise:
+            depths = [add_depth_noise(d, intrinsics, small, rng) for d in depths]
+        if look is None:
+            points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+            table, warning = fit_table_plane(points.p_WQ, config)
+            box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
+            look = FirstLook(X_WCs, table, np.zeros((0, 3)),
+                             warnings=[warning] if warning else [])
+        points = view_points(depths, intrinsics, X_WCs, box)
+        segmentation = segment_points(points.p_WQ, look.table, coarse, p_WT, box,
+                                      reference=reference)
+        if not segmentation.found:
+            if not look.found:
+                look.message = _nothing_found(segmentation.dropped, config, p_WT, box)
+            break
+        p_W_object = points.p_WQ[segmentation.object_mask]
+        look.X_WCs, look.p_W_object = X_WCs, p_W_object
+        look.reference_W = p_W_object[np.argmin(np.linalg.norm(p_W_object - p_WT, axis=1))]
+        look.centre_W, look.radius = bounding_sphere(p_W_object, look.table)
+        if len(points.at_border(intrinsics, segmentation.object_mask)) == 0:
+            break
+        # The object goes beyond the first look's images: look again, at it, from farther.
+        target, reference = look.centre_W, look.reference_W
+        distance = max(distance, 1.25 * config.fov_margin * look.radius / np.sin(
+            half_fov(config)))
+        distance = min(distance, config.depth_max - 2.0 * look.radius)
+    return look
 
 
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
-                      X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT) -> ScanResult:
+                      X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT, *,
+                      first_look: FirstLook | None = None) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
-    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``."""
+    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``.
+
+    The table plane is fitted to the images' points and the object is the cluster nearest p_WT
+    (see ``segment.segment_points``), unless ``first_look`` (from :func:`first_look`) already
+    found them."""
     start = time.perf_counter()
-    box = CropBox.around(p_WT, config)
+    p_WT = np.asarray(p_WT, dtype=float).reshape(3)
+    timing: dict[str, float] = {}
     if config.noise:
         rng = np.random.default_rng(config.noise_seed)
         depths = [add_depth_noise(d, intrinsics, config, rng) for d in depths]
-    mesh, p_WQ = fuse_depth_images(depths, intrinsics, X_WCs, config, box)
-    result = ScanResult(mesh, p_WQ, list(X_WCs), intrinsics, box,
-                        timing={"fuse": time.perf_counter() - start})
-    result.message = _empty_reason(depths, p_WQ, mesh, box, config)
-    result.empty = bool(result.message)
+    warnings: list[str] = list(first_look.warnings) if first_look is not None else []
+    if first_look is not None:
+        table = first_look.table
+    else:
+        points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+        table, warning = fit_table_plane(points.p_WQ, config)
+        warnings += [warning] if warning else []
+    box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
+    region = box
+    if first_look is not None and first_look.found:
+        half = config.fov_margin * first_look.radius + 0.05
+        c = first_look.centre_W
+        region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
+        region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
+    result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
+                        table=table, aim_W=p_WT, view_distance=config.distance)
+    points = view_points(depths, intrinsics, X_WCs, region)
+    reference = first_look.reference_W if first_look is not None and first_look.found else None
+    segmentation = segment_points(points.p_WQ, table, config, p_WT, box, reference=reference)
+    result.p_WQ = points.p_WQ[segmentation.object_mask].astype(np.float64)
+    timing["segment"] = time.perf_counter() - start
+
+    message = _empty_reason(depths, points, segmentation, first_look, config, p_WT, box)
+    if not message:
+        t = time.perf_counter()
+        low = np.flatnonzero(segmentation.low_mask)
+        near = np.zeros(len(points.p_WQ), dtype=bool)
+        near[low[_near_footprint(points.p_WQ[low], result.p_WQ, table, config.table_margin)]] = True
+        keep = segmentation.object_mask | near
+        mesh = integrate(masked_depths(depths, points, keep), intrinsics, X_WCs, config)
+        mesh = cut_at_height(mesh, table, config.crop_z_min)
+        mesh = keep_large_components(mesh, config.min_component_fraction)
+        timing["fuse"] = time.perf_counter() - t
+        t = time.perf_counter()
+        if config.cap_bottom and len(mesh.faces):
+            mesh, result.cap = cap_bottom(mesh, table, config, points.p_WQ[near])
+        timing["cap"] = time.perf_counter() - t
+        result.mesh_W = mesh
+        if len(mesh.faces) == 0:
+            message = (f"empty scan: {len(result.p_WQ)} points of the object but fusion gave "
+                       f"no surface (voxel {config.voxel_size} m)")
+        warnings += _edge_warnings(points, segmentation, intrinsics, box, region, config)
+    result.message, result.empty = message, bool(message)
+    result.warnings = warnings
+    result.timing = timing
     return result
 
 
-def _empty_reason(depths, p_WQ, mesh, box: CropBox, config: ScanConfig) -> str:
-    """Why the scan is empty, or "" when it is not."""
+def _near_footprint(p_WQ: np.ndarray, p_W_object: np.ndarray, table: TablePlane,
+                    margin: float) -> np.ndarray:
+    """Mask (n,) of the points p_WQ (n, 3) within ``margin`` (m), along the table, of the box
+    around the object's points p_W_object (m, 3) in the table's frame."""
+    e = table.basis()[:, :2].T.astype(np.float32)
+    footprint = p_W_object @ e.T
+    lower, upper = footprint.min(axis=0) - margin, footprint.max(axis=0) + margin
+    inside = np.ones(len(p_WQ), dtype=bool)
+    for k in range(2):
+        along = p_WQ[:, 0] * e[k, 0] + p_WQ[:, 1] * e[k, 1] + p_WQ[:, 2] * e[k, 2]
+        inside &= (along >= lower[k]) & (along <= upper[k])
+    return inside
+
+
+def _table_height_at(table: TablePlane, p_WT: np.ndarray) -> float:
+    """z (m) of the table plane under the point p_WT."""
+    return float(table.point_W(p_WT)[2])
+
+
+def _edge_warnings(points, segmentation, intrinsics: CameraIntrinsics, box: CropBox,
+                   region: CropBox, config: ScanConfig) -> list[str]:
+    """Warnings that the object reaches the edge of what the cameras see."""
+    warnings = []
+    views = points.at_border(intrinsics, segmentation.object_mask)
+    if len(views):
+        warnings.append(f"the object reaches the image border in {len(views)} of the views "
+                        f"({views.tolist()}): part of it may be out of view and missing")
+    if segmentation.touches:
+        warnings.append(f"the object reaches the workspace bound ({', '.join(segmentation.touches)}"
+                        f" of {_box_text(box)}): part of it may be outside and missing")
+    if region is not box:
+        inner = [face for face in box_faces_reached(points.p_WQ[segmentation.object_mask],
+                                                    region, config.cluster_cell)
+                 if face not in segmentation.touches]
+        if inner:
+            warnings.append(f"the object reaches the edge of the region framed by the first look "
+                            f"({', '.join(inner)} of {_box_text(region)}): it may be larger than "
+                            "the first look saw")
+    return warnings
+
+
+def _box_text(box: CropBox) -> str:
+    return f"{np.round(box.lower_W, 3).tolist()}-{np.round(box.upper_W, 3).tolist()} m (W)"
+
+
+def _nothing_found(dropped: dict[str, int], config: ScanConfig, p_WT, box: CropBox) -> str:
+    seen = ", ".join(f"{n} {reason}" for reason, n in dropped.items() if n)
+    return (f"empty scan: nothing stands on the table within {config.object_search_radius} m of "
+            f"the scan target {np.round(p_WT, 3).tolist()} in the workspace box {_box_text(box)}"
+            + (f" (clusters dropped: {seen})" if seen else "")
+            + "; is the object at the scan target and in view of the cameras?")
+
+
+def _empty_reason(depths, points, segmentation, first_look: FirstLook | None,
+                  config: ScanConfig, p_WT, box: CropBox) -> str:
+    """Why the scan is empty, or "" when it has the object's points."""
     n = len(depths)
     if not any(valid_depth(d).any() for d in depths):
         return (f"empty scan: none of the {n} depth images has a valid pixel (depth range "
                 f"{config.depth_min}-{config.depth_max} m)")
-    if len(p_WQ) == 0:
-        return (f"empty scan: no depth pixel of the {n} views falls inside the crop box "
-                f"{np.round(box.lower_W, 3).tolist()}-{np.round(box.upper_W, 3).tolist()} m "
-                "(W); is the object at the scan target and in view of the cameras?")
-    if len(mesh.faces) == 0:
-        return (f"empty scan: {len(p_WQ)} points inside the crop box but fusion gave no "
-                f"surface (voxel {config.voxel_size} m)")
-    return ""
+    if len(points.p_WQ) == 0:
+        return (f"empty scan: no depth pixel of the {n} views falls inside the workspace box "
+                f"{_box_text(box)}; is the object at the scan target and in view of the cameras?")
+    if segmentation.found:
+        return ""
+    if first_look is not None and first_look.message:
+        return first_look.message
+    return _nothing_found(segmentation.dropped, config, p_WT, box)

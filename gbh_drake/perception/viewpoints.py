@@ -45,7 +45,42 @@ def view_directions(config: ScanConfig) -> np.ndarray:
                             np.sin(elevation)])
 
 
-def camera_poses(config: ScanConfig, p_WT) -> list[RigidTransform]:
-    """X_WC of every view: at ``config.distance`` (m) from the target p_WT, looking at it."""
+def camera_poses(config: ScanConfig, p_WT, distance: float | None = None
+                 ) -> list[RigidTransform]:
+    """X_WC of every view: at ``distance`` (m; default ``config.distance``) from the point p_WT
+    (the target, or the object's centre), looking at it."""
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
-    return [look_at(p_WT + config.distance * u, p_WT) for u in view_directions(config)]
+    d = config.distance if distance is None else float(distance)
+    return [look_at(p_WT + d * u, p_WT) for u in view_directions(config)]
+
+
+def first_look_poses(config: ScanConfig, p_WT, distance: float | None = None
+                     ) -> list[RigidTransform]:
+    """X_WC of the first look's two views: from the sides (azimuth ``azimuth_deg`` +-90 deg, so
+    away from the robot, which stands on the side of the first view), at
+    ``first_look_elevation_deg``, ``distance`` (m; default ``first_look_distance``) from p_WT."""
+    p_WT = np.asarray(p_WT, dtype=float).reshape(3)
+    d = config.first_look_distance if distance is None else float(distance)
+    elevation = np.deg2rad(config.first_look_elevation_deg)
+    poses = []
+    for azimuth in np.deg2rad(config.azimuth_deg + np.array([90.0, -90.0])):
+        u = [np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
+             np.sin(elevation)]
+        poses.append(look_at(p_WT + d * np.asarray(u), p_WT))
+    return poses
+
+
+def half_fov(config: ScanConfig) -> float:
+    """Half the narrower field of view (rad) of the config's camera (pinhole, square pixels)."""
+    half_y = 0.5 * np.deg2rad(config.fov_y_deg)
+    half_x = np.arctan(np.tan(half_y) * config.width / config.height)
+    return float(min(half_x, half_y))
+
+
+def fit_view_distance(radius: float, config: ScanConfig) -> tuple[float, bool]:
+    """(distance, limited): the camera distance (m) at which a sphere of ``radius`` (m) times
+    ``fov_margin`` fits the narrower field of view, at least ``distance`` and at most
+    ``distance_max``; ``limited`` when it would need more than ``distance_max``."""
+    needed = config.fov_margin * radius / np.sin(half_fov(config))
+    return float(np.clip(needed, config.distance, config.distance_max)), bool(
+        needed > config.distance_max)

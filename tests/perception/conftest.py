@@ -1,4 +1,5 @@
-"""Fixtures: the station with a mug of the object set standing on the table, and the truth in W."""
+"""Fixtures: scenes with an object of the set on the table and the robot beside it (see
+``gbh_drake.perception.scenes``), built once per session, and the truth in W."""
 
 from __future__ import annotations
 
@@ -8,22 +9,22 @@ import numpy as np
 import pytest
 import trimesh
 from pydrake.math import RigidTransform
-from pydrake.systems.framework import DiagramBuilder
 
 from gbh_drake.perception.config import ScanConfig
+from gbh_drake.perception.scenes import ObjectScene, build_scene
 from gbh_drake.systems.scanner import Scanner
 
-#: The object scanned by the tests (handle along +x_O, a closed hole about 4 cm across).
+#: The object scanned by the mug tests (handle along +x_O, a closed hole about 4 cm across).
 MUG = "mug_classic"
 
 
 @dataclass
 class MugScene:
-    """The station with the mug in a default context; the truth in W."""
+    """The mug scene in a default context, with a Scanner; the truth in W."""
 
     diagram: object
     context: object
-    station: object
+    scene: ObjectScene
     query_object: object
     mesh_W: trimesh.Trimesh
     X_WO: RigidTransform
@@ -32,47 +33,42 @@ class MugScene:
     p_WT: np.ndarray
     """Scan target (m, W): the mug's centre."""
     scanner: Scanner
-    """10 views (default config), scanned once per context."""
-    rescanner: Scanner
-    """1 view, rescanned when the scene moves."""
+    """10 views (default config)."""
 
 
 def build_mug_scene(model_dir) -> MugScene:
-    """The station with the mug at its default place, turned so that its handle points to +y_W
-    (a camera on the robot's side sees it edge-on)."""
-    from gbh_drake.objects import make_object
-    from gbh_drake.scenario import Scenario
-    from gbh_drake.station import ObjectAsset, add_station
+    """The mug at (0.55, 0) turned so that its handle points to +y_W (a camera on the robot's
+    side sees it edge-on), with a Scanner connected to the scene graph."""
+    scanners = []
 
-    spec = make_object(MUG)
-    scenario = Scenario()
-    scenario.object.pose.set_rotation_rpy_deg([0.0, 0.0, 90.0])
-    asset = ObjectAsset(spec.name, spec.mesh, spec.density, spec.rgba, f"object set: {MUG}")
-    builder = DiagramBuilder()
-    station = add_station(builder, scenario, model_dir=model_dir, object_asset=asset)
-    X_WO = station.X_WO_initial
-    p_WT = X_WO @ np.array([0.0, 0.0, 0.5 * spec.mesh.bounds[1, 2]])
-    scanners = [builder.AddSystem(Scanner(config, p_WT, rescan_on_change=rescan))
-                for config, rescan in [(ScanConfig(), False), (ScanConfig(num_views=1), True)]]
-    for scanner in scanners:
-        builder.Connect(station.scene_graph.get_query_output_port(), scanner.get_input_port())
-    diagram = builder.Build()
-    context = diagram.CreateDefaultContext()
-    sg_context = station.scene_graph.GetMyContextFromRoot(context)
-    query_object = station.scene_graph.get_query_output_port().Eval(sg_context)
-    handle = spec.hangable_parts[0]
-    return MugScene(
-        diagram, context, station, query_object,
-        mesh_W=spec.mesh.copy().apply_transform(X_WO.GetAsMatrix4()),
-        X_WO=X_WO,
-        handle_center_W=X_WO @ handle.center_O,
-        handle_axis_W=X_WO.rotation() @ handle.axis_O,
-        p_WT=p_WT,
-        scanner=scanners[0],
-        rescanner=scanners[1],
-    )
+    def add_scanner(builder, scene_graph):
+        p_WT = np.array([0.55, 0.0, 0.002 + 0.5 * 0.095])
+        scanner = builder.AddSystem(Scanner(ScanConfig(), p_WT))
+        builder.Connect(scene_graph.get_query_output_port(), scanner.get_input_port())
+        scanners.append((scanner, p_WT))
+
+    scene = build_scene(MUG, model_dir, yaw_deg=90.0, systems=[add_scanner])
+    (scanner, p_WT), = scanners
+    center, axis, _ = scene.part_W(0)
+    return MugScene(scene.diagram, scene.context, scene, scene.query_object, scene.mesh_W,
+                    scene.X_WO, center, axis, p_WT, scanner)
 
 
 @pytest.fixture(scope="session")
 def mug_scene(tmp_path_factory) -> MugScene:
     return build_mug_scene(tmp_path_factory.mktemp("models"))
+
+
+@pytest.fixture(scope="session")
+def scene_cache(tmp_path_factory):
+    """Builds scenes on demand, once per (object, placement): ``scene_cache(name, **kwargs)``
+    with ``build_scene``'s keyword arguments."""
+    cache: dict = {}
+
+    def get(name: str, **kwargs) -> ObjectScene:
+        key = (name, tuple(sorted((k, str(v)) for k, v in kwargs.items())))
+        if key not in cache:
+            cache[key] = build_scene(name, tmp_path_factory.mktemp(name), **kwargs)
+        return cache[key]
+
+    return get

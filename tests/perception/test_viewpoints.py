@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from gbh_drake.perception.config import ScanConfig
-from gbh_drake.perception.viewpoints import camera_poses, look_at
+from gbh_drake.perception.viewpoints import (
+    camera_poses,
+    first_look_poses,
+    fit_view_distance,
+    half_fov,
+    look_at,
+)
 
 P_WT = np.array([0.55, 0.0, 0.05])
 
@@ -43,3 +49,30 @@ def test_spiral_spreads_views_over_the_band():
 def test_look_at_straight_down_is_defined():
     X_WC = look_at(P_WT + [0, 0, 0.5], P_WT)
     np.testing.assert_allclose(X_WC.rotation().matrix()[:, 2], [0, 0, -1], atol=1e-12)
+
+
+def test_views_framing_an_object_are_as_near_as_allowed():
+    config = ScanConfig(distance=0.5, distance_max=1.0, fov_margin=1.15, fov_y_deg=45.0)
+    assert half_fov(config) == pytest.approx(np.deg2rad(22.5))  # 4:3, so vertical is narrower
+    assert fit_view_distance(0.05, config) == (0.5, False)  # a mug: the nominal distance
+    d, limited = fit_view_distance(0.23, config)  # a tote bag: farther, sphere fits
+    assert d == pytest.approx(1.15 * 0.23 / np.sin(np.deg2rad(22.5))) and not limited
+    assert fit_view_distance(0.5, config) == (1.0, True)
+
+
+def test_camera_poses_at_a_given_distance():
+    config = ScanConfig(num_views=4)
+    for X_WC in camera_poses(config, P_WT, distance=0.7):
+        assert np.linalg.norm(X_WC.translation() - P_WT) == pytest.approx(0.7)
+
+
+def test_first_look_from_the_sides():
+    config = ScanConfig(azimuth_deg=180.0, first_look_distance=0.8, first_look_elevation_deg=60)
+    poses = first_look_poses(config, P_WT)
+    assert len(poses) == 2
+    for X_WC, side in zip(poses, (-1.0, 1.0), strict=True):
+        offset = X_WC.translation() - P_WT
+        assert np.linalg.norm(offset) == pytest.approx(0.8)
+        np.testing.assert_allclose(offset / 0.8, [0.0, side * 0.5, np.sin(np.pi / 3)],
+                                   atol=1e-12)
+        np.testing.assert_allclose(X_WC.rotation().matrix()[:, 2], -offset / 0.8, atol=1e-12)
