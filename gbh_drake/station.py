@@ -48,7 +48,7 @@ from pydrake.visualization import ApplyVisualizationConfig, VisualizationConfig
 from gbh_drake.config import RobotConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED
-from gbh_drake.modeling.object_body import ObjectAsset, add_object_body
+from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
@@ -93,7 +93,7 @@ class Station(Diagram):
                                make_parser(plant))
         arm = plant.GetModelInstanceByName(ARM)
         gripper = plant.GetModelInstanceByName(GRIPPER)
-        body = add_object_body(plant, asset)
+        body, collision_id, support_id = add_object_body(plant, asset)
         plant.SetDefaultFloatingBaseBodyPose(body, X_WO)
 
         # Robot control: implicit PD, gains by actuator name; gravity compensated on the robot.
@@ -114,6 +114,7 @@ class Station(Diagram):
         plant.set_gravity_enabled(arm, False)
         plant.set_gravity_enabled(gripper, False)
         plant.Finalize()
+        filter_object_contacts(plant, scene_graph, collision_id, support_id, (arm, gripper))
         q_home = np.asarray(robot.q_home, dtype=float)
         plant.SetDefaultPositions(arm, q_home)
         q_finger = HOOK_GRIPPER.q_open if robot.gripper_open else HOOK_GRIPPER.q_closed
