@@ -52,9 +52,10 @@ INERTIA = {
 PYBULLET = "package://pybullet_data/franka_panda/meshes"
 #: pybullet's wheel has no visual mesh for link0 and link7, and their collision meshes name a
 #: material file it does not ship; the multi-material visual meshes of link5, link6 and the hand
-#: do not show in Meshcat. models/franka/ keeps copies of these collision meshes (a few hundred
-#: triangles each) without material lines, used as both visual and collision geometry.
-OWN_COPIES = ("link0", "link5", "link6", "link7", "hand")
+#: do not show in Meshcat; the visual meshes of links 1-4 are 1.1-1.3 MB of OBJ text each,
+#: which made a run's replay 11 MB. models/franka/ keeps copies of the collision meshes (a few
+#: hundred triangles each) without material lines, used as both visual and collision geometry.
+OWN_COPIES = ("link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7", "hand")
 
 
 def copy_meshes(models_dir: Path) -> None:
