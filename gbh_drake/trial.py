@@ -104,7 +104,9 @@ class TrialRecord:
     """Simulated time at which each phase began."""
     sim_time: float = 0.0
     timings: dict[str, float] = field(default_factory=dict)
-    """Wall seconds: scan, plan (incl. GbH or the sampler), simulate (everything), build."""
+    """Wall seconds: scan; grasps (GbH or the sampler on the scan); plan (IK, collision checks,
+    RRT-Connect over the grasps tried) and plan_per_grasp (its median per grasp); simulate (the
+    whole simulation, the above included)."""
     warnings: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict:
@@ -253,7 +255,11 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         verdict=asdict(verdict), phases=dict(status.phase_start),
         sim_time=context.get_time(),
         timings={"scan": float(sum(scan.timing.values())) if scan.timing else 0.0,
-                 "plan": status.plan_seconds, "simulate": wall},
+                 "grasps": status.grasps_seconds,
+                 "plan": status.plan_seconds - status.grasps_seconds,
+                 "plan_per_grasp": float(np.median(status.grasp_seconds))
+                 if status.grasp_seconds else 0.0,
+                 "simulate": wall},
         warnings=list(station.asset.warnings),
     )
 

@@ -95,7 +95,11 @@ class PickStatus:
     refusals: list[Refusal] = field(default_factory=list)
     """Every grasp that was tried and could not be planned, with its reason."""
     plan_seconds: float = 0.0
-    """Wall seconds spent planning."""
+    """Wall seconds spent in PLAN (the grasps' evaluation included)."""
+    grasp_seconds: list[float] = field(default_factory=list)
+    """Wall seconds planning each grasp tried, in order."""
+    grasps_seconds: float = 0.0
+    """Wall seconds the grasps' evaluation took (GbH or the antipodal sampler on the scan)."""
 
     @property
     def phase(self) -> str:
@@ -340,32 +344,36 @@ class PickAndCarry(LeafSystem):
 
     # ---- planning -------------------------------------------------------------------------------
     def _plan(self, context, s: _State) -> tuple[PickPlan | None, float, bool]:
-        """The first plannable grasp: primary grasps, then fallback ones (refusals recorded)."""
+        """The first plannable grasp: the primary grasps, then (only if none could be planned)
+        the fallback ones; every refusal is recorded."""
         scan: ScanResult = self._scan.Eval(context)
-        lists = [(self._grasps.Eval(context), False)]
-        if self._fallback.HasValue(context):
-            lists.append((self._fallback.Eval(context), True))
-        offered = sum(len(g) for g, _ in lists)
-        s.status.n_grasps = offered
-        if offered == 0:
-            return None, float("nan"), False
-        points = np.asarray(scan.mesh_W.vertices) if len(scan.mesh_W.vertices) else \
-            np.zeros((0, 3))
+        q_start = self._arm_state.Eval(context)[:7]
+        setup = None
+        for fallback in (False, True):
+            port = self._fallback if fallback else self._grasps
+            if fallback and not port.HasValue(context):
+                break
+            start = time.perf_counter()
+            grasps = port.Eval(context)  # runs GbH (or the sampler) on the scan, once
+            s.status.grasps_seconds += time.perf_counter() - start
+            s.status.n_grasps += len(grasps)
+            if grasps and setup is None:
+                setup = self._setup(scan)
+            for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
+                bar = BAR_RETRACTED if grasp.kind == ANTIPODAL else BAR_DEPLOYED
+                start = time.perf_counter()
+                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar)
+                s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
+                if isinstance(result, PickPlan):
+                    return result, float(getattr(grasp, "score", float("nan"))), fallback
+                s.status.refusals = [*s.status.refusals, result]
+        return None, float("nan"), False
+
+    def _setup(self, scan: ScanResult) -> PickSetup:
+        """Planning models and the scan's points for this pick."""
+        points = np.asarray(scan.mesh_W.vertices, dtype=float).reshape(-1, 3)
         far = None
         if self._config.plan_paths and len(points) >= 4:
             far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
-        setup = PickSetup(self._near, far, points,
-                          points.mean(axis=0) if len(points) else np.zeros(3), self._config,
-                          self._seed)
-        q_start = self._arm_state.Eval(context)[:7]
-        refusals = list(s.status.refusals)
-        for grasps, fallback in lists:
-            for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
-                bar = BAR_RETRACTED if grasp.kind == ANTIPODAL else BAR_DEPLOYED
-                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar)
-                if isinstance(result, PickPlan):
-                    s.status.refusals = refusals
-                    return result, float(getattr(grasp, "score", float("nan"))), fallback
-                refusals.append(result)
-        s.status.refusals = refusals
-        return None, float("nan"), False
+        com = points.mean(axis=0) if len(points) else np.zeros(3)
+        return PickSetup(self._near, far, points, com, self._config, self._seed)

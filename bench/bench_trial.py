@@ -1,0 +1,131 @@
+"""Speed of a whole trial: the carry's real-time factor, planning time per grasp, process time.
+
+Prints, for the default scenario (mug_classic, 10 views):
+
+* the real-time factor (simulated / wall seconds, and simulated / CPU seconds of this process)
+  of every phase of the pick, the carry's among them (target >= 1.5);
+* the planning time per grasp from the measured state (median and worst over the grasps tried
+  in the default trial and in a few random-pose trials of other objects; target median <= 0.5 s);
+* the wall time and peak memory of ``gbh run scenarios/default.yaml`` as a whole process
+  (imports, scan, GbH, planning, simulation, replay; target <= 5 s), over ``--runs`` runs.
+
+Usage: ``.venv/bin/python bench/bench_trial.py [--runs 2] [--objects kettle teapot]``.
+Timings grow with the load of a shared machine: the load average is printed beside them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
+from pydrake.systems.framework import EventStatus
+
+from gbh_drake import REPO_ROOT, SCENARIOS_DIR
+from gbh_drake.config import RandomRestingPose
+from gbh_drake.scenario import load_scenario
+from gbh_drake.trial import build_trial
+
+
+def phase_rates(overrides: str = "") -> tuple[list[tuple[str, float, float, float]], list[float]]:
+    """(phase, simulated s, wall s, CPU s) of each phase of the default trial, and the planning
+    seconds of each grasp tried."""
+    scenario = load_scenario(SCENARIOS_DIR / "default.yaml", overrides=overrides)
+    trial = build_trial(scenario)
+    simulator = Simulator(trial.diagram)
+    ApplySimulatorConfig(scenario.simulator_config, simulator)
+    port = trial.pick.GetOutputPort("status")
+    marks = []
+
+    def monitor(context):
+        status = port.Eval(trial.pick.GetMyContextFromRoot(context))
+        if not marks or marks[-1][0] != status.mode.value:
+            marks.append((status.mode.value, context.get_time(), time.perf_counter(),
+                          time.process_time()))
+        if status.finished and context.get_time() > status.phase_start[status.mode.value] + 0.5:
+            return EventStatus.ReachedTermination(trial.pick, "done")
+        return EventStatus.Succeeded()
+
+    simulator.set_monitor(monitor)
+    simulator.Initialize()
+    simulator.AdvanceTo(scenario.max_time)
+    context = simulator.get_context()
+    marks.append(("end", context.get_time(), time.perf_counter(), time.process_time()))
+    rows = [(m, t1 - t0, w1 - w0, c1 - c0)
+            for (m, t0, w0, c0), (_, t1, w1, c1) in zip(marks[:-1], marks[1:], strict=True)]
+    status = port.Eval(trial.pick.GetMyContextFromRoot(context))
+    return rows, list(status.grasp_seconds)
+
+
+def planning_times(objects: list[str], seeds: int) -> list[float]:
+    """Planning seconds of every grasp tried, for ``objects`` at ``seeds`` random poses (the
+    trials stop once planned)."""
+    from gbh_drake.trial import simulate_trial
+
+    times = []
+    for name in objects:
+        for seed in range(seeds):
+            scenario = load_scenario(SCENARIOS_DIR / "default.yaml",
+                                     overrides=f"seed: {seed}\nobject: {{name: {name}}}")
+            scenario.object.random_pose = RandomRestingPose()
+            trial = build_trial(scenario)
+            simulator, _ = simulate_trial(trial, max_time=scenario.settle_time + 0.05)
+            status = trial.pick.GetOutputPort("status").Eval(
+                trial.pick.GetMyContextFromRoot(simulator.get_context()))
+            times += status.grasp_seconds
+    return times
+
+
+def whole_process(runs: int, out: Path) -> list[tuple[float, float]]:
+    """(wall s, peak RSS GB) of ``gbh run scenarios/default.yaml`` in fresh processes."""
+    results = []
+    gbh = Path(sys.executable).parent / "gbh"
+    for i in range(runs):
+        start = time.perf_counter()
+        subprocess.run([str(gbh), "run", str(SCENARIOS_DIR / "default.yaml"), "--set",
+                        f"output_dir: {out / str(i)}"], check=True, capture_output=True,
+                       cwd=REPO_ROOT)
+        wall = time.perf_counter() - start
+        rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1e6
+        results.append((wall, rss))
+    return results
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=2)
+    parser.add_argument("--objects", nargs="*", default=["kettle", "teapot", "pot"])
+    parser.add_argument("--seeds", type=int, default=2)
+    parser.add_argument("--out", default="/tmp/gbh_bench_trial")
+    args = parser.parse_args()
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    print(f"load average {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores")
+
+    rows, default_grasps = phase_rates()
+    print("default trial, per phase:  simulated s, wall s, real-time factor (wall / CPU)")
+    for name, sim, wall, cpu in rows:
+        print(f"  {name:10s} {sim:5.2f} {wall:6.2f}   {sim / max(wall, 1e-9):5.2f} / "
+              f"{sim / max(cpu, 1e-9):5.2f}")
+    sim = sum(r[1] for r in rows)
+    wall = sum(r[2] for r in rows)
+    print(f"  {'total':10s} {sim:5.2f} {wall:6.2f}   {sim / wall:5.2f}")
+
+    times = default_grasps + planning_times(args.objects, args.seeds)
+    print(f"planning per grasp from the measured state: median {statistics.median(times):.3f} s, "
+          f"worst {max(times):.3f} s over {len(times)} grasps (default + "
+          f"{', '.join(args.objects)} x {args.seeds} random poses)")
+
+    results = whole_process(args.runs, Path(args.out))
+    print("gbh run scenarios/default.yaml as a process: " + ", ".join(
+        f"{w:.1f} s" for w, _ in results) + f"; peak RSS {max(r for _, r in results):.2f} GB")
+    print(f"load average {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
