@@ -1,4 +1,5 @@
-"""Every tunable number of the GbH algorithm core, in one plain dataclass.
+"""Every tunable number of the GbH algorithm core (and of the antipodal baseline), in plain
+dataclasses: the configuration's ground floor, importing nothing of the pipeline.
 
 Values marked *paper* are from Li, Su, Chirikjian (Sec. 2.3-3.1); the others are our documented
 defaults (see ``/work/shared/design.md`` Sec. 3-4 for the measurements behind them). The class is
@@ -174,3 +175,84 @@ class GbhParams:
         for name, ok in problems:
             if not ok:
                 raise GbhInputError(f"GbhParams.{name} = {getattr(self, name)!r} is out of range")
+
+
+@dataclass
+class AntipodalParams:
+    """Parameters of the antipodal baseline; lengths metres, angles degrees."""
+
+    seed: int = 0
+    """Seed of the surface sampler (Poisson disk) when a mesh, not an ObjectModel, is given; the
+    grasp sampling itself draws from the ``rng`` argument (default: a generator seeded with
+    this)."""
+    n_points: int = 5000
+    """Poisson-disk surface points (the samples' pool and the collision cloud) for a mesh input."""
+    n_samples: int = 300
+    """Surface points A drawn as first contacts (without replacement; all if fewer)."""
+    n_rolls: int = 7
+    """Rotations about the closing axis tried per contact pair."""
+    max_roll_deg: float = 90.0
+    """Degrees: rolls span [-max, +max] about the most downward approach (the course: 60; 90
+    adds the side approaches a handle's pinch may need). At most 90: beyond, the approach would
+    point upward."""
+    contact_depth: float = 0.015
+    """m: the contacts' distance behind the rods' tip keypoint p2 (z_G = l_f): the finger pads."""
+    min_contact_depth: float = 0.006
+    """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
+    contacts are this close to the tips, no closer."""
+    opening_margin: float = 0.003
+    """m: the contact opening q must be at most q_open minus this (room to open around it)."""
+    min_width: float = 0.001
+    """m: thinner material between the contacts is not pinched."""
+    friction_coefficient: float = 0.4
+    """mu: both contact normals must lie within atan(mu) of the closing axis (21.8 deg)."""
+    contact_tolerance: float = 0.001
+    """m: the swept collision volume of the rods stops this short of the contacts."""
+    approach_distance: float = 0.10
+    """m: the open gripper descends along +z_G from this far back (the pick's pre-grasp offset,
+    ``PickParams.approach_distance``); the material it would pass through counts in N_c.
+    0: only the grasp pose and the closing are checked (as GbH's N_c)."""
+    p_c: int = 10
+    """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
+    collision_margin: float = 0.0
+    """m: every box of the solid model is grown by this for the point count."""
+    ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    """Unit anti-gravity direction (the supporting surface's normal) in W; normalised on use."""
+    ground_height: float = 0.0
+    """m: height of the supporting surface along ``ground_normal`` (as GbhParams')."""
+    ground_clearance: float = 0.002
+    """m: the swept solid model's lowest corner must be at least this far above the surface."""
+    check_ground: bool = True
+    """Apply the supporting-surface rule (off for objects floating in space)."""
+    weight_direction: float = 1.0
+    """Cost per unit of z_G . up (the approach's upward component)."""
+    weight_antipodal: float = 5.0
+    """Cost per unit of 1 - mean (n . y_G)^2 over the two contacts."""
+    weight_com: float = 10.0
+    """1/m: cost per metre between the CoM and the closing line."""
+    top_k: int = 10
+    """Number of best grasps returned."""
+
+    def check(self) -> None:
+        """Raise GbhInputError naming the first field whose value cannot work."""
+        problems = [
+            ("n_points", self.n_points >= 1),
+            ("n_samples", self.n_samples >= 1),
+            ("n_rolls", self.n_rolls >= 1),
+            ("max_roll_deg", 0.0 <= self.max_roll_deg <= 90.0),
+            ("contact_depth", 0.0 <= self.contact_depth),
+            ("min_contact_depth", 0.0 <= self.min_contact_depth <= self.contact_depth),
+            ("opening_margin", self.opening_margin >= 0.0),
+            ("min_width", self.min_width >= 0.0),
+            ("friction_coefficient", self.friction_coefficient > 0.0),
+            ("contact_tolerance", self.contact_tolerance >= 0.0),
+            ("approach_distance", self.approach_distance >= 0.0),
+            ("p_c", self.p_c >= 1),
+            ("ground_normal", len(self.ground_normal) == 3
+             and bool(np.linalg.norm(self.ground_normal) > 0)),
+            ("top_k", self.top_k >= 1),
+        ]
+        for name, ok in problems:
+            if not ok:
+                raise GbhInputError(
+                    f"AntipodalParams.{name} = {getattr(self, name)!r} is out of range")
