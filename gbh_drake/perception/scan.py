@@ -50,6 +50,11 @@ from gbh_drake.perception.viewpoints import (
     half_fov,
 )
 
+#: The views' points are read in a cube around the first look's bounding sphere: half side
+#: ROI_SCALE x its radius + ROI_MARGIN (m).
+ROI_SCALE = 1.1
+ROI_MARGIN = 0.03
+
 
 @dataclass
 class ScanResult:
@@ -237,7 +242,9 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
     region = box
     if first_look is not None and first_look.found:
-        half = config.fov_margin * first_look.radius + 0.05
+        # Around the first look's sphere, with room for what it may have missed (warned of if
+        # the object reaches this region's edge); the table beyond it is not read at all.
+        half = ROI_SCALE * first_look.radius + ROI_MARGIN
         c = first_look.centre_W
         region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
         region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
