@@ -63,7 +63,7 @@ def copy_meshes(models_dir: Path) -> None:
 
     src = Path(pybullet_data.getDataPath()) / "franka_panda" / "meshes" / "collision"
     (models_dir / "franka").mkdir(exist_ok=True)
-    for name in OWN_COPIES:
+    for name in (*OWN_COPIES, "finger"):  # (the finger: for the hook gripper's SDF)
         lines = (src / f"{name}.obj").read_text().splitlines()
         kept = [ln for ln in lines if not ln.startswith(("mtllib", "usemtl"))]
         header = "# Franka Emika Panda mesh from pybullet_data (Apache-2.0), material lines removed.\n"

@@ -38,7 +38,8 @@ from gbh_drake.modeling.sdf_text import (
 )
 
 GRIPPER_SDF = MODELS_DIR / "hook_gripper.sdf"
-FRANKA_MESHES = "package://pybullet_data/franka_panda/meshes/visual"
+#: Franka's finger, a copy of pybullet's collision mesh (tools/make_panda_urdf.py).
+FRANKA_FINGER = "package://gbh_drake/franka/finger.obj"
 #: Compliant modulus (Pa) of the rods, bar and hand.
 GRIPPER_MODULUS = 5e7
 #: Friction coefficient (static = dynamic) of the rods', bar's and hand's surface. The paper's
@@ -74,7 +75,7 @@ def _finger_link(name: str, boxes: list[Box], sign: float, mass: float, frame: s
     # Visual: Franka's finger at the finger frame (the L finger's mirrored by a half turn).
     yaw = 0.0 if sign > 0 else np.pi
     mesh_visual = (f'<visual name="{name}_franka_finger">{pose(rpy=(0, 0, yaw), relative_to=frame)}'
-                   f"{mesh_geometry(FRANKA_MESHES + '/finger.obj')}</visual>")
+                   f"{mesh_geometry(FRANKA_FINGER)}</visual>")
     elements = [mesh_visual]
     for b in boxes:
         elements.append(_box_element("visual", b, frame, ROD_RGBA))

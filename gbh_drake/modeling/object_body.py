@@ -36,6 +36,7 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.plant import CoulombFriction, MultibodyPlant
 from pydrake.multibody.tree import RotationalInertia, SpatialInertia
 
+from gbh_drake.core.simplify import simplified
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.modeling.object_sdf import OBJECT_MU
 from gbh_drake.objects.export import obj_bytes
@@ -44,18 +45,6 @@ from gbh_drake.objects.export import obj_bytes
 MAX_CONTACT_FACES = 6000
 #: Triangles of the support mesh (against the table).
 SUPPORT_FACES = 300
-
-
-def contact_mesh(mesh: trimesh.Trimesh, max_faces: int = MAX_CONTACT_FACES) -> trimesh.Trimesh:
-    """``mesh``, or its quadric decimation to ``max_faces`` triangles when it has more."""
-    if len(mesh.faces) <= max_faces:
-        return mesh
-    import open3d as o3d
-
-    o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(mesh.vertices),
-                                         o3d.utility.Vector3iVector(mesh.faces))
-    simple = o3d_mesh.simplify_quadric_decimation(target_number_of_triangles=max_faces)
-    return trimesh.Trimesh(np.asarray(simple.vertices), np.asarray(simple.triangles))
 
 
 def _in_memory(mesh: trimesh.Trimesh, name: str, *, with_normals: bool) -> InMemoryMesh:
@@ -86,7 +75,7 @@ def add_object_body(plant: MultibodyPlant, asset: ObjectAsset, *,
     AddContactMaterial(friction=CoulombFriction(OBJECT_MU, OBJECT_MU), properties=props)
     ids = []
     for label, faces in (("collision", max_contact_faces), ("support", support_faces)):
-        mesh = contact_mesh(asset.mesh, faces)
+        mesh = simplified(asset.mesh, faces)
         ids.append(plant.RegisterCollisionGeometry(
             body, RigidTransform(), Mesh(_in_memory(mesh, f"{name}_{label}", with_normals=False)),
             label, props))

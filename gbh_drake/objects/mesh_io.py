@@ -195,14 +195,10 @@ def _clean(mesh: trimesh.Trimesh) -> None:
 
 def _decimate(mesh: trimesh.Trimesh, target: int) -> str:
     """Quadric decimation (Open3D) to ``target`` triangles, in place; returns the warning."""
-    import open3d as o3d
+    from gbh_drake.core.simplify import simplified
 
     n_before, start = len(mesh.faces), time.perf_counter()
-    o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(mesh.vertices),
-                                         o3d.utility.Vector3iVector(mesh.faces))
-    reduced = o3d_mesh.simplify_quadric_decimation(int(target))
-    decimated = trimesh.Trimesh(np.asarray(reduced.vertices), np.asarray(reduced.triangles),
-                                process=False)
+    decimated = simplified(mesh, target)
     mesh.vertices, mesh.faces = decimated.vertices, decimated.faces
     _clean(mesh)
     return (f"{n_before} triangles (limit {DECIMATE_ABOVE}): decimated to {len(mesh.faces)} "
