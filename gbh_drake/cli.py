@@ -4,17 +4,26 @@
     gbh diagram [SCENARIO.yaml]                        write the station's and the trial's diagrams
     gbh objects list                                   the object set: sizes, masses, hangable parts
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
+
+Exit codes: 0 done; 2 bad input (a scenario, mesh or output folder that cannot be used: one line
+``gbh: <what>: <file>: <field> (line N): <problem>`` on stderr, see docs/errors.md); 130 after
+Ctrl-C (SIGINT), 143 after SIGTERM (one line; unfinished outputs are discarded); 1 and a
+traceback for anything else: that is a bug. Heavy modules are imported inside the commands, so
+an interrupt during start-up is handled like any other.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import logging
+import os
+import signal
 import sys
+import threading
 from pathlib import Path
 
 from gbh_drake import REPO_ROOT, SCENARIOS_DIR
-from gbh_drake.scenario import ScenarioError, load_scenario
 
 DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
 
@@ -22,10 +31,85 @@ DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
 def _scenario_arg(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", nargs="?", default=str(DEFAULT_SCENARIO),
                         help="scenario YAML file (default: scenarios/default.yaml)")
-    parser.add_argument("--set", dest="overrides", default="", metavar="YAML",
-                        help="YAML text applied over the file, e.g. --set 'seed: 3'")
+    parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
+                        help="YAML text applied over the file, e.g. --set 'seed: 3' (may be "
+                             "repeated: applied in order)")
 
 
+class Terminated(BaseException):
+    """SIGTERM arrived (raised in the main thread, like KeyboardInterrupt for SIGINT)."""
+
+
+def _input_error(error: BaseException) -> str | None:
+    """The one-line message of a known input error, None for anything else (a bug)."""
+    from gbh_drake.outputs import OutputError
+
+    if isinstance(error, OutputError):
+        return f"cannot write outputs: {error}"
+    scenario = sys.modules.get("gbh_drake.scenario")
+    if scenario is not None and isinstance(error, scenario.ScenarioError):
+        return f"invalid scenario: {error}"
+    mesh_io = sys.modules.get("gbh_drake.objects.mesh_io")
+    if mesh_io is not None and isinstance(error, mesh_io.MeshImportError):
+        return f"invalid mesh: {error}"
+    return None
+
+
+def _on_signal(signum, frame):
+    """First SIGINT/SIGTERM: raise in the main thread so that outputs are cleaned up; a second
+    one gets the default action (immediate exit). A forked child (a worker process) that
+    inherited this handler takes the default action at once."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if os.getpid() != _on_signal.pid:
+        os.kill(os.getpid(), signum)
+        return
+    raise KeyboardInterrupt if signum == signal.SIGINT else Terminated
+
+
+def _handles_errors(command):
+    """Wraps ``main``: known input errors -> one line and exit 2; Ctrl-C -> 130; SIGTERM ->
+    143; a closed stdout (``| head``) -> quiet exit; anything else propagates (a bug: traceback,
+    exit 1)."""
+
+    @functools.wraps(command)
+    def wrapper(argv: list[str] | None = None) -> int:
+        in_main_thread = threading.current_thread() is threading.main_thread()
+        previous = {}
+        if in_main_thread:
+            _on_signal.pid = os.getpid()
+            for signum in (signal.SIGINT, signal.SIGTERM):
+                previous[signum] = signal.signal(signum, _on_signal)
+        try:
+            return command(argv)
+        except KeyboardInterrupt:
+            _say("interrupted (SIGINT); unfinished outputs were discarded")
+            return 130
+        except Terminated:
+            _say("terminated (SIGTERM); unfinished outputs were discarded")
+            return 143
+        except BrokenPipeError:  # the reader of our stdout went away
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            return 141
+        except Exception as e:
+            message = _input_error(e)
+            if message is None:
+                raise
+            _say(message)
+            return 2
+        finally:
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
+
+    return wrapper
+
+
+def _say(message: str) -> None:
+    print(f"gbh: {' '.join(message.split())}", file=sys.stderr, flush=True)
+
+
+@_handles_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="gbh", description="Grasping by Hanging in Drake")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -47,18 +131,12 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     if args.command == "objects":
         return _objects(args.action, args.out)
-    try:
-        scenario = load_scenario(args.scenario, overrides=args.overrides)
-    except ScenarioError as e:
-        print(f"gbh: invalid scenario: {e}", file=sys.stderr)
-        return 2
-    try:
-        if args.command == "run":
-            return _run(scenario, live=args.meshcat)
-        return _diagram(scenario, Path(args.out))
-    except (ValueError, FileNotFoundError) as e:  # bad object files and the like
-        print(f"gbh: {e}", file=sys.stderr)
-        return 2
+    from gbh_drake.scenario import load_scenario
+
+    scenario = load_scenario(args.scenario, overrides=args.overrides)
+    if args.command == "run":
+        return _run(scenario, live=args.meshcat)
+    return _diagram(scenario, Path(args.out))
 
 
 def _run(scenario, *, live: bool) -> int:
@@ -73,7 +151,10 @@ def _run(scenario, *, live: bool) -> int:
     summary = run(scenario, meshcat=meshcat)
     print(summary.to_text())
     if live and sys.stdin.isatty():
-        input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
+        try:  # the run is complete: leaving the live view is not an interruption
+            input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
+        except (EOFError, KeyboardInterrupt):
+            print()
     return 0
 
 
@@ -87,18 +168,29 @@ def _objects(action: str, out: str | None) -> int:
     if action == "list":
         print("\n".join(describe_object_set()))
         return 0
-    for model in build_object_models(Path(out) if out else OBJECT_MODELS_DIR):
-        print(f"wrote {model.sdf} ({model.mass * 1000:.0f} g)")
+    from gbh_drake.outputs import replace_contents
+
+    folder = Path(out) if out else OBJECT_MODELS_DIR
+    # Built in a staging folder, then each object's folder replaces the old one: an interrupted
+    # or failed build leaves the previous models whole.
+    for model in replace_contents(folder, build_object_models):
+        sdf = Path(model.sdf)  # <staging>/<object>/<object>.sdf, now in <folder>/<object>/
+        print(f"wrote {folder.resolve() / sdf.parent.name / sdf.name} ({model.mass * 1000:.0f} g)")
     return 0
 
 
 def _diagram(scenario, out: Path) -> int:
     from gbh_drake.diagrams import write_diagram
+    from gbh_drake.outputs import OutputError, prepare_folder
     from gbh_drake.trial import build_trial
 
+    out = prepare_folder(out, min_free=2**20)
     trial = build_trial(scenario)
-    written = [*write_diagram(trial.station, out, "station", max_depth=1),
-               *write_diagram(trial.diagram, out, "trial", max_depth=1)]
+    try:
+        written = [*write_diagram(trial.station, out, "station", max_depth=1),
+                   *write_diagram(trial.diagram, out, "trial", max_depth=1)]
+    except OSError as e:
+        raise OutputError(e.filename or out, f"could not write it ({e.strerror or e})") from None
     for path in written:
         print(f"wrote {path}")
     return 0

@@ -5,21 +5,19 @@ Meshcat, simulate until the pick-and-carry machine has finished (task ``pick``) 
 settle time (task ``settle``), then write ``replay.html`` (a self-contained Meshcat recording),
 ``summary.yaml`` (the :class:`~gbh_drake.trial.TrialRecord`) and ``scenario.yaml`` (the
 resolved scenario, file plus overrides, so that ``gbh run <folder>/scenario.yaml`` repeats the
-run) into the scenario's output folder.
+run) into the scenario's output folder, all or nothing (:mod:`gbh_drake.outputs`).
 """
 
 from __future__ import annotations
 
-import os
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 import yaml
-from pydrake.common.yaml import yaml_dump_typed
 from pydrake.geometry import Meshcat
 
-from gbh_drake.scenario import Scenario
+from gbh_drake.outputs import RunOutputs
+from gbh_drake.scenario import Scenario, dump_resolved
 from gbh_drake.trial import TrialRecord, build_trial, simulate_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
@@ -83,9 +81,19 @@ def _touching(touching: dict[str, list[str]]) -> str:
 
 
 def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
-    """Simulates ``scenario`` and writes its outputs (see the module docstring)."""
-    out = scenario.output_path()
-    out.mkdir(parents=True, exist_ok=True)
+    """Simulates ``scenario`` and writes its outputs (see the module docstring).
+
+    The output folder is checked and locked before anything is built (a folder that is a file,
+    not writable, on a full disk or in use by another run raises
+    :class:`~gbh_drake.outputs.OutputError`); the outputs appear all together at the end, and a
+    run that fails or is interrupted leaves none (:class:`~gbh_drake.outputs.RunOutputs`)."""
+    with RunOutputs(scenario.output_path()) as outputs:
+        summary = _simulate(scenario, meshcat, outputs)
+        outputs.commit()
+    return summary
+
+
+def _simulate(scenario: Scenario, meshcat: Meshcat | None, outputs: RunOutputs) -> RunSummary:
     meshcat = meshcat or local_meshcat()
     trial = build_trial(scenario, meshcat=meshcat)
     # A view of the work area from the front right (the user can orbit it in the browser).
@@ -95,8 +103,7 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
     simulator, record = simulate_trial(trial, max_time=max_time)
     meshcat.StopRecording()
     meshcat.PublishRecording()
-    replay = out / "replay.html"
-    _write_atomically(replay, meshcat.StaticHtml())
+    replay = outputs.stage("replay.html", meshcat.StaticHtml())
 
     plant = trial.station.plant
     plant_context = plant.GetMyContextFromRoot(simulator.get_context())
@@ -107,10 +114,10 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
         _settle_drift(record)
     summary = RunSummary(scenario.source_path or "<in memory>", scenario.task, record,
                          str(replay), drift)
-    _write_atomically(out / "summary.yaml", yaml.safe_dump(
+    outputs.stage("scenario.yaml", dump_resolved(scenario))
+    outputs.stage("summary.yaml", yaml.safe_dump(
         {"scenario": summary.scenario, "task": summary.task, "replay": summary.replay,
          "settle_drift": drift, **_plain(asdict(record))}, sort_keys=False))
-    _write_atomically(out / "scenario.yaml", yaml_dump_typed(scenario))
     return summary
 
 
@@ -131,10 +138,3 @@ def _plain(value):
     if isinstance(value, float) and not np.isfinite(value):
         return None
     return value
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    """Writes ``text`` to a temporary file beside ``path`` and renames it into place."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)

@@ -1,18 +1,25 @@
 """Scenario files: one YAML file describes one run (robot, table, object, cameras, simulation).
 
-The schema is the :class:`Scenario` dataclass; loading uses Drake's ``yaml_load_typed`` (so typos
-fail loudly) after a field-by-field check that names the file, the field and the line of any
-problem (:class:`ScenarioError`). Drake's own config structs are reused where they exist
-(``MultibodyPlantConfig``, ``SimulatorConfig``, ``VisualizationConfig``, ``CameraConfig``,
-``schema.Transform`` for poses, which also takes distributions such as ``!UniformVector``, sampled
-from the scenario's ``seed``).
+The schema is the :class:`Scenario` dataclass. :func:`load_scenario` loads a file, then each
+``--set`` override on top of it, with Drake's ``yaml_load_typed`` (typos fail loudly) and checks
+every field (:mod:`gbh_drake.validation`) before anything is built. Any problem raises one
+:class:`ScenarioError` that names the file (``<file> (overrides)`` for an override), the field,
+its line when it is written there, and what was expected; docs/errors.md lists the checks and
+limits. An empty, whitespace-only or comment-only file is the default scenario.
+
+Drake's own config structs are reused where they exist (``MultibodyPlantConfig``,
+``SimulatorConfig``, ``VisualizationConfig``, ``CameraConfig``, ``schema.Transform`` for poses,
+which also takes distributions such as ``!UniformVector``, sampled from the scenario's ``seed``).
+:func:`dump_resolved` writes the loaded scenario back as YAML that reloads to the same run.
 """
 
 
+import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pydrake.common.yaml import yaml_load_typed
+import yaml
+from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
 from pydrake.multibody.plant import MultibodyPlantConfig
 from pydrake.systems.analysis import SimulatorConfig
@@ -20,16 +27,26 @@ from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
 from gbh_drake.config import (
-    GRASP_METHODS,
     MonitorConfig,
     ObjectConfig,
     PickConfig,
     RobotConfig,
 )
-from gbh_drake.core.antipodal import AntipodalParams
-from gbh_drake.core.params import GbhParams
+from gbh_drake.core.params import AntipodalParams, GbhParams
 from gbh_drake.perception.config import ScanConfig
-from gbh_drake.yaml_check import YamlFieldError, check_yaml_against_schema
+from gbh_drake.validation import FieldError, check_scenario
+from gbh_drake.yaml_check import (
+    YamlFieldError,
+    YamlTextError,
+    check_document,
+    compose,
+    decode,
+    format_path,
+    line_of,
+    locate_load_error,
+    node_at,
+    read_text,
+)
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
@@ -60,7 +77,25 @@ def default_directives() -> list[ModelDirective]:
 
 
 class ScenarioError(ValueError):
-    """A scenario file is invalid; the message names the file and the field."""
+    """A scenario file is invalid. The message is ``<origin>: <field> (line N): <problem>``
+    (``<origin>: <problem>`` for the file as a whole; the line only where the field is written).
+
+    ``origin``: the file, or ``<file> (overrides)``; ``field``: the field's path (``""`` for the
+    file as a whole); ``line``: 1-based or None; ``problem``: what is wrong and what was
+    expected."""
+
+    def __init__(self, origin: str, field: str, line: int | None, problem: str,
+                 column: int | None = None):
+        if field:
+            where = f"{field}{f' (line {line})' if line else ''}: "
+        else:
+            where = f"line {line}{f', column {column}' if column else ''}: " if line else ""
+        super().__init__(f"{origin}: {where}{problem}")
+        self.origin = origin
+        self.field = field
+        self.line = line
+        self.column = column
+        self.problem = problem
 
 
 @dataclass
@@ -140,114 +175,145 @@ class Scenario:
         return Path.cwd() / "output" / stem
 
 
-def load_scenario(filename: str | Path, *, overrides: str = "") -> Scenario:
-    """Loads and validates a scenario file; ``overrides`` is YAML text applied on top of it.
-
-    Raises :class:`ScenarioError` naming the file and field on any problem."""
+def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[str, ...] = ""
+                  ) -> Scenario:
+    """Loads and checks a scenario file; ``overrides`` (YAML text, or several applied in order)
+    go on top of it. Raises :class:`ScenarioError` (see the module docstring)."""
     path = Path(filename)
-    if not path.is_file():
-        raise ScenarioError(f"{path}: scenario file not found")
-    text = path.read_text()
-    scenario = _load_text(text, str(path), Scenario())
-    if overrides:
-        scenario = _load_text(overrides, f"{path} (overrides)", scenario)
+    origin = str(path)
+    try:
+        text = read_text(path)
+    except YamlTextError as e:
+        raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
+    layers = [(origin, text)]
+    texts = [overrides] if isinstance(overrides, str) else list(overrides)
+    texts = [t for t in texts if t.strip()]
+    for i, extra in enumerate(texts):
+        label = "overrides" if len(texts) == 1 else f"overrides {i + 1} of {len(texts)}"
+        layers.append((f"{origin} ({label})", extra))
+    scenario, roots = Scenario(), []
+    for layer_origin, layer_text in layers:
+        scenario, root = _load_layer(layer_text, layer_origin, scenario)
+        roots.append((layer_origin, root))
     scenario.source_path = str(path.resolve())
-    validate_scenario(scenario, str(path))
+    try:
+        _check_layers(roots, scenario)
+        validate_fields(scenario)
+    except FieldError as e:
+        raise _located(e, roots, origin) from None
     return scenario
 
 
-def _load_text(text: str, origin: str, defaults: Scenario) -> Scenario:
+def _load_layer(text: str, origin: str, defaults: Scenario) -> tuple[Scenario, yaml.Node | None]:
+    """``defaults`` updated by one YAML document, and the document's node tree."""
     try:
-        check_yaml_against_schema(text, Scenario)
+        if "\0" in text:
+            decode(text.encode("utf-8", "surrogatepass"))  # names the NUL's line and column
+        root = compose(text)
+    except YamlTextError as e:
+        raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
+    if root is None:  # empty, whitespace or comments only: nothing changes
+        return copy.deepcopy(defaults), None
+    try:
+        check_document(root, Scenario)
     except YamlFieldError as e:
-        raise ScenarioError(f"{origin}: {e}") from e
+        raise ScenarioError(origin, format_path(e.path), e.line, e.problem) from None
     try:
-        return yaml_load_typed(schema=Scenario, data=text or "{}", defaults=defaults)
-    except Exception as e:  # what the field check did not catch
-        raise ScenarioError(f"{origin}: {type(e).__name__}: {e}") from e
+        scenario = yaml_load_typed(schema=Scenario, data=text, defaults=defaults)
+    except Exception as e:  # noqa: BLE001  (Drake raises RuntimeError, ValueError, TypeError...)
+        found = locate_load_error(root, Scenario, e)
+        raise ScenarioError(origin, format_path(found.path), found.line, found.problem) from None
+    return scenario, root
+
+
+def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario) -> None:
+    """Fields one of which would be ignored: a named object and a mesh, a pose and a random
+    pose; and ``source_path``, which the loader sets."""
+    for _, root in roots:
+        if _written(root, ("source_path",), nonempty=True):
+            raise FieldError(("source_path",), "is set by the loader to the file itself; remove "
+                                               "it")
+        if _written(root, ("object", "name"), nonempty=True) and \
+                _written(root, ("object", "mesh"), nonempty=True):
+            raise FieldError(("object", "mesh"), _BOTH_OBJECTS)
+    obj, default = scenario.object, ObjectConfig()
+    if obj.mesh and obj.name not in ("", default.name):
+        raise FieldError(("object", "mesh"), _BOTH_OBJECTS)
+    if obj.random_pose is not None and _pose_text(obj.pose) != _pose_text(default.pose):
+        raise FieldError(("object", "random_pose"), "give object.pose or object.random_pose, not "
+                                                    "both (object.pose would be ignored)")
+
+
+_BOTH_OBJECTS = ("give object.name or object.mesh, not both (object.name would be ignored; "
+                 "name: '' clears it)")
+
+
+def _pose_text(pose) -> str:
+    return yaml_dump_typed(ObjectConfig(pose=pose))
+
+
+def _written(root, path, *, nonempty: bool = False) -> bool:
+    node = node_at(root, path)
+    if node is None or node.tag == "tag:yaml.org,2002:null":
+        return False
+    return not (nonempty and isinstance(node, yaml.ScalarNode) and node.value == "")
+
+
+def _located(error: FieldError, roots, origin: str) -> ScenarioError:
+    """``error`` with the origin (file or overrides) and line where its field was written last."""
+    path = tuple(error.path)
+    for layer_origin, root in reversed(roots):
+        for end in range(len(path), 0, -1):  # the field, else its list (q_home for q_home[3])
+            line = line_of(root, path[:end])
+            if line is not None and (end == len(path) or isinstance(path[end], int)):
+                return ScenarioError(layer_origin, format_path(path), line, error.problem)
+    return ScenarioError(origin, format_path(path), None, error.problem)
+
+
+def validate_fields(scenario: Scenario) -> None:
+    """Checks every field of ``scenario`` (:func:`gbh_drake.validation.check_scenario`); raises
+    :class:`gbh_drake.validation.FieldError`."""
+    check_scenario(scenario)
 
 
 def validate_scenario(scenario: Scenario, origin: str) -> None:
-    """Semantic checks that the schema cannot express. Raises :class:`ScenarioError`."""
-
-    def fail(field_path: str, message: str):
-        raise ScenarioError(f"{origin}: {field_path}: {message}")
-
-    obj = scenario.object
-    if obj.mesh:
-        mesh_path = scenario.resolve(obj.mesh)
-        if not mesh_path.is_file():
-            fail("object.mesh", f"file not found: {mesh_path}")
-        from gbh_drake.objects import MeshImportError, load_mesh_file
-
-        try:
-            load_mesh_file(mesh_path, scale=obj.scale if obj.scale > 0 else 1.0)
-        except MeshImportError as e:
-            fail("object.mesh", str(e))
-    elif not obj.name:
-        fail("object", "give either a named object (object.name) or a mesh file (object.mesh)")
-    else:
-        from gbh_drake.objects import list_objects  # the object set (generators) on demand
-
-        if obj.name not in list_objects():
-            fail("object.name", f"unknown object {obj.name!r} (known: {', '.join(list_objects())})")
-    if obj.scale <= 0:
-        fail("object.scale", f"must be positive, got {obj.scale}")
-    if obj.density < 0:
-        fail("object.density", f"must be >= 0, got {obj.density}")
-    if len(scenario.robot.q_home) != 7:
-        fail("robot.q_home", f"needs 7 joint positions, got {len(scenario.robot.q_home)}")
-    for name in ("arm_kp", "arm_kd"):
-        if len(getattr(scenario.robot, name)) != 7:
-            fail(f"robot.{name}", "needs 7 values")
-    if scenario.settle_time < 0:
-        fail("settle_time", "must be >= 0")
-    if scenario.task not in TASKS:
-        fail("task", f"must be one of {', '.join(TASKS)}, got {scenario.task!r}")
-    if len(scenario.scan_target) != 3:
-        fail("scan_target", "needs 3 coordinates (m)")
-    for name, check in (("scan", scenario.scan.validate), ("gbh", scenario.gbh.check)):
-        try:
-            check()
-        except ValueError as e:
-            fail(name, str(e))
-    # One seed for the whole run: the stages' own seeds are derived from it.
-    if scenario.gbh.seed != 0:
-        fail("gbh.seed", "set the scenario's seed instead (it seeds every stage)")
-    if scenario.scan.noise_seed != 0:
-        fail("scan.noise_seed", "set the scenario's seed instead (it seeds every stage)")
-    if obj.drop_height < 0:
-        fail("object.drop_height", f"must be >= 0, got {obj.drop_height}")
-    robot = scenario.robot
-    gains = [*robot.arm_kp, *robot.arm_kd, robot.hand.kp, robot.hand.kd]
-    if min(gains) <= 0:
-        fail("robot", "PD gains (arm_kp, arm_kd, hand.kp, hand.kd) must be positive")
-    if scenario.grasp_method not in GRASP_METHODS:
-        fail("grasp_method", f"must be one of {', '.join(GRASP_METHODS)}, got "
-                             f"{scenario.grasp_method!r}")
-    if scenario.visualization.publish_period <= 0:
-        fail("visualization.publish_period", "must be positive (s)")
-    names = [d.add_model.name for d in scenario.directives if d.add_model is not None]
-    for required in ("panda", "hook_gripper", "table"):
-        if required not in names:
-            fail("directives", f"must add a model named {required!r} (the station needs it)")
-    problem = directive_problem(scenario.directives)
-    if problem:
-        fail("directives", problem)
-    if scenario.plant_config.time_step <= 0:
-        fail("plant_config.time_step", "gbh_drake needs a discrete plant (time_step > 0)")
+    """Checks a scenario built in code; raises :class:`ScenarioError` naming ``origin``."""
+    try:
+        check_scenario(scenario)
+    except FieldError as e:
+        raise ScenarioError(origin, format_path(e.path), None, e.problem) from None
 
 
 def directive_problem(directives: list[ModelDirective]) -> str:
-    """What Drake's parser says of ``directives`` (a missing file, a bad frame name...), or ""."""
-    from pydrake.multibody.parsing import ModelDirectives, ProcessModelDirectives
-    from pydrake.multibody.plant import MultibodyPlant
+    """What is wrong with ``directives`` for the station (a missing file, a bad frame name,
+    a missing arm...), or ""."""
+    from gbh_drake.validation import _model_info
 
-    from gbh_drake.modeling.package_map import make_parser
-
-    plant = MultibodyPlant(0.0)
     try:
-        ProcessModelDirectives(ModelDirectives(directives=directives), plant, make_parser(plant))
-    except RuntimeError as e:
-        return str(e)
+        _model_info(directives)
+    except FieldError as e:
+        return e.problem
     return ""
+
+
+def dump_resolved(scenario: Scenario) -> str:
+    """``scenario`` as YAML that ``gbh run`` reloads to the same run from anywhere: every field
+    written, the mesh path made absolute, fields the run does not use cleared (``object.name``
+    beside a mesh, ``object.pose`` beside a random pose, ``source_path``), ``output_dir``
+    emptied (a rerun writes to ``output/<file stem>``, not over the folder the file was saved
+    in)."""
+    resolved = copy.deepcopy(scenario)
+    if resolved.object.mesh:
+        resolved.object.mesh = str(scenario.resolve(scenario.object.mesh))
+        resolved.object.name = ""
+    if resolved.object.random_pose is not None:
+        resolved.object.pose = ObjectConfig().pose  # not used: the random pose is
+    resolved.output_dir = ""
+    resolved.source_path = ""
+    header = [
+        "# The resolved scenario of a gbh run (its file plus --set overrides), every field",
+        f"# written out. Source: {scenario.source_path or '<in memory>'}; outputs were in",
+        f"# {scenario.output_path()}. `gbh run <this file>` repeats the run (output_dir is",
+        "# empty here so that a rerun does not overwrite that folder).",
+    ]
+    return "\n".join(header) + "\n" + yaml_dump_typed(resolved)

@@ -1,0 +1,267 @@
+"""Output folders: checked before a run starts, held by one run at a time, written atomically.
+
+A run's folder holds one complete run or nothing of it:
+
+* :class:`RunOutputs` (a context manager) first checks the folder: it is made if missing; a path
+  that is a file, a folder that cannot be written and a disk with less than
+  :data:`MIN_FREE_BYTES` free are refused (:class:`OutputError`) before anything is simulated.
+* It locks the folder (``flock`` on ``<folder>/.gbh.lock``): a second run given the same folder
+  while the first is running is refused with a message naming the first's process id. The lock
+  dies with its process (even a killed one), so it is never stale.
+* It removes the outputs of a previous run in that folder (and temporary files an earlier
+  killed run left), so that a run that fails or is interrupted leaves nothing that looks like
+  its own result.
+* :meth:`RunOutputs.stage` writes each output at once to a hidden temporary file beside its
+  final name (a full disk fails here, with the file named); :meth:`RunOutputs.commit` renames
+  them all into place, ``summary.yaml`` last. An exception, Ctrl-C or SIGTERM before the commit
+  has finished removes the temporary files and whatever this run had already renamed.
+
+:func:`replace_contents` does the same for ``gbh objects build --out``: the models are built in a
+hidden staging folder, then each object's folder replaces the old one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import fcntl
+import os
+import shutil
+from collections.abc import Callable
+from pathlib import Path
+
+#: A run needs this much free space in its output folder (the replay is 5-30 MB).
+MIN_FREE_BYTES = 64 * 2**20
+#: The lock file in every output folder (hidden; it stays, empty of meaning once unlocked).
+LOCK_NAME = ".gbh.lock"
+#: What ``gbh run`` writes into its folder.
+RUN_OUTPUTS = ("replay.html", "scenario.yaml", "summary.yaml")
+_TMP_PREFIX = ".gbh-tmp-"
+
+
+class OutputError(OSError):
+    """An output folder or file that cannot be used; the message names it and says why."""
+
+    def __init__(self, path: Path | str, problem: str):
+        super().__init__(f"{path}: {problem}")
+        self.path = str(path)
+        self.problem = problem
+
+
+def _reason(e: OSError) -> str:
+    reasons = {errno.ENOSPC: "no space left on the disk", errno.EDQUOT: "disk quota exceeded",
+               errno.EROFS: "read-only file system", errno.EACCES: "permission denied",
+               errno.EPERM: "permission denied", errno.ENOTDIR: "a part of the path is a file",
+               errno.EEXIST: "exists and is not a folder"}
+    return reasons.get(e.errno, e.strerror or str(e))
+
+
+def prepare_folder(folder: Path, *, min_free: int = MIN_FREE_BYTES) -> Path:
+    """Makes ``folder`` if needed; raises :class:`OutputError` if it is a file, cannot be
+    made, or its disk has less than ``min_free`` bytes free. Returns it resolved."""
+    folder = Path(folder)
+    if "\0" in str(folder):
+        raise OutputError(repr(str(folder)), "holds a NUL character")
+    if folder.exists() and not folder.is_dir():
+        raise OutputError(folder, "is a file, not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise OutputError(folder, f"cannot create the folder ({_reason(e)})") from None
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(folder, "the folder is not writable")
+    free = shutil.disk_usage(folder).free
+    if free < min_free:
+        raise OutputError(folder, f"only {free / 2**20:.1f} MB free on its disk; a run needs "
+                                  f"{min_free / 2**20:.0f} MB")
+    return folder.resolve()
+
+
+class FolderLock:
+    """An exclusive ``flock`` on ``<folder>/.gbh.lock``; :class:`OutputError` if held."""
+
+    def __init__(self, folder: Path):
+        self.path = Path(folder) / LOCK_NAME
+        self._fd: int | None = None
+
+    def acquire(self) -> None:
+        try:
+            fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as e:
+            raise OutputError(self.path.parent, f"cannot write in the folder ({_reason(e)})") \
+                from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise OutputError(self.path.parent, f"another gbh run (process {holder}) is writing "
+                                                "into this folder; wait for it to finish or give "
+                                                "another output folder (output_dir)") from None
+        try:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        except OSError as e:
+            os.close(fd)
+            raise OutputError(self.path.parent, f"cannot write in the folder ({_reason(e)})") \
+                from None
+        self._fd = fd
+
+    def release(self) -> None:
+        if self._fd is not None:
+            with contextlib.suppress(OSError):
+                os.ftruncate(self._fd, 0)
+            os.close(self._fd)  # releases the flock
+            self._fd = None
+
+
+def write_file(path: Path, data: str | bytes) -> Path:
+    """Writes ``data`` to a hidden temporary file beside ``path`` (flushed to disk) and returns
+    that file; raises :class:`OutputError` naming ``path`` (the temporary file removed)."""
+    path = Path(path)
+    tmp = path.with_name(f"{_TMP_PREFIX}{os.getpid()}-{path.name}")
+    raw = data.encode() if isinstance(data, str) else data
+    try:
+        with open(tmp, "wb") as f:
+            f.write(raw)
+            f.flush()
+            os.fsync(f.fileno())
+    except OSError as e:
+        _remove(tmp)
+        raise OutputError(path, f"could not write it ({_reason(e)})") from None
+    except BaseException:
+        _remove(tmp)
+        raise
+    return tmp
+
+
+def write_atomically(path: Path, data: str | bytes) -> None:
+    """Writes ``path`` whole or not at all (a temporary file renamed into place)."""
+    tmp = write_file(path, data)
+    try:
+        os.replace(tmp, path)
+    except OSError as e:
+        _remove(tmp)
+        raise OutputError(path, f"could not write it ({_reason(e)})") from None
+
+
+def _remove(path: Path) -> None:
+    with contextlib.suppress(OSError):
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path)
+        else:
+            path.unlink()
+
+
+class RunOutputs:
+    """One run's output folder (see the module docstring)::
+
+        with RunOutputs(folder) as outputs:   # checked, locked, previous outputs removed
+            ...                               # the run
+            outputs.stage("replay.html", html)
+            outputs.stage("summary.yaml", text)
+            outputs.commit()                  # all renamed into place, or none kept
+    """
+
+    def __init__(self, folder: Path, names: tuple[str, ...] = RUN_OUTPUTS, *,
+                 min_free: int = MIN_FREE_BYTES):
+        self.folder = Path(folder)
+        self.names = names
+        self.min_free = min_free
+        self._lock: FolderLock | None = None
+        self._staged: dict[str, Path] = {}
+        self._committed: list[Path] = []
+        self.committed = False
+
+    def __enter__(self) -> RunOutputs:
+        self.folder = prepare_folder(self.folder, min_free=self.min_free)
+        self._lock = FolderLock(self.folder)
+        self._lock.acquire()
+        try:
+            self._clear_previous()
+        except BaseException:
+            self._lock.release()
+            raise
+        return self
+
+    def _clear_previous(self) -> None:
+        """Removes the previous run's outputs and temporary files left by killed runs (we hold
+        the lock: no other run is writing here)."""
+        try:
+            for name in self.names:
+                target = self.folder / name
+                if target.exists() or target.is_symlink():
+                    target.unlink()
+            for stale in self.folder.glob(f"{_TMP_PREFIX}*"):
+                _remove(stale)
+        except OSError as e:
+            raise OutputError(self.folder, f"cannot remove the previous run's outputs "
+                                           f"({_reason(e)})") from None
+
+    def path(self, name: str) -> Path:
+        """Where output ``name`` will be once committed."""
+        return self.folder / name
+
+    def stage(self, name: str, data: str | bytes) -> Path:
+        """Writes output ``name`` to its temporary file now; returns its final path."""
+        if name in self._staged:
+            _remove(self._staged.pop(name))
+        self._staged[name] = write_file(self.folder / name, data)
+        return self.folder / name
+
+    def commit(self) -> None:
+        """Renames every staged output into place (``summary.yaml`` last)."""
+        order = sorted(self._staged, key=lambda n: n == "summary.yaml")
+        for name in order:
+            target = self.folder / name
+            try:
+                os.replace(self._staged[name], target)
+            except OSError as e:
+                raise OutputError(target, f"could not write it ({_reason(e)})") from None
+            self._committed.append(target)
+        self._staged.clear()
+        self.committed = True
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is not None or not self.committed:
+                for tmp in self._staged.values():
+                    _remove(tmp)
+                for done in self._committed:
+                    _remove(done)
+                self._staged.clear()
+                self._committed.clear()
+        finally:
+            if self._lock is not None:
+                self._lock.release()
+
+
+def replace_contents(out: Path, build: Callable[[Path], list], *,
+                     min_free: int = MIN_FREE_BYTES) -> list:
+    """Runs ``build(staging)`` in a hidden staging folder inside ``out``, then moves each entry
+    it made into ``out``, replacing the old one; on any failure or interrupt ``out`` keeps its
+    old contents and the staging folder is removed. Returns what ``build`` returned."""
+    out = prepare_folder(Path(out), min_free=min_free)
+    lock = FolderLock(out)
+    lock.acquire()
+    staging = out / f"{_TMP_PREFIX}{os.getpid()}-staging"
+    try:
+        for stale in out.glob(f"{_TMP_PREFIX}*"):
+            _remove(stale)
+        staging.mkdir()
+        try:
+            result = build(staging)
+        except OSError as e:
+            where = e.filename or out
+            raise OutputError(where, f"could not write it ({_reason(e)})") from None
+        for entry in sorted(staging.iterdir()):
+            target = out / entry.name
+            old = out / f"{_TMP_PREFIX}{os.getpid()}-old-{entry.name}"
+            if target.exists() or target.is_symlink():
+                os.replace(target, old)
+            os.replace(entry, target)
+            _remove(old)
+        return result
+    finally:
+        _remove(staging)
+        lock.release()

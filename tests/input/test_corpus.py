@@ -1,0 +1,89 @@
+"""Every case of the bad-input corpus through the real command line: exit code 2, one line on
+stderr naming the file, the field and its line, nothing written (see input_corpus.py)."""
+
+import re
+
+import pytest
+from input_corpus import CASES, Case
+
+from gbh_drake.cli import main
+
+
+def _write_case(case: Case, folder):
+    for name, content in case.files.items():
+        target = folder / name
+        target.write_bytes(content if isinstance(content, bytes) else content.encode())
+    path = folder / "bad.yaml"
+    path.write_bytes(case.text if isinstance(case.text, bytes) else case.text.encode())
+    return path
+
+
+def expected_prefix(case: Case, path) -> str:
+    origin = f"{path}{case.origin}"
+    if not case.field:
+        where = f"line {case.line}" if case.line else ""
+        return f"gbh: invalid scenario: {origin}: {where}"
+    line = f" (line {case.line})" if case.line else ""
+    return f"gbh: invalid scenario: {origin}: {case.field}{line}: "
+
+
+def test_case_ids_are_unique():
+    ids = [c.id for c in CASES]
+    assert len(ids) == len(set(ids))
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
+def test_bad_input(case: Case, tmp_path, capsys):
+    path = _write_case(case, tmp_path)
+    argv = ["run", str(path)]
+    for text in case.overrides:
+        argv += ["--set", text]
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    prefix = expected_prefix(case, path)
+    assert lines[0].startswith(prefix), f"\n{lines[0]}\n{prefix}"
+    problem = lines[0][len(prefix):]
+    if not case.field and case.line:  # the column may follow
+        assert re.match(r"(, column \d+)?: ", problem), problem
+    assert case.expect in problem, f"{case.expect!r} not in {problem!r}"
+    assert "Traceback" not in err and out == ""
+    assert not (tmp_path / "output").exists()  # nothing written
+
+
+def test_missing_file(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "nope.yaml")]) == 2
+    assert capsys.readouterr().err == f"gbh: invalid scenario: {tmp_path / 'nope.yaml'}: " \
+                                      "scenario file not found\n"
+
+
+def test_folder_instead_of_file(tmp_path, capsys):
+    assert main(["run", str(tmp_path)]) == 2
+    assert "is a folder, not a scenario file" in capsys.readouterr().err
+
+
+def test_fifo_is_not_read(tmp_path, capsys):
+    import os
+
+    os.mkfifo(tmp_path / "pipe.yaml")  # reading it would block forever
+    assert main(["run", str(tmp_path / "pipe.yaml")]) == 2
+    assert "is not a regular file" in capsys.readouterr().err
+
+
+def test_symlink_loop(tmp_path, capsys):
+    (tmp_path / "a.yaml").symlink_to(tmp_path / "b.yaml")
+    (tmp_path / "b.yaml").symlink_to(tmp_path / "a.yaml")
+    assert main(["run", str(tmp_path / "a.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"gbh: invalid scenario: {tmp_path / 'a.yaml'}: cannot read") and \
+        err.count("\n") == 1
+
+
+def test_deep_block_nesting(tmp_path, capsys):
+    path = tmp_path / "deep.yaml"
+    path.write_text("".join("  " * i + "a:\n" for i in range(700)))  # 490 kB
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "nested deeper than 40 levels: not a scenario" in err
