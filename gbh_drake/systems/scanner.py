@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
-import trimesh
 from pydrake.common.value import AbstractValue
 from pydrake.geometry import QueryObject
 from pydrake.systems.framework import LeafSystem
 
-from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.config import ScanConfig
-from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.scan import ScanResult, scan_object
 
 
@@ -28,8 +23,10 @@ class Scanner(LeafSystem):
         - mesh_W
 
     ``query_object`` (``QueryObject``): connect the SceneGraph's query output port.
-    ``mesh_W`` (:class:`~gbh_drake.perception.scan.ScanResult`): the mesh in W, the points, the
-    camera poses X_WC and timing; ``empty`` and ``message`` when nothing was seen.
+    ``mesh_W`` (:class:`~gbh_drake.perception.scan.ScanResult`): the object's mesh in W,
+    segmented from the table and the robot (a first look finds it near ``p_WT``, then the views
+    are aimed at it), its points, the camera poses X_WC, warnings (e.g. the object reaches the
+    edge of what the cameras see) and timing; ``empty`` and ``message`` when nothing was seen.
 
     Two ways to use it. Without ``scan_time`` the output is a function of the input, cached
     until the scene's poses change (evaluate it when you need a scan). With ``scan_time`` (s) the
@@ -39,7 +36,8 @@ class Scanner(LeafSystem):
 
     def __init__(self, config: ScanConfig, p_WT, *, scan_time: float | None = None,
                  noise_seed: int = 0):
-        """``p_WT`` (3,) m: the scan target in W (near the object, above the table);
+        """``p_WT`` (3,) m: where the object is expected in W (the first look searches around it,
+        then the views aim at what it found);
         ``noise_seed``: seed of the depth noise (when ``config.noise``)."""
         super().__init__()
         config.validate()
@@ -67,8 +65,8 @@ class Scanner(LeafSystem):
 
     def scan(self, context) -> ScanResult:
         """A scan of the scene as ``context`` has it now."""
-        config = dataclasses.replace(self._config, noise_seed=self._noise_seed)
-        return scan_object(self._query.Eval(context), config, self._p_WT)
+        return scan_object(self._query.Eval(context), self._config, self._p_WT,
+                           noise_seed=self._noise_seed)
 
     def _calc_scan(self, context, output) -> None:
         output.set_value(self.scan(context))
@@ -79,7 +77,4 @@ class Scanner(LeafSystem):
 
 def no_scan(message: str) -> ScanResult:
     """An empty scan result that says why there is no scan."""
-    config = ScanConfig()
-    return ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), [],
-                      CameraIntrinsics.from_config(config), CropBox.around(np.zeros(3), config),
-                      empty=True, message=message)
+    return ScanResult.empty_result(message)
