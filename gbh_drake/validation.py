@@ -233,6 +233,7 @@ RULES: dict[tuple, dict[str, object]] = {
         "fov_margin": Range(1.0, 10.0),
         "first_look_distance": Pos(5.0, "m"),
         "first_look_scale": Int(1, 64),
+        "first_look_elevation_deg": Range(0.0, 90.0, lo_open=True, hi_open=True, unit="deg"),
         "elevation_deg": Range(0.0, 89.0, unit="deg", note="90 would look straight down, "
                                                              "where the view's up is undefined"),
         "elevation_max_deg": Range(0.0, 89.0, unit="deg"),
