@@ -270,7 +270,10 @@ def _why_no_grasp(scenario: Scenario, scan, hangability, candidates) -> tuple[st
         return "empty_scan", scan.message
     if scenario.grasp_method == "antipodal":
         return "no_grasp_found", "the antipodal sampler found no grasp on the scan"
+    also = "; the antipodal fallback found no grasp either" \
+        if scenario.grasp_method == "gbh_fallback" else ""
     if not hangability.structures:
-        return "no_hangable_structure", hangability.message or "no hangable structure found"
+        return "no_hangable_structure", (hangability.message or
+                                         "no hangable structure found") + also
     return "no_grasp_found", (f"no collision-free grasp among {len(candidates)} candidates on "
-                              f"{len(hangability.structures)} hanging structures")
+                              f"{len(hangability.structures)} hanging structures{also}")

@@ -147,9 +147,17 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     q["carry"] = ik(_shifted(X_closed, carry), q["lift"], closed_hand)
     if q["carry"] is None:
         return refuse("ik", "carry")
+    # Lower: at most until the object's estimated lowest point is place_depth under the table
+    # (the machine stops once the hand's load drops), less where the hand would meet the table.
     low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
-    down = max(0.0, low + cfg.place_depth)  # the deepest; lowering stops once set down
-    q["place"] = ik(_shifted(X_closed, carry - [0.0, 0.0, down]), q["carry"], closed_hand)
+    q["place"] = None
+    for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
+        q_place = ik(_shifted(X_closed, carry - [0.0, 0.0, max(down, 0.0)]), q["carry"],
+                     closed_hand)
+        if q_place is not None and (not cfg.plan_paths or
+                                    setup.near.edge_free(q["carry"], q_place, closed_hand)):
+            q["place"] = q_place
+            break
     if q["place"] is None:
         return refuse("ik", "place")
     q["slide"], q["retreat"] = release_path(setup.near, q["place"], hook, cfg, bar)
@@ -158,8 +166,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         segments = (("descend", q["grasp"], q["closed"], open_hand),
                     ("close", q["closed"], q["closed"], closed_hand),
                     ("lift", q["closed"], q["lift"], closed_hand),
-                    ("carry", q["lift"], q["carry"], closed_hand),
-                    ("lower", q["carry"], q["place"], closed_hand))
+                    ("carry", q["lift"], q["carry"], closed_hand))
         for name, a, b, hand in segments:
             if not setup.near.edge_free(a, b, hand):
                 return refuse("collision", name)

@@ -84,6 +84,8 @@ class Verdict:
     cage_test_held: bool = False
     """Whether the object was still held at the end of the cage test."""
     loop_closed: bool = False
+    bar_deployed: bool = True
+    """Whether the bar was out (a hook) during the cage test; folded: two straight rods."""
     settled_at: list[float] = field(default_factory=list)
     """The object's position (W) when planning began (after settling, when it was scanned)."""
     released_at: list[float] = field(default_factory=list)
@@ -235,7 +237,8 @@ class CageMonitor(LeafSystem):
         if mode == Mode.CAGE_TEST:
             v.finger_q_cage_test = float(np.mean(hand[:2]))
             closed = HOOK_GRIPPER.q_closed + cfg.closed_tolerance
-            v.loop_closed = bool(np.all(hand[:2] <= closed) and abs(hand[2]) < self._bar_max)
+            v.bar_deployed = bool(abs(hand[2]) < self._bar_max)
+            v.loop_closed = bool(np.all(hand[:2] <= closed) and v.bar_deployed)
             v.cage_test_held = bool(not w.dropped and low >= 0.5 * cfg.lifted_height
                                     and gripper)
         if mode == Mode.DONE:
@@ -291,6 +294,9 @@ class CageMonitor(LeafSystem):
         if caged:
             v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
                        "the squeeze relaxed"
+        elif v.cage_test_held and not v.bar_deployed:
+            v.reason = "picked and carried; held by a pinch between the two straight rods " \
+                       "(the bar folded), still held with the squeeze relaxed"
         elif v.cage_test_held:
             v.reason = ("picked and carried; held by a pinch: the loop did not close "
                         f"(fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
