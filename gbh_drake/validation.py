@@ -101,6 +101,8 @@ def _num(v) -> str:
         return ""
     if isinstance(v, int | np.integer) and not isinstance(v, bool):
         return str(int(v))
+    if math.isfinite(v) and float(v).is_integer() and abs(v) < 1e12:
+        return str(int(v))
     return f"{float(v):g}"
 
 
@@ -986,3 +988,24 @@ def check_own_methods(scenario) -> None:
                     problem = f"{problem.split(' is ')[-1]} (got {problem.split(' is ')[0]})"
                 raise FieldError((section, match.group(1)), problem) from None
             raise FieldError((section,), text) from None
+
+
+def rules_markdown() -> str:
+    """The table of :data:`RULES` as Markdown (docs/errors.md includes it; a test keeps the two
+    equal)."""
+    rows = ["| field | must be |", "|---|---|"]
+    for section, rules in RULES.items():
+        for name, rule in rules.items():
+            path = format_path(section + (name,))
+            if isinstance(rule, Range):
+                text = rule.text() + (f" ({rule.note})" if rule.note else "")
+            elif isinstance(rule, OneOf):
+                text = "one of " + ", ".join(f"`{v}`" if v else "`''`" for v in rule.values)
+                text += f" ({rule.note})" if rule.note else ""
+            elif isinstance(rule, Fixed):
+                text = f"`{rule.value!r}` ({rule.why})"
+            else:
+                each = "" if rule.each == Range() else f", each {rule.each.text()}"
+                text = (f"{rule.length} {rule.what}" if rule.length else rule.what) + each
+            rows.append(f"| `{path}` | {text} |")
+    return "\n".join(rows) + "\n"
