@@ -1,6 +1,6 @@
 """Time of RRT-Connect (with shortcutting) and of single collision checks, kettle on the table.
 
-Run from the repository root:  .venv/bin/python bench/bench_plan.py [--goals 10]
+Run:  .venv/bin/python bench/bench_plan.py [--goals 10]
 
 Goals are drawn with a fixed seed among collision-free arm configurations whose straight
 joint-space edge from the home configuration collides (so every case needs the planner).
@@ -10,24 +10,17 @@ Prints per-plan times (median, worst), waypoints, failures, and the cost of one 
 import argparse
 import os
 import statistics
-import sys
-import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the package, run from anywhere
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.objects import make_object
+from gbh_drake.planning.model import HandPose, PlanningModel
+from gbh_drake.planning.rrt import plan_rrt_connect
+from gbh_drake.scenario import Scenario
 
-from pydrake.math import RigidTransform  # noqa: E402
-
-from gbh_drake.modeling.object_sdf import write_object_model  # noqa: E402
-from gbh_drake.objects import make_object  # noqa: E402
-from gbh_drake.planning.collision import make_planning_model  # noqa: E402
-from gbh_drake.planning.rrt import plan_rrt_connect  # noqa: E402
-from gbh_drake.scenario import Scenario  # noqa: E402
-
-Q_OPEN = 0.04
+OPEN = HandPose(HOOK_GRIPPER.q_open)
 
 
 def main() -> None:
@@ -35,25 +28,24 @@ def main() -> None:
     parser.add_argument("--goals", type=int, default=10)
     args = parser.parse_args()
     scenario = Scenario()
-    spec = make_object("kettle")
-    with tempfile.TemporaryDirectory() as tmp:
-        files = write_object_model(spec.mesh, "kettle", Path(tmp), density=spec.density)
-        t = time.perf_counter()
-        model = make_planning_model(scenario, str(files.sdf), RigidTransform([0.45, 0.0, 0.0]))
-        build = time.perf_counter() - t
+    kettle = make_object("kettle").mesh.copy()
+    kettle.apply_translation([0.45, 0.0, 0.0])
+    t = time.perf_counter()
+    model = PlanningModel(scenario.directives, obstacles=[kettle])
+    build = time.perf_counter() - t
     q0 = np.asarray(scenario.robot.q_home)
     t = time.perf_counter()
     for _ in range(1000):
-        model.free(q0, Q_OPEN)
+        model.free(q0, OPEN)
     check_us = (time.perf_counter() - t) * 1e3
     rng = np.random.default_rng(3)
     times, lengths, failures = [], [], 0
     while len(times) + failures < args.goals:
         q1 = rng.uniform(model.arm_lower, model.arm_upper)
-        if not model.free(q1, Q_OPEN) or model.edge_free(q0, q1, Q_OPEN):
+        if not model.free(q1, OPEN) or model.edge_free(q0, q1, OPEN):
             continue
         t = time.perf_counter()
-        path = plan_rrt_connect(model, q0, q1, Q_OPEN, seed=0)
+        path = plan_rrt_connect(model, q0, q1, OPEN, seed=0)
         if path is None:
             failures += 1
             continue

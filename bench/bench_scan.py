@@ -32,8 +32,6 @@ import time
 import tracemalloc
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the package, run from anywhere
-
 CASES = {
     "1 view": {"num_views": 1},
     "10 views": {"num_views": 10},

@@ -1,1 +1,48 @@
-"""gbh_drake.systems."""
+"""The LeafSystems of gbh_drake, for your own diagrams (typed ports, no hidden globals).
+
+Perception and grasps:
+
+* :class:`Scanner`: depth views fused by TSDF into the object's mesh (``mesh_W``);
+* :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
+  paper's three stages (hanging structures, hook grasps, the ranked top 10);
+* :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan.
+
+Execution and judging:
+
+* :class:`PickAndCarry`: the pick-and-place state machine (plans from the measured state);
+* :class:`CageMonitor`: the verdict as it evolves, cage or pinch;
+* :class:`HandDriver` (force-limited fingers) and :class:`WristLoad` (the hand's load), used
+  inside the :class:`~gbh_drake.station.Station`;
+* :class:`GraspVisualizer`: draws scan, structures and grasps in Meshcat.
+"""
+
+from gbh_drake.systems.scanner import Scanner, no_scan  # noqa: I001  (dependency order)
+from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.hangability_detector import Hangability, HangabilityDetector
+from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
+from gbh_drake.systems.grasp_scorer import GraspScorer
+from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
+from gbh_drake.systems.hand_driver import HandDriver
+from gbh_drake.systems.wrist_load import WristLoad
+from gbh_drake.systems.pick_and_carry import Mode, PickAndCarry, PickStatus
+from gbh_drake.systems.cage_monitor import CageMonitor, Verdict
+from gbh_drake.systems.grasp_visualizer import GraspVisualizer
+
+__all__ = [
+    "AbstractStage",
+    "AntipodalGraspSampler",
+    "CageMonitor",
+    "GraspScorer",
+    "GraspSynthesizer",
+    "GraspVisualizer",
+    "HandDriver",
+    "Hangability",
+    "HangabilityDetector",
+    "Mode",
+    "PickAndCarry",
+    "PickStatus",
+    "Scanner",
+    "Verdict",
+    "WristLoad",
+    "no_scan",
+]
