@@ -481,6 +481,12 @@ def check_relations(scenario) -> None:
         if hasattr(scan, lo) and hasattr(scan, hi) and getattr(scan, lo) > getattr(scan, hi):
             raise FieldError(("scan", hi), f"must be >= scan.{lo} ({getattr(scan, lo):g}), got "
                                            f"{getattr(scan, hi):g}")
+    for name in ("distance", "distance_max", "first_look_distance"):
+        if hasattr(scan, name) and not scan.depth_min < getattr(scan, name) < scan.depth_max:
+            raise FieldError(("scan", name), f"must lie between scan.depth_min and "
+                                             f"scan.depth_max ({scan.depth_min:g}-"
+                                             f"{scan.depth_max:g} m), got {getattr(scan, name):g} "
+                                             "m: the camera would measure nothing there")
     if hasattr(scan, "first_look_scale") and scan.first_look_scale > min(scan.width,
                                                                          scan.height) // 8:
         raise FieldError(("scan", "first_look_scale"), "leaves first-look images smaller than "
@@ -660,6 +666,26 @@ def check_object(scenario) -> None:
         hint = f"did you mean {close[0]!r}? " if close else ""
         raise FieldError(("object", "name"), f"unknown object {obj.name!r} ({hint}known: "
                                              f"{', '.join(known)}; or give object.mesh)")
+    size = _named_extent(obj.name) * obj.scale
+    if not NAMED_SIZE[0] <= size <= NAMED_SIZE[1]:
+        raise FieldError(("object", "scale"), f"makes {obj.name} {size * 1000:.3g} mm across; "
+                                              f"objects of {NAMED_SIZE[0] * 100:g} cm to "
+                                              f"{NAMED_SIZE[1]:g} m can be simulated")
+
+
+#: Largest extent (m) a scaled named object may have.
+NAMED_SIZE = (0.01, 2.0)
+_EXTENTS: dict[str, float] = {}
+
+
+def _named_extent(name: str) -> float:
+    """Largest extent (m) of the object set's ``name`` at scale 1 (cached per process)."""
+    if name not in _EXTENTS:
+        from gbh_drake.objects import make_object
+
+        bounds = make_object(name).mesh.bounds
+        _EXTENTS[name] = float(np.max(bounds[1] - bounds[0]))
+    return _EXTENTS[name]
 
 
 def object_model_name(scenario) -> str:
@@ -883,13 +909,22 @@ def check_cameras(scenario, info: ModelInfo) -> None:
                     p + ("focal", axis), value)
             else:
                 Pos(unit="pixels").check(p + ("focal", axis), value)
-        renderer_class = c.renderer_class
-        if not isinstance(renderer_class, str):
-            renderer_class = type(renderer_class).__name__.removesuffix("Params")
+        params = None if isinstance(c.renderer_class, str) else c.renderer_class
+        renderer_class = c.renderer_class if params is None else \
+            type(params).__name__.removesuffix("Params")
         if renderer_class not in RENDERER_CLASSES:
             raise FieldError(p + ("renderer_class",),
                              f"must be '' or 'RenderEngineVtk' (got {renderer_class!r}: GL "
                              "needs a display, glTF-client a render server over the network)")
+        if params is not None:
+            backend = getattr(params, "backend", "")
+            if backend not in ("", "EGL"):
+                raise FieldError(p + ("renderer_class", "backend"),
+                                 f"must be '' or 'EGL' (got {backend!r}: GLX needs an X display)")
+            if c.renderer_name == "default":
+                raise FieldError(p + ("renderer_class",), "the renderer 'default' is the "
+                                 "station's own VTK renderer: give no renderer parameters for "
+                                 "it, or use another renderer_name")
         if not c.renderer_name:
             raise FieldError(p + ("renderer_name",), "must not be empty")
         renderers.add(c.renderer_name)
@@ -923,6 +958,10 @@ def check_start_state(scenario, info: ModelInfo) -> None:
     target = np.asarray(scenario.scan_target, float)
     base = np.asarray(info.arm_base_xy)
     _on_table(("scan_target",), "scan_target", target[:2], info)
+    if info.table_top is not None and not -0.05 <= target[2] - info.table_top[4] <= 0.5:
+        raise FieldError(("scan_target",), f"z = {target[2]:g} m is {target[2] - info.table_top[4]:.2f} "
+                                           "m from the table top; the scan looks for the object "
+                                           "on the table: give a point 0-0.5 m above it")
     if box is not None:
         lo, hi = box
         if scenario.object.random_pose is None and lo[2] < 0:
@@ -931,8 +970,13 @@ def check_start_state(scenario, info: ModelInfo) -> None:
         corners = [np.array([x, y]) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
         for corner in corners:
             _on_table(where, "the object", corner, info)
-            radius = getattr(scenario.scan, "object_search_radius",
-                             getattr(scenario.scan, "crop_half_size_xy", None))
+            half = getattr(scenario.scan, "crop_half_size_xy", None)
+            if half is not None and np.max(np.abs(corner - target[:2])) > half:
+                raise FieldError(where, f"the object at ({corner[0]:g}, {corner[1]:g}) m is "
+                                        f"outside the scan's workspace, scan_target +- "
+                                        f"scan.crop_half_size_xy ({half:g} m): the cameras "
+                                        "would not see it; move scan_target or the object")
+            radius = getattr(scenario.scan, "object_search_radius", None)
             if radius is not None:
                 d = float(np.linalg.norm(corner - target[:2]))
                 if d > radius:

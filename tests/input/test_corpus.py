@@ -87,3 +87,21 @@ def test_deep_block_nesting(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
     assert "nested deeper than 40 levels: not a scenario" in err
+
+
+def test_unreadable_file(tmp_path, capsys, monkeypatch):
+    """A file we may not read (root reads anything: the refusal is simulated)."""
+    import pathlib
+
+    path = tmp_path / "secret.yaml"
+    path.write_text("seed: 1\n")
+    real = pathlib.Path.read_bytes
+
+    def denied(self):
+        if self == path:
+            raise PermissionError(13, "Permission denied", str(self))
+        return real(self)
+    monkeypatch.setattr(pathlib.Path, "read_bytes", denied)
+    assert main(["run", str(path)]) == 2
+    assert capsys.readouterr().err == f"gbh: invalid scenario: {path}: cannot read the " \
+                                      "scenario file (Permission denied)\n"
