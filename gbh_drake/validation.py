@@ -832,9 +832,12 @@ def _model_info(directives) -> ModelInfo:
                      tuple(base.translation()[:2]) if base is not None else (0.0, 0.0))
 
 
-def _check_uri(path: Path_, uri: str, package_map, known: list[str], depth: int) -> None:
+def _check_uri(path: Path_, uri: str, package_map, known: list[str], depth: int,
+               stack: tuple[Path, ...] = ()) -> None:
     """A model file's URI: package:// of a local package or file:// (Drake's parser refuses
-    plain paths when directives come from text, and would download drake_models)."""
+    plain paths when directives come from text, and would download drake_models). Nested
+    directive files are followed: their URIs too, no loop (Drake would recurse until it
+    crashes), at most 8 deep."""
     match = _URI.match(uri.strip())
     if not match:
         raise FieldError(path, f"{uri!r} is not a package:// or file:// URI (e.g. "
@@ -857,10 +860,17 @@ def _check_uri(path: Path_, uri: str, package_map, known: list[str], depth: int)
         return
     if not local.is_file():
         raise FieldError(path, f"{uri!r}: file not found: {local}")
-    if depth < 4 and local.suffix in (".yaml", ".yml", ".dmd"):  # nested directives
-        text = local.read_text(errors="replace")
-        for nested in _URI.finditer(text):
-            _check_uri(path, nested.group(0), package_map, known, depth + 1)
+    if local.suffix not in (".yaml", ".yml", ".dmd"):
+        return
+    local = local.resolve()
+    if local in stack:
+        raise FieldError(path, f"directive files include each other in a loop through {local} "
+                               "(Drake would recurse until it crashes)")
+    if depth >= 8:
+        raise FieldError(path, f"directive files nested more than 8 deep (at {local})")
+    text = local.read_text(errors="replace")
+    for nested in _URI.finditer(text):
+        _check_uri(path, nested.group(0), package_map, known, depth + 1, stack + (local,))
 
 
 # ---- cameras -------------------------------------------------------------------------------

@@ -408,6 +408,14 @@ CASES: list[Case] = [
        "directives[4].add_model.file", 6, "unknown package 'furniture'"),
     _c("directives_missing_file", DIRECTIVES.replace("table.sdf", "no_such_table.sdf"),
        "directives[4].add_model.file", 6, "file not found"),
+    _c("directives_loop", DIRECTIVES + "- add_directives: {file: 'file://@DIR@/loop.dmd.yaml'}\n",
+       "directives[6].add_directives.file", 8, "include each other in a loop",
+       files={"loop.dmd.yaml": "directives:\n- add_directives: "
+                               "{file: 'file://@DIR@/loop.dmd.yaml'}\n"}),
+    _c("directives_nested_remote", DIRECTIVES + "- add_directives: {file: 'file://@DIR@/r.dmd.yaml'}\n",
+       "directives[6].add_directives.file", 8, "downloaded by Drake on first use",
+       files={"r.dmd.yaml": "directives:\n- add_model: {name: x, "
+                            "file: 'package://drake_models/x.sdf'}\n"}),
     _c("directives_bad_frame", DIRECTIVES.replace("table::table_top", "table::top"), "directives",
        1, "top"),
     _c("directives_model_clash", DIRECTIVES + "- add_model: {name: mug_classic, file: "

@@ -10,11 +10,14 @@ from gbh_drake.cli import main
 
 
 def _write_case(case: Case, folder):
+    """Writes the case's files into ``folder`` (``@DIR@`` in a text: that folder)."""
+    def data(content):
+        return content if isinstance(content, bytes) else \
+            content.replace("@DIR@", str(folder)).encode()
     for name, content in case.files.items():
-        target = folder / name
-        target.write_bytes(content if isinstance(content, bytes) else content.encode())
+        (folder / name).write_bytes(data(content))
     path = folder / "bad.yaml"
-    path.write_bytes(case.text if isinstance(case.text, bytes) else case.text.encode())
+    path.write_bytes(data(case.text))
     return path
 
 
