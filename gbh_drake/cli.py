@@ -4,6 +4,8 @@
     gbh diagram [SCENARIO.yaml]                        write the station's and the trial's diagrams
     gbh objects list                                   the object set: sizes, masses, hangable parts
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
+    gbh experiment EXPERIMENT.yaml [--workers N] [--ray ADDRESS]   objects x trials x methods (Table 1)
+    gbh report DIR                                     rebuild an experiment's tables and plot
 
 Exit codes: 0 done; 2 bad input (a scenario, mesh or output folder that cannot be used: one line
 ``gbh: <what>: <file>: <field> (line N): <problem>`` on stderr, see docs/errors.md); 130 after
@@ -24,6 +26,7 @@ import threading
 from pathlib import Path
 
 from gbh_drake import REPO_ROOT, SCENARIOS_DIR
+from gbh_drake.experiment import cli as experiment_cli
 
 DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
 
@@ -126,11 +129,14 @@ def main(argv: list[str] | None = None) -> int:
     p_obj = sub.add_parser("objects", help="the object set")
     p_obj.add_argument("action", choices=["list", "build"])
     p_obj.add_argument("--out", default=None, help="output folder of build (default models/objects)")
+    experiment_cli.add_subcommands(sub)  # gbh experiment, gbh report
 
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     if args.command == "objects":
         return _objects(args.action, args.out)
+    if args.command in experiment_cli.COMMANDS:
+        return experiment_cli.run_command(args)
     from gbh_drake.scenario import load_scenario
 
     scenario = load_scenario(args.scenario, overrides=args.overrides)

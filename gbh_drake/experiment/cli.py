@@ -1,0 +1,95 @@
+"""The ``gbh experiment`` and ``gbh report`` subcommands (wired into :mod:`gbh_drake.cli`).
+
+    gbh experiment EXPERIMENT.yaml [--workers N] [--ray ADDRESS] [--out DIR] [--set YAML]
+                                   [--no-progress]
+    gbh report DIR
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+#: The subcommands this module adds.
+COMMANDS = ("experiment", "report")
+
+
+def default_workers() -> int:
+    """This process's CPUs."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
+        (os.cpu_count() or 1)
+
+
+def add_subcommands(sub) -> None:
+    """Adds ``experiment`` and ``report`` to the ``gbh`` subparsers ``sub``."""
+    p = sub.add_parser("experiment", help="run objects x trials x methods (the paper's Table 1)",
+                       description="Runs the experiment's trials not yet in its folder (an "
+                                   "interrupted experiment resumes), then writes summary.md "
+                                   "and success.png.")
+    p.add_argument("experiment", help="experiment YAML file (e.g. "
+                                      "scenarios/experiment_small.yaml)")
+    p.add_argument("--workers", type=int, default=default_workers(),
+                   help="local worker processes, each one trial at a time (default: the "
+                        "CPUs, %(default)s); with --ray local: the local Ray's CPUs")
+    p.add_argument("--ray", default="", metavar="ADDRESS",
+                   help="run the trials as Ray tasks: 'local' (a Ray on this machine, "
+                        "loopback only), 'auto' (the cluster this machine is in) or a "
+                        "cluster's address")
+    p.add_argument("--out", default=None, help="the experiment's folder (default: its "
+                                               "output_dir, else output/<file stem>)")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
+                   help="YAML applied over the experiment file, e.g. --set 'trials: 1' (may be "
+                        "repeated: applied in order)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    p = sub.add_parser("report", help="rebuild an experiment's summary.md and success.png "
+                                      "from its rows")
+    p.add_argument("folder", help="the experiment's folder (holds trials.jsonl)")
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """Runs ``gbh experiment`` or ``gbh report``; returns the exit code."""
+    if args.command == "report":
+        return _report(Path(args.folder))
+    return _experiment(args)
+
+
+def _report(folder: Path) -> int:
+    from gbh_drake.experiment.report import read_input, table1, write_report
+    from gbh_drake.experiment.rows import ROWS_FILE
+
+    if not (folder / ROWS_FILE).is_file():
+        print(f"gbh: {folder}: no {ROWS_FILE} (not an experiment folder)", file=sys.stderr)
+        return 2
+    summary, plot = write_report(folder)
+    print("\n".join(table1(read_input(folder))))
+    print(f"wrote {summary} and {plot}")
+    return 0
+
+
+def _experiment(args: argparse.Namespace) -> int:
+    from gbh_drake.experiment.config import ExperimentError, load_experiment
+    from gbh_drake.experiment.report import read_input, table1
+    from gbh_drake.experiment.runner import run_experiment
+
+    if args.workers < 1:
+        print("gbh: --workers must be at least 1", file=sys.stderr)
+        return 2
+    try:
+        experiment = load_experiment(args.experiment, overrides=args.overrides)
+        result = run_experiment(experiment, out=Path(args.out) if args.out else None,
+                                workers=args.workers, ray_address=args.ray,
+                                progress=not args.no_progress)
+    except ExperimentError as e:
+        print(f"gbh: invalid experiment: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("gbh: interrupted; the finished trials are saved: run the same command to "
+              "resume", file=sys.stderr)
+        return 130
+    print("\n".join(table1(read_input(result.folder))))
+    print(f"{result.ran} trials run, {result.skipped} found done, in {result.wall / 60:.1f} min; "
+          f"wrote {result.folder / 'summary.md'}")
+    return 0

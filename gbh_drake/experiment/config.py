@@ -1,0 +1,346 @@
+"""The experiment file: objects x trials x methods over one base scenario.
+
+An experiment YAML (schema :class:`Experiment`, loaded with Drake's ``yaml_load_typed``: unknown
+or mistyped keys fail loudly)::
+
+    name: table1                     # optional; default: the file's stem
+    base: default.yaml               # the base scenario file (relative to this file)
+    base_overrides: {max_time: 60}   # YAML applied over the base for every method (optional)
+    objects: [mug_classic, kettle, ball]
+    trials: 5                        # trials per object and method
+    seed: 0                          # with (object, trial), seeds every trial
+    pose: {x: [0.45, 0.62], y: [-0.18, 0.18], yaw_deg: [-180, 180], stable: true}
+    methods:                         # default: the four below
+    - {name: gbh-10, paper: GbH 10 views,
+       overrides: {grasp_method: gbh, scan: {num_views: 10}, gbh: {d2: 0.0}}}
+    - ...
+    replays: failures                # failures | all | none
+    output_dir: ""                   # default: output/<file stem> under the working folder
+
+A method is a name and YAML overrides applied over the base scenario, exactly as ``gbh run
+--set`` applies its text (``yaml_load_typed`` with the base as ``defaults``): a user adds a
+method by adding an entry. ``overrides`` may be written as a mapping (as above, Drake's tags such
+as ``!Rpy`` included) or as YAML text.
+
+Each trial's scenario is the method's, with ``object.name``, ``object.random_pose`` (the
+experiment's ``pose``) and ``seed`` set; the seed is :func:`trial_seed` of (seed, object, trial)
+alone, so every method sees the same start pose, and a result depends neither on the order of
+the trials nor on which worker ran it.
+"""
+
+import copy
+import hashlib
+import subprocess
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
+
+from gbh_drake.config import RandomRestingPose
+from gbh_drake.experiment.report import PAPER_TABLE1
+from gbh_drake.experiment.task import TrialTask
+from gbh_drake.scenario import Scenario, ScenarioError, load_scenario, validate_scenario
+
+#: What ``replays`` may say: keep a Meshcat replay of every failed trial, of every trial, or none.
+REPLAY_MODES = ("failures", "all", "none")
+
+
+class ExperimentError(ValueError):
+    """An experiment file or folder is invalid; the message names the file and the field."""
+
+
+@dataclass
+class MethodConfig:
+    """One method of the experiment: a name and its overrides of the base scenario."""
+
+    name: str = ""
+    """The method's name in rows, tables and file names (e.g. ``gbh-10``)."""
+    overrides: str = ""
+    """YAML applied over the base scenario (``grasp_method``, ``scan.num_views``, ``gbh.d2``...).
+    In the file it may be a mapping; it is kept as text."""
+    paper: str = ""
+    """The row of the paper's Table 1 shown beside this method (a key of ``PAPER_TABLE1``:
+    ``GbH 10 views``, ``GbH 1 view``, ``GraspNet 1 view``), or empty."""
+
+
+def default_methods() -> list[MethodConfig]:
+    """The paper's three groups (our antipodal baseline in GraspNet's place) and GbH with the
+    antipodal fallback (the bar retracted; the paper's Sec. 4 proposal)."""
+    return [
+        MethodConfig("gbh-10", "{grasp_method: gbh, scan: {num_views: 10}, gbh: {d2: 0.0}}",
+                     "GbH 10 views"),
+        MethodConfig("gbh-1", "{grasp_method: gbh, scan: {num_views: 1}, gbh: {d2: 0.005}}",
+                     "GbH 1 view"),
+        MethodConfig("antipodal", "{grasp_method: antipodal, scan: {num_views: 1}}",
+                     "GraspNet 1 view"),
+        MethodConfig("gbh+fallback",
+                     "{grasp_method: gbh_fallback, scan: {num_views: 10}, gbh: {d2: 0.0}}"),
+    ]
+
+
+@dataclass
+class Experiment:
+    """Objects x trials x methods over a base scenario. Units as in the scenario (m, deg)."""
+
+    name: str = ""
+    """Shown in the reports; empty: the file's stem."""
+    base: str = ""
+    """The base scenario file (required), relative to the experiment file."""
+    base_overrides: str = ""
+    """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
+    objects: list[str] = field(default_factory=list)
+    """Names of objects of the set (``gbh objects list``), each once."""
+    trials: int = 5
+    """Trials per object and method."""
+    seed: int = 0
+    """With the object's name and the trial's index, seeds each trial (non-negative)."""
+    pose: RandomRestingPose = field(default_factory=RandomRestingPose)
+    """Where each trial's object starts: a random stable resting pose, a yaw and a position on
+    the reachable part of the table (``object.random_pose`` of the trial's scenario)."""
+    methods: list[MethodConfig] = field(default_factory=default_methods)
+    """The methods compared; every one runs every (object, trial)."""
+    replays: str = "failures"
+    """Meshcat replays kept: ``failures`` (every failed trial), ``all`` or ``none``."""
+    output_dir: str = ""
+    """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
+    under the working folder."""
+    source_path: str = ""
+    """Set by the loader: the experiment file itself (do not write it in YAML)."""
+
+    @property
+    def directory(self) -> Path:
+        return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
+
+    @property
+    def base_path(self) -> Path:
+        p = Path(self.base).expanduser()
+        return p if p.is_absolute() else self.directory / p
+
+    def output_path(self) -> Path:
+        if self.output_dir:
+            p = Path(self.output_dir).expanduser()
+            return p if p.is_absolute() else self.directory / p
+        stem = Path(self.source_path).stem if self.source_path else "experiment"
+        return Path.cwd() / "output" / stem
+
+    def method(self, name: str) -> MethodConfig:
+        return next(m for m in self.methods if m.name == name)
+
+
+def trial_seed(seed: int, object_name: str, trial: int) -> int:
+    """The scenario seed of trial ``trial`` of ``object_name``: numpy's ``SeedSequence`` over
+    (seed, a sha256 of the name, trial), so it does not depend on Python's per-process string
+    hash, on the method, nor on any other trial."""
+    name_key = int.from_bytes(hashlib.sha256(object_name.encode()).digest()[:8], "big")
+    state = np.random.SeedSequence([int(seed), name_key, int(trial)]).generate_state(
+        1, dtype=np.uint32)
+    return int(state[0])
+
+
+def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
+    """Loads and validates an experiment file; ``overrides`` is YAML applied over it (e.g.
+    ``trials: 1``), or a list of such texts applied in order. Raises :class:`ExperimentError`
+    naming the file and field."""
+    path = Path(filename)
+    if not path.is_file():
+        raise ExperimentError(f"{path}: experiment file not found")
+    experiment = _load_text(path.read_text(), str(path), Experiment())
+    for text in [overrides] if isinstance(overrides, str) else overrides:
+        if text:
+            experiment = _load_text(text, f"{path} (--set {text!r})", experiment)
+    experiment.source_path = str(path.resolve())
+    if not experiment.name:
+        experiment.name = path.stem
+    validate_experiment(experiment, str(path))
+    return experiment
+
+
+def _load_text(text: str, origin: str, defaults: Experiment) -> Experiment:
+    try:
+        text = _overrides_as_text(text)
+    except yaml.YAMLError as e:
+        raise ExperimentError(f"{origin}: not valid YAML: {e}") from e
+    try:
+        return yaml_load_typed(schema=Experiment, data=text or "{}", defaults=defaults)
+    except Exception as e:  # Drake names the unknown or mistyped key
+        raise ExperimentError(f"{origin}: {e}") from e
+
+
+def _overrides_as_text(text: str) -> str:
+    """``text`` with every ``overrides`` mapping (``base_overrides``, ``methods[i].overrides``)
+    turned into a string holding that mapping's YAML, tags kept."""
+    root = yaml.compose(text, Loader=yaml.SafeLoader)  # composing keeps Drake's tags as they are
+    if not isinstance(root, yaml.MappingNode):
+        return text
+    changed = False
+
+    def as_text(node):
+        nonlocal changed
+        if isinstance(node, yaml.MappingNode | yaml.SequenceNode):
+            changed = True
+            body = yaml.serialize(node, width=1 << 16).strip()
+            return yaml.ScalarNode("tag:yaml.org,2002:str", body, node.start_mark, node.end_mark)
+        return node
+
+    for i, (key, value) in enumerate(root.value):
+        if key.value == "base_overrides":
+            root.value[i] = (key, as_text(value))
+        elif key.value == "methods" and isinstance(value, yaml.SequenceNode):
+            for method in value.value:
+                if isinstance(method, yaml.MappingNode):
+                    method.value = [(k, as_text(v) if k.value == "overrides" else v)
+                                    for k, v in method.value]
+    return yaml.serialize(root) if changed else text
+
+
+def validate_experiment(experiment: Experiment, origin: str) -> None:
+    """Checks that the schema cannot express (the scenarios themselves are checked by
+    :func:`method_scenarios`). Raises :class:`ExperimentError`."""
+    from gbh_drake.objects import list_objects
+
+    def fail(field_path: str, message: str):
+        raise ExperimentError(f"{origin}: {field_path}: {message}")
+
+    if not experiment.objects:
+        fail("objects", "list at least one object of the set (gbh objects list)")
+    known = list_objects()
+    for i, name in enumerate(experiment.objects):
+        if name not in known:
+            fail(f"objects[{i}]", f"unknown object {name!r} (known: {', '.join(known)})")
+        if experiment.objects.index(name) != i:
+            fail(f"objects[{i}]", f"{name!r} is listed twice")
+    if experiment.trials < 1:
+        fail("trials", f"must be at least 1, got {experiment.trials}")
+    if experiment.seed < 0:
+        fail("seed", f"must be >= 0, got {experiment.seed}")
+    if not experiment.methods:
+        fail("methods", "give at least one method")
+    names = [m.name for m in experiment.methods]
+    for i, m in enumerate(experiment.methods):
+        if not m.name or any(c in m.name for c in "/\\ \t"):
+            fail(f"methods[{i}].name", f"a non-empty name without spaces or slashes, got "
+                                       f"{m.name!r}")
+        if names.index(m.name) != i:
+            fail(f"methods[{i}].name", f"{m.name!r} is used twice")
+        if m.paper and m.paper not in PAPER_TABLE1:
+            fail(f"methods[{i}].paper", f"one of {', '.join(PAPER_TABLE1)}, got {m.paper!r}")
+    pose = experiment.pose
+    for name in ("x", "y", "yaw_deg"):
+        values = getattr(pose, name)
+        if len(values) != 2 or values[0] > values[1]:
+            fail(f"pose.{name}", f"needs [min, max], got {values}")
+    if experiment.replays not in REPLAY_MODES:
+        fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
+    if not experiment.base:
+        fail("base", "give the base scenario file (e.g. default.yaml)")
+    if not experiment.base_path.is_file():
+        fail("base", f"scenario file not found: {experiment.base_path}")
+
+
+def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
+    """Each method's scenario: the base file, ``base_overrides``, the method's overrides, the
+    experiment's pose distribution, validated with the first object. Raises
+    :class:`ExperimentError` naming the method."""
+    origin = experiment.source_path or "<experiment>"
+    try:
+        base = load_scenario(experiment.base_path, overrides=experiment.base_overrides)
+    except ScenarioError as e:
+        raise ExperimentError(f"{origin}: base: {e}") from e
+    scenarios = {}
+    for i, method in enumerate(experiment.methods):
+        where = f"{origin}: methods[{i}] ({method.name}).overrides"
+        scenario = copy.deepcopy(base)
+        if method.overrides:
+            try:
+                scenario = yaml_load_typed(schema=Scenario, data=method.overrides,
+                                           defaults=scenario)
+            except Exception as e:  # Drake names the unknown or mistyped key
+                raise ExperimentError(f"{where}: {e}") from e
+        scenario.source_path = base.source_path
+        scenario.output_dir = ""
+        _set_trial(scenario, experiment, experiment.objects[0], 0)
+        try:
+            validate_scenario(scenario, where)
+        except ScenarioError as e:
+            raise ExperimentError(str(e)) from e
+        if scenario.task != "pick":
+            raise ExperimentError(f"{where}: task: an experiment picks (task: pick), got "
+                                  f"{scenario.task!r}")
+        scenarios[method.name] = scenario
+    return scenarios
+
+
+def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int) -> int:
+    """Makes ``scenario`` the one of (object, trial): name, random pose and seed."""
+    scenario.object.name = object_name
+    scenario.object.mesh = ""
+    scenario.object.random_pose = copy.deepcopy(experiment.pose)
+    scenario.seed = trial_seed(experiment.seed, object_name, trial)
+    return scenario.seed
+
+
+def trial_scenario_yaml(scenario: Scenario) -> str:
+    """The YAML of a trial's scenario, as a user would write it: without the fields that say
+    where files are (so the same trial has the same digest wherever the experiment lives), and
+    without ``object.pose`` when ``object.random_pose`` replaces it."""
+    scenario = copy.copy(scenario)
+    scenario.source_path = ""
+    scenario.output_dir = ""
+    text = yaml_dump_typed(scenario)
+    if scenario.object.random_pose is None:
+        return text
+    root = yaml.compose(text, Loader=yaml.SafeLoader)
+    for key, value in root.value:
+        if key.value == "object":
+            value.value = [(k, v) for k, v in value.value if k.value != "pose"]
+    return yaml.serialize(root, width=1 << 16)
+
+
+def make_tasks(experiment: Experiment, *, commit: str = "",
+               scenarios: dict[str, Scenario] | None = None) -> list[TrialTask]:
+    """Every trial of ``experiment``, trial-major (all objects' first trials, by every method,
+    come first, so an interrupted experiment has a little of everything). ``scenarios``: the
+    methods' (default: :func:`method_scenarios`)."""
+    from gbh_drake.objects import make_object
+
+    scenarios = scenarios or method_scenarios(experiment)
+    controls = {name: bool(make_object(name).is_control) for name in experiment.objects}
+    tasks = []
+    for trial in range(experiment.trials):
+        for name in experiment.objects:
+            for method in experiment.methods:
+                scenario = copy.deepcopy(scenarios[method.name])
+                seed = _set_trial(scenario, experiment, name, trial)
+                text = trial_scenario_yaml(scenario)
+                tasks.append(TrialTask(
+                    experiment=experiment.name, object=name, is_control=controls[name],
+                    method=method.name, trial=trial, seed=seed, scenario_yaml=text,
+                    source_path=scenarios[method.name].source_path,
+                    digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
+                    replays=experiment.replays))
+    return tasks
+
+
+def experiment_yaml(experiment: Experiment) -> str:
+    """The resolved experiment as YAML (written into its folder; ``gbh report`` reads it)."""
+    experiment = copy.copy(experiment)
+    experiment.source_path = ""
+    return yaml_dump_typed(experiment)
+
+
+def git_commit(repo: Path | None = None) -> str:
+    """``HEAD``'s hash, ``-dirty`` when tracked files differ from it; empty outside git."""
+    from gbh_drake import REPO_ROOT
+
+    repo = repo or REPO_ROOT
+    try:
+        head = subprocess.run(["git", "-C", str(repo), "rev-parse", "HEAD"], check=True,
+                              capture_output=True, text=True, timeout=10).stdout.strip()
+        status = subprocess.run(["git", "-C", str(repo), "status", "--porcelain",
+                                 "--untracked-files=no"], check=True, capture_output=True,
+                                text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return head + ("-dirty" if status else "")

@@ -1,0 +1,195 @@
+"""Runs an experiment into its folder: resume, run the remaining trials, write rows and reports.
+
+The steps of :func:`run_experiment`: list every trial (:func:`~gbh_drake.experiment.config.
+make_tasks`), read the rows already in the folder and skip their trials, run the others on the
+chosen engine (local worker processes or Ray) under a progress bar, append each row as it arrives
+(and its replay when it failed), then sort the rows and write ``summary.md`` and ``success.png``.
+
+The folder::
+
+    trials.jsonl          one row per trial (see gbh_drake.experiment.rows)
+    summary.md            Table 1 beside the paper's, per object, failures, timings
+    success.png           success rate per object and method
+    experiment.yaml       the resolved experiment (gbh report reads it)
+    scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
+    replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial
+    runs.jsonl            when each run started, on what, how long it took
+"""
+
+from __future__ import annotations
+
+import datetime
+import fcntl
+import json
+import os
+import re
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from gbh_drake.experiment.config import (
+    Experiment,
+    ExperimentError,
+    experiment_yaml,
+    git_commit,
+    make_tasks,
+    method_scenarios,
+    trial_scenario_yaml,
+)
+from gbh_drake.experiment.engines import local_results, ray_results
+from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, write_report
+from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key, write_atomically
+
+
+@dataclass
+class ExperimentRun:
+    """What one call of :func:`run_experiment` did."""
+
+    folder: Path
+    total: int
+    """Trials of the experiment."""
+    skipped: int
+    """Trials found finished in the folder (not redone)."""
+    ran: int
+    """Trials run now."""
+    wall: float
+    """Seconds this run took."""
+
+    @property
+    def complete(self) -> bool:
+        return self.skipped + self.ran == self.total
+
+
+def replay_name(row: dict) -> str:
+    """``<object>__<method>__<trial>.html`` with anything unusual in a name made ``_``."""
+    def safe(s) -> str:
+        return re.sub(r"[^A-Za-z0-9._+-]", "_", str(s))
+
+    return f"{safe(row['object'])}__{safe(row['method'])}__{int(row['trial'])}.html"
+
+
+def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: int = 1,
+                   ray_address: str = "", progress: bool = True, log=print) -> ExperimentRun:
+    """Runs the trials of ``experiment`` not yet in its folder (``out`` or its ``output_dir``);
+    see the module docstring. ``workers``: local worker processes (or the CPUs of a ``local``
+    Ray); ``ray_address``: run on Ray instead (``local``, ``auto`` or a cluster's address).
+    Raises :class:`ExperimentError` when the folder holds rows of other scenarios."""
+    start = time.perf_counter()
+    folder = Path(out) if out else experiment.output_path()
+    folder.mkdir(parents=True, exist_ok=True)
+    with _folder_lock(folder):
+        scenarios = method_scenarios(experiment)
+        tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
+        store = RowStore(folder)
+        done = _finished(store, tasks)
+        pending = [t for t in tasks if t.key not in done]
+        _write_definition(folder, experiment, scenarios)
+        engine = (f"Ray ({ray_address}" + (f", {workers} CPUs)" if ray_address == "local"
+                                           else ")")) if ray_address else \
+            f"{workers} local worker{'s' if workers != 1 else ''}"
+        log(f"{experiment.name}: {len(tasks)} trials ({len(experiment.objects)} objects x "
+            f"{experiment.trials} trials x {len(experiment.methods)} methods) in {folder}; "
+            f"{len(done)} done before, {len(pending)} to run on {engine}")
+        results = ray_results(pending, ray_address, workers=workers, log=log) if ray_address \
+            else local_results(pending, workers)
+        started = datetime.datetime.now().isoformat(timespec="seconds")
+        ran, interrupted = 0, True
+        bar = _progress_bar(len(pending), experiment.name, enabled=progress)
+        try:
+            for result in results:
+                row = result.row
+                if result.replay_html is not None:
+                    name = replay_name(row)
+                    (folder / "replays").mkdir(exist_ok=True)
+                    write_atomically(folder / "replays" / name, result.replay_html)
+                    row["replay"] = f"replays/{name}"
+                store.append(row)
+                done[row_key(row)] = row
+                ran += 1
+                bar.set_postfix_str(f"{sum(bool(r['success']) for r in done.values())}/"
+                                    f"{len(done)} succeeded", refresh=False)
+                bar.update(1)
+            interrupted = False
+        finally:
+            bar.close()
+            wall = time.perf_counter() - start
+            if ran or interrupted:
+                _log_run(folder, started=started, wall=wall, trials=ran, engine=engine,
+                         interrupted=interrupted)
+            if not interrupted and len(done) == len(tasks):
+                _sort_rows(store, experiment)
+            write_report(folder)
+    return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
+
+
+def _finished(store: RowStore, tasks) -> dict:
+    """The rows already in the folder that are trials of ``tasks``, by key. Raises
+    :class:`ExperimentError` if one was made with another scenario than its task's."""
+    by_key = {t.key: t for t in tasks}
+    done, stale = {}, []
+    for row in store.load(repair=True):
+        task = by_key.get(row_key(row))
+        if task is None:
+            continue  # not a trial of this experiment: kept in the file, left out of reports
+        if row.get("scenario_digest") != task.digest:
+            stale.append(row_key(row))
+        else:
+            done[task.key] = row
+    if stale:
+        raise ExperimentError(
+            f"{store.path}: {len(stale)} rows were made with other scenarios than this "
+            f"experiment's (its base, method overrides, pose or seed changed since), e.g. "
+            f"{stale[0]}; write to another folder (--out), or move {ROWS_FILE} away to start "
+            "over")
+    return done
+
+
+def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> None:
+    """``experiment.yaml`` and each method's scenario, for reports and reruns."""
+    write_atomically(folder / EXPERIMENT_FILE, experiment_yaml(experiment))
+    (folder / "scenarios").mkdir(exist_ok=True)
+    for name, scenario in scenarios.items():
+        write_atomically(folder / "scenarios" / f"{name}.yaml", trial_scenario_yaml(scenario))
+
+
+def _sort_rows(store: RowStore, experiment: Experiment) -> None:
+    """Rewrites the rows in report order (object, method, trial), one per trial."""
+    rows = {row_key(r): r for r in store.load()}
+    key = sort_key(experiment.objects, [m.name for m in experiment.methods])
+    store.rewrite(sorted(rows.values(), key=key))
+
+
+def _log_run(folder: Path, **fields) -> None:
+    with open(folder / RUNS_FILE, "a") as f:
+        f.write(json.dumps(fields, sort_keys=True) + "\n")
+
+
+def _progress_bar(total: int, name: str, *, enabled: bool):
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=name, unit="trial", disable=not enabled or total == 0,
+                dynamic_ncols=True, smoothing=0.1)
+
+
+class _folder_lock:
+    """An exclusive lock on the folder: two experiments never append to the same rows."""
+
+    def __init__(self, folder: Path):
+        self.path = folder / ".lock"
+
+    def __enter__(self):
+        self.file = open(self.path, "w")  # noqa: SIM115 (held until __exit__)
+        try:
+            fcntl.flock(self.file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError as e:
+            self.file.close()
+            raise ExperimentError(f"{self.path.parent}: another gbh experiment is writing "
+                                  "there") from e
+        self.file.write(str(os.getpid()))
+        self.file.flush()
+        return self
+
+    def __exit__(self, *exc):
+        fcntl.flock(self.file, fcntl.LOCK_UN)
+        self.file.close()
+        return False

@@ -1,0 +1,53 @@
+"""What a worker needs to run one trial, and what it sends back: plain data, no pydrake.
+
+Kept free of heavy imports: a worker process (or a Ray worker) unpickles a :class:`TrialTask`
+before it runs the first trial, and it must not load OpenMP libraries before it has set its
+thread count (see :mod:`gbh_drake.experiment.worker`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class TrialTask:
+    """One trial: an object at one random resting pose, picked by one method."""
+
+    experiment: str
+    """The experiment's name (rows carry it)."""
+    object: str
+    """Name of the object in the object set."""
+    is_control: bool
+    """The object has nothing hangable (a control)."""
+    method: str
+    """The method's name in the experiment (``gbh-10``...)."""
+    trial: int
+    """0-based trial index of this object."""
+    seed: int
+    """The scenario's seed, from (experiment seed, object, trial) alone: the same for every
+    method, so every method sees the same start pose."""
+    scenario_yaml: str
+    """The whole scenario of the trial (``yaml_dump_typed``): base, method overrides, object,
+    random pose and seed."""
+    source_path: str
+    """The base scenario file (relative paths in the scenario resolve against it)."""
+    digest: str
+    """sha256 of ``scenario_yaml``: a finished row counts on resume only if it matches."""
+    commit: str
+    """The git commit the experiment runs (``-dirty`` when tracked files had changes)."""
+    replays: str
+    """``failures``: record the trial in Meshcat and send back its replay if it fails;
+    ``all``: whatever its outcome; ``none``: do not record."""
+
+    @property
+    def key(self) -> tuple[str, str, int]:
+        return (self.object, self.method, self.trial)
+
+
+@dataclass
+class TrialResult:
+    """A worker's answer: the row (JSON-ready) and the replay's HTML (failed trials only)."""
+
+    row: dict
+    replay_html: str | None = None

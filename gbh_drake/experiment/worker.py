@@ -1,0 +1,141 @@
+"""One trial in a worker process: build the trial diagram, simulate it, make its row.
+
+A worker process (local or a Ray worker) runs one trial at a time and keeps its imported modules
+and one Meshcat server across trials. Trials run single-threaded (``OMP_NUM_THREADS=1``, set
+before the first heavy import): the experiment's parallelism is across trials, and a fixed thread
+count keeps every row the same whatever the number of workers or the engine.
+
+This module imports nothing heavy at its top (see :mod:`gbh_drake.experiment.task`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import signal
+import socket
+import sys
+import time
+import traceback
+
+from gbh_drake.experiment.task import TrialResult, TrialTask
+
+#: Row fields that are measurements of this run, not results: they differ between runs and are
+#: left out when rows are compared (:func:`gbh_drake.experiment.rows.comparable`).
+TIMING_FIELDS = ("stage_times", "worker")
+
+_meshcat = None
+_worker_process = False
+
+
+def set_single_threaded() -> None:
+    """Makes this process a trial worker: one OpenMP thread per trial (call it before open3d or
+    pydrake are imported: the pool's initializer, the first task of a Ray worker), Drake's INFO
+    messages silenced (they would break the progress bar), Ctrl-C left to the parent."""
+    global _worker_process
+    _worker_process = True
+    os.environ["OMP_NUM_THREADS"] = "1"
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's: it ends the workers
+
+
+def _local_meshcat():
+    """This process's Meshcat (loopback only), created at the first trial and reused."""
+    global _meshcat
+    if _meshcat is None:
+        from gbh_drake.viz.meshcat_server import local_meshcat
+
+        _meshcat = local_meshcat()
+    return _meshcat
+
+
+def run_trial_task(task: TrialTask) -> TrialResult:
+    """Runs ``task`` and returns its row (and its replay's HTML when it failed and replays are
+    kept). An exception in the pipeline becomes a row with outcome ``error`` (and the traceback),
+    so that one broken trial does not stop the experiment."""
+    if "pydrake" not in sys.modules:  # a fresh Ray worker
+        set_single_threaded()
+    start = time.perf_counter()
+    try:
+        return _run(task, start)
+    except Exception as e:  # a bug in the pipeline: recorded, not fatal
+        row = _base_row(task)
+        row.update(outcome="error", success=False, reason=f"{type(e).__name__}: {e}",
+                   traceback=traceback.format_exc(),
+                   stage_times={"total": time.perf_counter() - start})
+        return TrialResult(plain(row))
+
+
+def _run(task: TrialTask, start: float) -> TrialResult:
+    from pydrake.common.yaml import yaml_load_typed
+
+    from gbh_drake.scenario import Scenario
+    from gbh_drake.trial import build_trial, simulate_trial
+
+    if _worker_process:  # (pydrake's import sets the level: set it after)
+        logging.getLogger("drake").setLevel(logging.WARNING)
+    scenario = yaml_load_typed(schema=Scenario, data=task.scenario_yaml)
+    scenario.source_path = task.source_path
+    meshcat = _local_meshcat() if task.replays != "none" else None
+    if meshcat is not None:  # a clean scene for this trial
+        meshcat.Delete()
+        meshcat.DeleteRecording()
+        meshcat.DeleteAddedControls()
+    trial = build_trial(scenario, meshcat=meshcat)
+    built = time.perf_counter()
+    if meshcat is not None:
+        meshcat.SetCameraPose(camera_in_world=[1.3, -1.0, 0.8],
+                              target_in_world=[0.45, 0.0, 0.15])
+        meshcat.StartRecording(frames_per_second=scenario.replay_fps)
+    _, record = simulate_trial(trial, max_time=scenario.max_time)
+    simulated = time.perf_counter()
+    html = None
+    if meshcat is not None:
+        meshcat.StopRecording()
+        if not record.success or task.replays == "all":
+            meshcat.PublishRecording()
+            html = meshcat.StaticHtml()
+        meshcat.DeleteRecording()
+    done = time.perf_counter()
+    row = _base_row(task)
+    row.update(
+        grasp_method=record.method, viewpoints=record.num_views, pose=record.pose,
+        outcome=record.outcome, success=bool(record.success), reason=record.reason,
+        held_by=record.held_by, grasp_kind=record.grasp_kind, grasp_score=record.grasp_score,
+        grasp_rank=record.grasp_rank, fallback=bool(record.fallback),
+        refusals=dict(record.refusals),
+        stage_times={"build": built - start, "scan": record.timings.get("scan", 0.0),
+                     "grasps": record.timings.get("grasps", 0.0),
+                     "plan": record.timings.get("plan", 0.0),
+                     "simulate": simulated - built, "replay": done - simulated,
+                     "total": done - start},
+        record=record.to_dict(),
+    )
+    return TrialResult(plain(row), html)
+
+
+def _base_row(task: TrialTask) -> dict:
+    """The fields every row has, also an ``error`` row."""
+    return {
+        "experiment": task.experiment, "object": task.object, "is_control": task.is_control,
+        "method": task.method, "trial": task.trial, "seed": task.seed,
+        "grasp_method": "", "viewpoints": 0, "pose": [], "outcome": "", "success": False,
+        "reason": "", "held_by": "", "grasp_kind": "", "grasp_score": None, "grasp_rank": -1,
+        "fallback": False, "refusals": {}, "replay": "", "commit": task.commit,
+        "scenario_digest": task.digest, "worker": f"{socket.gethostname()}:{os.getpid()}",
+        "stage_times": {}, "record": {},
+    }
+
+
+def plain(value):
+    """``value`` made JSON-ready: numpy scalars as Python numbers, tuples as lists, NaN and
+    infinities as None."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [plain(v) for v in value]
+    if hasattr(value, "item") and not isinstance(value, str | bytes):  # numpy scalar
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

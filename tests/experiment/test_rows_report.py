@@ -1,0 +1,151 @@
+"""Rows (append, resume after a cut write, compare timing aside) and the reports made from them
+(Table 1 beside the paper's, controls apart, per object, failures, the plot), on made-up rows."""
+
+import json
+import random
+
+import pytest
+from PIL import Image
+
+from gbh_drake.cli import main
+from gbh_drake.experiment.config import Experiment, MethodConfig, experiment_yaml
+from gbh_drake.experiment.report import read_input, summary_markdown, write_report
+from gbh_drake.experiment.rows import RowStore, comparable, row_key
+from gbh_drake.experiment.task import TrialTask
+from gbh_drake.experiment.worker import run_trial_task
+
+METHODS = [MethodConfig("gbh-10", "{grasp_method: gbh}", "GbH 10 views"),
+           MethodConfig("antipodal", "{grasp_method: antipodal}", "GraspNet 1 view")]
+
+
+def make_row(obj, method, trial, outcome="success", *, control=False, held_by="cage",
+             refusals=None, total=10.0):
+    success = outcome == "success"
+    return {
+        "experiment": "made_up", "object": obj, "is_control": control, "method": method,
+        "trial": trial, "seed": 1000 + trial, "grasp_method": method.split("-")[0],
+        "viewpoints": 10 if method == "gbh-10" else 1, "pose": [0.5, 0.0, 0.01, 0, 0, 1.0],
+        "outcome": outcome, "success": success, "reason": f"{outcome} | because",
+        "held_by": held_by if success else "", "grasp_kind": "vertical", "grasp_score": 0.5,
+        "grasp_rank": 0, "fallback": False, "refusals": refusals or {},
+        "replay": "" if success else f"replays/{obj}__{method}__{trial}.html",
+        "commit": "abc123", "scenario_digest": "d", "worker": "host:1",
+        "stage_times": {"build": 1.0, "scan": 2.0, "plan": 1.0, "simulate": 6.0,
+                        "total": total},
+        "record": {"object": obj, "timings": {"scan": 2.0}, "sim_time": 20.0},
+    }
+
+
+@pytest.fixture
+def made_up(tmp_path):
+    """An experiment folder: 2 objects with handles and a control, 2 trials, 2 methods."""
+    experiment = Experiment(name="made_up", objects=["mug_classic", "kettle", "box"], trials=2,
+                            methods=METHODS)
+    (tmp_path / "experiment.yaml").write_text(experiment_yaml(experiment))
+    rows = [
+        make_row("mug_classic", "gbh-10", 0), make_row("mug_classic", "gbh-10", 1,
+                                                         held_by="pinch"),
+        make_row("kettle", "gbh-10", 0),
+        make_row("kettle", "gbh-10", 1, "dropped_during_carry", refusals={"ik:lift": 2}),
+        make_row("mug_classic", "antipodal", 0, "not_lifted"),
+        make_row("mug_classic", "antipodal", 1, "no_reachable_grasp",
+                 refusals={"ik:lift": 1, "planner:transfer": 3}),
+        make_row("kettle", "antipodal", 0), make_row("kettle", "antipodal", 1, "not_lifted"),
+        make_row("box", "gbh-10", 0, "no_hangable_structure", control=True),
+        make_row("box", "gbh-10", 1, "no_hangable_structure", control=True),
+        make_row("box", "antipodal", 0, control=True), make_row("box", "antipodal", 1,
+                                                              "not_lifted", control=True),
+    ]
+    store = RowStore(tmp_path)
+    for r in random.Random(3).sample(rows, len(rows)):  # in the order trials finished
+        store.append(r)
+    return tmp_path, rows
+
+
+def test_rows_append_and_survive_a_cut_write(tmp_path):
+    store = RowStore(tmp_path)
+    rows = [make_row("box", "gbh-10", t) for t in range(3)]
+    for r in rows:
+        store.append(r)
+    assert store.load() == rows
+    with open(store.path, "a") as f:  # interrupted in the middle of a row
+        f.write(json.dumps(make_row("box", "gbh-10", 3))[:50])
+    assert store.load() == rows
+    store.load(repair=True)
+    store.append(rows[0])
+    assert store.load() == [*rows, rows[0]]
+    store.path.write_text(store.path.read_text().replace('"trial": 1', '"trial": 1,,'))
+    with pytest.raises(ValueError, match="line 2"):
+        store.load()
+
+
+def test_comparable_leaves_out_timing_only():
+    a, b = make_row("box", "gbh-10", 0, total=10.0), make_row("box", "gbh-10", 0, total=99.0)
+    b["worker"], b["record"]["timings"] = "elsewhere:7", {"scan": 5.0}
+    assert a != b and comparable(a) == comparable(b)
+    b["pose"][0] = 0.6
+    assert comparable(a) != comparable(b)
+
+
+def test_summary(made_up):
+    folder, _ = made_up
+    summary_path, plot_path = write_report(folder)
+    text = summary_path.read_text()
+    table = text.split("## Table 1")[1].split("##")[0]
+    # hangable objects only: gbh-10 3 of 4 (2 cage, 1 pinch); antipodal 1 of 4 (cage)
+    assert "| gbh-10 | 10 | 4 | 3 | 1 | 75.0 % | 2 | 1 | GbH 10 views: 68/75 = 90.7 % |" in table
+    assert "| antipodal | 1 | 4 | 1 | 3 | 25.0 % | 1 | 0 | GraspNet 1 view: 23/75 = 30.7 % |" \
+        in table
+    controls = text.split("## Controls")[1].split("##")[0]
+    assert "| gbh-10 | 2 | 0 | no_hangable_structure x2 |" in controls
+    assert "| antipodal | 2 | 1 | not_lifted x1, success x1 |" in controls
+    per_object = text.split("## Per object")[1].split("##")[0]
+    assert "| mug_classic | 2/2 | 0/2 |" in per_object and "| box (control) | 0/2 | 1/2 |" \
+        in per_object
+    outcomes = text.split("## Failures by outcome")[1].split("##")[0]
+    assert "| not_lifted | 0 | 2 |" in outcomes and "| dropped_during_carry | 1 | 0 |" in outcomes
+    refused = text.split("## Grasps refused")[1].split("##")[0]
+    assert "| planner:transfer | 0 | 3 |" in refused and "| ik:lift | 2 | 1 |" in refused
+    failed = text.split("## Failed trials")[1].split("##")[0]
+    assert failed.count("[replay](replays/") == 4  # the controls' failures are not listed
+    assert "not_lifted / because" in failed  # a pipe in a reason does not break the table
+    assert "4 of 12" not in text and "12 of 12 trials done" in text
+    image = Image.open(plot_path)
+    assert image.format == "PNG" and image.size[0] >= 600
+
+
+def test_report_does_not_depend_on_the_order_rows_finished(made_up):
+    folder, rows = made_up
+    first = summary_markdown(read_input(folder))
+    RowStore(folder).rewrite(list(reversed(rows)))
+    assert summary_markdown(read_input(folder)) == first
+    assert [row_key(r) for r in read_input(folder).rows][:3] == [
+        ("mug_classic", "gbh-10", 0), ("mug_classic", "gbh-10", 1),
+        ("mug_classic", "antipodal", 0)]
+
+
+def test_incomplete_experiment_says_so(made_up):
+    folder, rows = made_up
+    RowStore(folder).rewrite(rows[:5])
+    text = summary_markdown(read_input(folder))
+    assert "5 of 12 trials done" in text and "**Incomplete**" in text
+
+
+def test_gbh_report_command(made_up, capsys):
+    folder, _ = made_up
+    (folder / "experiment.yaml").unlink()  # the rows alone are enough
+    assert main(["report", str(folder)]) == 0
+    out = capsys.readouterr().out
+    assert "| Method | Viewpoints | Total | Success | Fail | Rate |" in out
+    assert (folder / "summary.md").is_file() and (folder / "success.png").is_file()
+    assert main(["report", str(folder / "nowhere")]) == 2
+
+
+def test_a_broken_trial_is_a_row_not_a_crash():
+    task = TrialTask(experiment="e", object="box", is_control=True, method="m", trial=0,
+                     seed=1, scenario_yaml="not_a_field: 1\n", source_path="", digest="d",
+                     commit="c", replays="none")
+    row = run_trial_task(task).row
+    assert row["outcome"] == "error" and not row["success"]
+    assert "not_a_field" in row["reason"] and "Traceback" in row["traceback"]
+    assert row_key(row) == ("box", "m", 0) and row["scenario_digest"] == "d"
