@@ -275,9 +275,10 @@ class PickAndCarry(LeafSystem):
     def _after_insert(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
         g = HOOK_GRIPPER
-        q_stop = 0.5 * g.rod_width  # beyond the loop's closure: the bar's tip or the material stops
-        duration = (g.q_open - (g.q_closed if plan.kind != ANTIPODAL else q_stop)) / \
-            self._hand.speed
+        # Hooks: close to the loop's closure (q_closed), squeezing with the force whatever stops
+        # the fingers first; pinches: until the rods touch (the material stops them first).
+        q_stop = g.q_closed if plan.kind != ANTIPODAL else 0.5 * g.rod_width
+        duration = (g.q_open - q_stop) / self._hand.speed
         s.command[:2] = [q_stop, self._hand.force]
         arm = linear_move(plan.q["grasp"], plan.q["closed"], t, duration)
         self._enter(s, Mode.CLOSE, t, arm=arm, until=t + duration + 0.3)

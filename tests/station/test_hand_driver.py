@@ -11,12 +11,12 @@ from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
 
 
-def _close(scenario, force: float, bar: float, t_end: float):
+def _close(scenario, q_target: float, force: float, bar: float, t_end: float):
     station = make_station(scenario)
     builder = DiagramBuilder()
     builder.AddSystem(station)
     hold = builder.AddSystem(ConstantVectorSource(np.concatenate([station.q_home, np.zeros(7)])))
-    command = builder.AddSystem(ConstantVectorSource([0.0, force, bar]))
+    command = builder.AddSystem(ConstantVectorSource([q_target, force, bar]))
     builder.Connect(hold.get_output_port(), station.GetInputPort("panda.desired_state"))
     builder.Connect(command.get_output_port(), station.GetInputPort("hook_gripper.command"))
     simulator = Simulator(builder.Build())
@@ -31,17 +31,21 @@ def _close(scenario, force: float, bar: float, t_end: float):
 
 @pytest.mark.parametrize("force", [70.0, 20.0])
 def test_fingers_close_at_speed_then_squeeze_with_the_force(scenario, force):
-    (x_early, _), (x_end, u_end) = _close(scenario, force, BAR_DEPLOYED, 1.0)
+    """Bar folded, nothing between the rods: they close at the hand's speed until they touch,
+    then squeeze each other with the commanded force."""
+    (x_early, _), (x_end, u_end) = _close(scenario, 0.0, force, BAR_RETRACTED, 1.2)
     speed = scenario.robot.hand.speed
     # 0.2 s in, each finger has moved about 0.2 s x 5 cm/s (Franka's finger speed).
     np.testing.assert_allclose(x_early[:2], HOOK_GRIPPER.q_open - 0.2 * speed, atol=2e-3)
-    # The bar's tip stops on the straight rod: the loop is closed, squeezed with the force.
-    # (The compliant contact between bar and rod gives about 1 mm per finger at 70 N.)
-    np.testing.assert_allclose(x_end[:2], HOOK_GRIPPER.q_closed, atol=1.5e-3)
+    np.testing.assert_allclose(x_end[:2], 0.5 * HOOK_GRIPPER.rod_width, atol=1.5e-3)
+    assert x_end[2] == pytest.approx(BAR_RETRACTED, abs=0.05)
     np.testing.assert_allclose(-u_end[:2], force, rtol=0.1)
 
 
-def test_with_the_bar_folded_the_rods_close_on_each_other(scenario):
-    _, (x_end, _) = _close(scenario, 40.0, BAR_RETRACTED, 1.2)
-    assert x_end[2] == pytest.approx(BAR_RETRACTED, abs=0.05)
-    np.testing.assert_allclose(x_end[:2], 0.5 * HOOK_GRIPPER.rod_width, atol=1e-3)
+def test_the_hook_closes_its_loop_at_the_width_command(scenario):
+    """Bar out, width command q_closed: the fingers stop where the bar's tip meets the
+    straight rod (the loop is closed), pushing nothing."""
+    _, (x_end, u_end) = _close(scenario, HOOK_GRIPPER.q_closed, 70.0, BAR_DEPLOYED, 1.0)
+    np.testing.assert_allclose(x_end[:2], HOOK_GRIPPER.q_closed, atol=2e-4)
+    assert x_end[2] == pytest.approx(BAR_DEPLOYED, abs=0.02)
+    assert np.all(np.abs(u_end[:2]) < 2.0)
