@@ -364,6 +364,10 @@ RENDERER_CLASSES = ("", "RenderEngineVtk")
 #: from there: the configuration imports nothing of the pipeline; a test keeps them equal).
 ARM, GRIPPER, TABLE = "panda", "hook_gripper", "table"
 HAND_ACTUATORS = ("straight_finger_joint", "l_finger_joint", "bar_joint")
+#: Segment samples per cluster GbH may test (max_contacts_per_cluster x n_segment_samples).
+MAX_SEGMENT_SAMPLES = 50_000
+#: Pixels a scan may render and fuse in all (views x width x height).
+MAX_SCAN_PIXELS = 40_000_000
 #: Camera limits.
 MAX_CAMERA_PIXELS_SIDE = 4096
 MAX_CAMERA_FPS = 240.0
@@ -471,6 +475,12 @@ def check_relations(scenario) -> None:
             value = getattr(params, name, None)
             if value is not None and n_points is not None and value > n_points:
                 raise FieldError((section, name), f"must be <= {section}.n_points ({n_points})")
+    g = s.gbh
+    work = g.max_contacts_per_cluster * g.n_segment_samples
+    if work > MAX_SEGMENT_SAMPLES:
+        raise FieldError(("gbh", "n_segment_samples"), f"gbh.max_contacts_per_cluster x "
+                         f"n_segment_samples = {work}; at most {MAX_SEGMENT_SAMPLES} per cluster "
+                         "(1000 x 1000 took two minutes on a mug)")
     a = s.antipodal
     if a.min_contact_depth > a.contact_depth:
         raise FieldError(("antipodal", "min_contact_depth"),
@@ -487,6 +497,12 @@ def check_relations(scenario) -> None:
                                              f"scan.depth_max ({scan.depth_min:g}-"
                                              f"{scan.depth_max:g} m), got {getattr(scan, name):g} "
                                              "m: the camera would measure nothing there")
+    pixels = scan.num_views * scan.width * scan.height
+    if pixels > MAX_SCAN_PIXELS:
+        raise FieldError(("scan", "num_views"), f"{scan.num_views} views of {scan.width} x "
+                         f"{scan.height} pixels are {pixels / 1e6:.0f} million pixels; at most "
+                         f"{MAX_SCAN_PIXELS / 1e6:.0f} million (about 0.25 s and 100 MB each to "
+                         "render and fuse): fewer views or smaller images")
     if hasattr(scan, "first_look_scale") and scan.first_look_scale > min(scan.width,
                                                                          scan.height) // 8:
         raise FieldError(("scan", "first_look_scale"), "leaves first-look images smaller than "

@@ -108,3 +108,12 @@ def test_unreadable_file(tmp_path, capsys, monkeypatch):
     assert main(["run", str(path)]) == 2
     assert capsys.readouterr().err == f"gbh: invalid scenario: {path}: cannot read the " \
                                       "scenario file (Permission denied)\n"
+
+
+def test_diagram_reports_a_bad_scenario_the_same_way(tmp_path, capsys):
+    path = tmp_path / "bad.yaml"
+    path.write_text("seed: seven\n")
+    assert main(["diagram", str(path), "--out", str(tmp_path / "d")]) == 2
+    assert capsys.readouterr().err == f"gbh: invalid scenario: {path}: seed (line 1): expected " \
+                                      "an integer, got 'seven'\n"
+    assert not (tmp_path / "d").exists()
