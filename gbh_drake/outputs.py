@@ -47,6 +47,9 @@ class OutputError(OSError):
         self.path = str(path)
         self.problem = problem
 
+    def __reduce__(self):  # picklable with its parts
+        return type(self), (self.path, self.problem)
+
 
 def _reason(e: OSError) -> str:
     reasons = {errno.ENOSPC: "no space left on the disk", errno.EDQUOT: "disk quota exceeded",

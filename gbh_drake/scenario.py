@@ -97,6 +97,9 @@ class ScenarioError(ValueError):
         self.column = column
         self.problem = problem
 
+    def __reduce__(self):  # picklable (e.g. from a worker process) with its parts
+        return type(self), (self.origin, self.field, self.line, self.problem, self.column)
+
 
 @dataclass
 class Scenario:

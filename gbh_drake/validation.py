@@ -50,6 +50,9 @@ class FieldError(ValueError):
         self.path = tuple(path)
         self.problem = problem
 
+    def __reduce__(self):  # picklable with its parts
+        return type(self), (self.path, self.problem)
+
 
 # ---- rules ----------------------------------------------------------------------------------
 

@@ -58,6 +58,9 @@ class YamlTextError(ValueError):
         self.line = line
         self.column = column
 
+    def __reduce__(self):  # picklable with its parts
+        return type(self), (self.problem, self.line, self.column)
+
 
 class YamlFieldError(ValueError):
     """A field does not fit the schema: ``path`` names it, ``line`` is 1-based or None."""
@@ -68,6 +71,9 @@ class YamlFieldError(ValueError):
         self.path = tuple(path)
         self.line = line
         self.problem = message
+
+    def __reduce__(self):  # picklable with its parts
+        return type(self), (self.path, self.line, self.problem)
 
 
 def format_path(path: Path_) -> str:

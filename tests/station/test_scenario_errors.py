@@ -131,3 +131,20 @@ def test_rules_name_existing_fields():
         missing = [name for name in rules if not hasattr(obj, name)]
         assert missing == [], f"{section}: {missing}"
 
+
+
+def test_errors_pickle_with_their_parts():
+    """Errors cross process boundaries (experiment workers) whole."""
+    import pickle
+
+    from gbh_drake.outputs import OutputError
+    from gbh_drake.validation import FieldError
+    from gbh_drake.yaml_check import YamlFieldError, YamlTextError
+
+    for error in (ScenarioError("f.yaml", "seed", 2, "expected an integer", None),
+                  ScenarioError("f.yaml", "", 3, "not valid YAML", 7),
+                  OutputError("/x", "is a file"), FieldError(("robot", "q_home", 3), "outside"),
+                  YamlFieldError(("a", 1), 4, "given twice"), YamlTextError("not UTF-8", 2, 5)):
+        copy = pickle.loads(pickle.dumps(error))
+        assert type(copy) is type(error) and str(copy) == str(error)
+        assert vars(copy) == vars(error)
