@@ -12,10 +12,11 @@ the paper proposes in Sec. 4, used by the antipodal baseline and the GbH fallbac
 The fingers close until something stops them: the material they squeeze, or the hand's width
 command: with the bar deployed the command is q_closed, where the bar's tip meets the straight
 rod and the loop is closed (the two do not collide: the command is the stop, as a Franka hand's
-grasp(width)); the joints' own lower limit is where the two rods touch, for the two-rod gripper. Their actuators' effort limit
-is Franka's peak grasp force; the hand driver (:mod:`gbh_drake.systems.hand_driver`) sets the
-grasp force below it. Collision geometry is the solid model of the geometry module (boxes), with
-compliant-hydroelastic properties; visuals add Franka's hand and finger meshes.
+grasp(width)); the joints' own lower limit is where the two rods touch, for the two-rod
+gripper. Their actuators' effort limit is Franka's peak grasp force; the hand driver
+(:mod:`gbh_drake.systems.hand_driver`) sets the grasp force below it. Collision geometry is the
+solid model of the geometry module (boxes), with compliant-hydroelastic properties; visuals add
+Franka's hand and finger meshes.
 
 Run ``python -m gbh_drake.modeling.gripper_sdf`` to rewrite the file; a test checks it is current.
 """
