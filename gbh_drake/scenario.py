@@ -135,14 +135,15 @@ class Scenario:
     settle_time: float = 0.5
     """Simulated time (s) to let the object settle on the table before anything else."""
     scan_target: list[float] = field(default_factory=lambda: [0.55, 0.0, 0.06])
-    """p_WT (m): the workspace point the cameras look at and crop around (the nominal object spot,
-    not the object's true pose)."""
+    """p_WT (m): where the object is expected (the nominal spot, not its true pose): a first
+    look searches around it (the object must be within ``scan.object_search_radius``) and the
+    views are then aimed at what it found."""
     scan: ScanConfig = field(default_factory=ScanConfig)
-    """Depth scan of the object (views, camera, TSDF, crop, noise); 1 view: ``{num_views: 1}``.
-    Its ``noise_seed`` is replaced by the scenario's ``seed``."""
+    """Depth scan of the object (views, camera, TSDF, segmentation, cap, noise); 1 view:
+    ``{num_views: 1}``. Its noise is seeded from the scenario's ``seed``."""
     gbh: GbhParams = field(default_factory=GbhParams)
-    """Grasping-by-Hanging parameters (paper values by default). Its ``seed`` is replaced by the
-    scenario's ``seed``."""
+    """Grasping-by-Hanging parameters (paper values by default). Its surface sampling is seeded
+    from the scenario's ``seed``."""
     grasp_method: str = "gbh"
     """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
     (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""

@@ -269,14 +269,12 @@ RULES: dict[tuple, dict[str, object]] = {
         "cap_height": NonNeg(0.5, "m"),
         "cap_gap": NonNeg(0.1, "m"),
         "hole_evidence_fraction": Range(0.0, 1.0, lo_open=True),
-        "noise_seed": Fixed(0, _SEED),
         "noise_sigma": NonNeg(0.1, "m"),
         "noise_sigma_quadratic": NonNeg(1.0, "1/m"),
         "noise_depth_step": NonNeg(0.1, "1/m"),
         "noise_grazing_deg": Range(0.0, 90.0, lo_open=True, unit="deg"),
     },
     ("gbh",): {
-        "seed": Fixed(0, _SEED),
         "n_points": Int(100, 50_000, "sampling and ray casting grow with it"),
         "oversampling": Int(1, 20),
         "contact_angle_deg": Range(0.0, 90.0, lo_open=True, hi_open=True, unit="deg"),
@@ -309,7 +307,6 @@ RULES: dict[tuple, dict[str, object]] = {
         "min_miss_resultant": Range(0.0, 1.0),
     },
     ("antipodal",): {
-        "seed": Fixed(0, _SEED),
         "n_points": Int(100, 50_000),
         "n_samples": Int(1, 10_000),
         "n_rolls": Int(1, 360),

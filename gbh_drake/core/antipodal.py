@@ -173,7 +173,8 @@ def sample_antipodal_grasps(
     """The best ``params.top_k`` antipodal grasps of ``mesh`` (vertices in W, metres, or a
     prepared :class:`ObjectModel`, whose points, normals, CoM and ray scene are reused), lowest
     cost first; empty when nothing fits. ``rng``: a numpy Generator or a seed (default
-    ``params.seed``); the same seed gives the same grasps. Raises GbhInputError for unusable
+    0; a seed also seeds the surface sampler of a mesh input); the same seed gives the same
+    grasps. Raises GbhInputError for unusable
     input."""
     return plan_antipodal_grasps(mesh, params, rng, gripper).ranked
 
@@ -187,11 +188,12 @@ def plan_antipodal_grasps(
     """:func:`sample_antipodal_grasps` with the counts of each step and timings."""
     params = AntipodalParams() if params is None else params
     params.check()
-    if rng is None or isinstance(rng, int | np.integer):
-        rng = np.random.default_rng(params.seed if rng is None else int(rng))
+    seed = 0 if rng is None else rng if isinstance(rng, int | np.integer) else None
+    if seed is not None:
+        rng = np.random.default_rng(int(seed))
     t0 = time.perf_counter()
     obj = mesh if isinstance(mesh, ObjectModel) else prepare_object(
-        mesh, GbhParams(seed=params.seed, n_points=params.n_points))
+        mesh, GbhParams(n_points=params.n_points), 0 if seed is None else int(seed))
     timings = {"sampling": time.perf_counter() - t0}
     counts: dict[str, int] = {}
     t = time.perf_counter()

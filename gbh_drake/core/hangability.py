@@ -36,13 +36,14 @@ _REFINE_LEVELS = 2
 
 
 def detect_hangable_structures(
-    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams
+    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
 ) -> list[HangingStructure]:
-    """Hangable structures of ``mesh`` (vertices in W, metres), best (largest m) first.
+    """Hangable structures of ``mesh`` (vertices in W, metres), best (largest m) first;
+    ``seed``: the surface sampler's (when ``mesh`` is not prepared yet).
 
     An object with nothing hangable gives an empty list. Raises GbhInputError for unusable input.
     """
-    obj = prepare_object(mesh, params)
+    obj = prepare_object(mesh, params, seed)
     idx = contact_candidates(obj, params)
     labels = cluster_points(obj.points[idx], params.cluster_radius * obj.spacing,
                             params.min_cluster_size)

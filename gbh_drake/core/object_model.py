@@ -77,18 +77,21 @@ class ObjectModel:
         return self.tree.query(np.asarray(points, dtype=float).reshape(-1, 3), workers=-1)[0]
 
 
-def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams) -> ObjectModel:
-    """Validate ``mesh`` (vertices in W, metres), compute its CoM, sample it, build a ray scene.
+def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
+                   seed: int = 0) -> ObjectModel:
+    """Validate ``mesh`` (vertices in W, metres), compute its CoM, sample it (``seed``: the
+    surface sampler's; same mesh, params and seed: identical samples), build a ray scene.
 
     An :class:`ObjectModel` is returned unchanged, so every stage accepts either; it must have
-    been prepared with the same sampling parameters (else GbhInputError: its samples would not be
-    the ones ``params`` asks for). Raises :class:`GbhInputError` with a message for unusable input.
+    been prepared with the same sampling parameters and seed (else GbhInputError: its samples
+    would not be the ones asked for). Raises :class:`GbhInputError` with a message for unusable
+    input.
     """
     if isinstance(mesh, ObjectModel):
-        if mesh.sampling != _sampling_key(params):
+        if mesh.sampling != _sampling_key(params, seed):
             raise GbhInputError(
                 f"the ObjectModel was prepared with sampling {mesh.sampling}, not "
-                f"{_sampling_key(params)}: prepare it again with these params"
+                f"{_sampling_key(params, seed)}: prepare it again with these params"
             )
         return mesh
     params.check()
@@ -105,14 +108,14 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams) -> Ob
     else:
         com = surface_centroid(clean)
     points, normals, spacing = poisson_disk_samples(clean, params.n_points, params.oversampling,
-                                                    params.seed)
+                                                    seed)
     scene = o3d.t.geometry.RaycastingScene()
     scene.add_triangles(
         o3d.core.Tensor(np.asarray(clean.vertices, dtype=np.float32)),
         o3d.core.Tensor(np.asarray(clean.faces, dtype=np.uint32)),
     )
     return ObjectModel(clean, points, normals, com, spacing, watertight, scene, cKDTree(points),
-                       _sampling_key(params))
+                       _sampling_key(params, seed))
 
 
 def _clean_mesh(mesh: object) -> trimesh.Trimesh:
@@ -178,5 +181,5 @@ def _dart_throw(n_pool: int, pairs: np.ndarray, n_max: int) -> np.ndarray:
     return np.asarray(keep, dtype=int)
 
 
-def _sampling_key(params: GbhParams) -> tuple:
-    return (params.seed, params.n_points, params.oversampling, params.require_watertight)
+def _sampling_key(params: GbhParams, seed: int) -> tuple:
+    return (int(seed), params.n_points, params.oversampling, params.require_watertight)

@@ -24,8 +24,6 @@ class GbhParams:
     """Parameters of hangability detection, grasp synthesis, collision checking and scoring."""
 
     # ---- sampling ---------------------------------------------------------------------------
-    seed: int = 0
-    """Seed of the surface sampler; same mesh + same params => identical results."""
     n_points: int = 5000
     """Number of Poisson-disk points sampled on the mesh (at most; a few fewer on tiny meshes).
     design.md Sec. 3: 5000 points found a mug handle, 3000 missed it."""
@@ -181,10 +179,6 @@ class GbhParams:
 class AntipodalParams:
     """Parameters of the antipodal baseline; lengths metres, angles degrees."""
 
-    seed: int = 0
-    """Seed of the surface sampler (Poisson disk) when a mesh, not an ObjectModel, is given; the
-    grasp sampling itself draws from the ``rng`` argument (default: a generator seeded with
-    this)."""
     n_points: int = 5000
     """Poisson-disk surface points (the samples' pool and the collision cloud) for a mesh input."""
     n_samples: int = 300

@@ -17,12 +17,12 @@ from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
 
 
-def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams
+def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
            ) -> tuple[ObjectModel, list[HangingStructure]]:
-    """Stage 1 (paper Sec. 2.2): the prepared object (samples, CoM, ray scene) and its
-    hanging structures. Raises GbhInputError for unusable input."""
-    obj = prepare_object(mesh, params)
-    return obj, detect_hangable_structures(obj, params)
+    """Stage 1 (paper Sec. 2.2): the prepared object (samples from ``seed``, CoM, ray scene) and
+    its hanging structures. Raises GbhInputError for unusable input."""
+    obj = prepare_object(mesh, params, seed)
+    return obj, detect_hangable_structures(obj, params, seed)
 
 
 def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,
@@ -66,17 +66,18 @@ def plan_grasps(
     mesh: trimesh.Trimesh | ObjectModel,
     params: GbhParams | None = None,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
+    seed: int = 0,
 ) -> GbhResult:
     """Run hangability detection, grasp synthesis, collision counting and scoring on ``mesh``
-    (vertices in W, metres). Grasps are X_WG of the open gripper; ``result.ranked`` holds the
-    collision-free top-k (open, closing and closed; scoring.rank_grasps). Raises GbhInputError
-    for unusable input; nothing hangable gives empty lists. ``result.timings`` has the seconds
-    of each stage."""
+    (vertices in W, metres; ``seed``: the surface sampler's). Grasps are X_WG of the open
+    gripper; ``result.ranked`` holds the collision-free top-k (open, closing and closed;
+    scoring.rank_grasps). Raises GbhInputError for unusable input; nothing hangable gives empty
+    lists. ``result.timings`` has the seconds of each stage."""
     params = GbhParams() if params is None else params
     clock = _StageClock()
-    obj = prepare_object(mesh, params)
+    obj = prepare_object(mesh, params, seed)
     clock.lap("sampling")
-    structures = detect_hangable_structures(obj, params)
+    structures = detect_hangable_structures(obj, params, seed)
     clock.lap("hangability")
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     clock.lap("synthesis")

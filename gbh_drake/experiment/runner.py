@@ -1,9 +1,10 @@
 """Runs an experiment into its folder: resume, run the remaining trials, write rows and reports.
 
 The steps of :func:`run_experiment`: list every trial (:func:`~gbh_drake.experiment.config.
-make_tasks`), read the rows already in the folder and skip their trials, run the others on the
-chosen engine (local worker processes or Ray) under a progress bar, append each row as it arrives
-(and its replay when it failed), then sort the rows and write ``summary.md`` and ``success.png``.
+make_tasks`), read the rows already in the folder and skip their trials (except those that ended
+in an error, a bug rather than a result: they are run again), run the others on the chosen
+engine (local worker processes or Ray) under a progress bar, append each row as it arrives (and
+its replay when it failed), then sort the rows and write ``summary.md`` and ``success.png``.
 
 The folder::
 
@@ -88,7 +89,7 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                                            else ")")) if ray_address else \
             f"{workers} local worker{'s' if workers != 1 else ''}"
         log(f"{experiment.name}: {len(tasks)} trials ({len(experiment.objects)} objects x "
-            f"{experiment.trials} trials x {len(experiment.methods)} methods) in {folder}; "
+            f"{experiment.trials} x {len(experiment.methods)} methods) in {folder}; "
             f"{len(done)} done before, {len(pending)} to run on {engine}")
         results = ray_results(pending, ray_address, workers=workers, log=log) if ray_address \
             else local_results(pending, workers)
@@ -105,6 +106,9 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                     row["replay"] = f"replays/{name}"
                 store.append(row)
                 done[row_key(row)] = row
+                if row["outcome"] == "error":
+                    bar.write(f"{experiment.name}: trial {row_key(row)} ended in an error "
+                              f"(run again to retry it): {row['reason']}")
                 ran += 1
                 bar.set_postfix_str(f"{sum(bool(r['success']) for r in done.values())}/"
                                     f"{len(done)} succeeded", refresh=False)
@@ -123,8 +127,9 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
 
 
 def _finished(store: RowStore, tasks) -> dict:
-    """The rows already in the folder that are trials of ``tasks``, by key. Raises
-    :class:`ExperimentError` if one was made with another scenario than its task's."""
+    """The rows already in the folder that are trials of ``tasks``, by key; a trial that ended
+    in an error (a bug, not a result) is not finished: it is run again. Raises
+    :class:`ExperimentError` if a row was made with another scenario than its task's."""
     by_key = {t.key: t for t in tasks}
     done, stale = {}, []
     for row in store.load(repair=True):
@@ -133,6 +138,8 @@ def _finished(store: RowStore, tasks) -> dict:
             continue  # not a trial of this experiment: kept in the file, left out of reports
         if row.get("scenario_digest") != task.digest:
             stale.append(row_key(row))
+        elif row.get("outcome") == "error":
+            done.pop(task.key, None)
         else:
             done[task.key] = row
     if stale:

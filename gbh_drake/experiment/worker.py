@@ -1,9 +1,10 @@
 """One trial in a worker process: build the trial diagram, simulate it, make its row.
 
-A worker process (local or a Ray worker) runs one trial at a time and keeps its imported modules
-and one Meshcat server across trials. Trials run single-threaded (``OMP_NUM_THREADS=1``, set
-before the first heavy import): the experiment's parallelism is across trials, and a fixed thread
-count keeps every row the same whatever the number of workers or the engine.
+A worker process (local or a Ray worker) runs one trial at a time and keeps its imported modules,
+the objects' models and one Meshcat server across trials. Trials run single-threaded
+(``OMP_NUM_THREADS=1``, set before the first heavy import): the experiment's parallelism is
+across trials, and a fixed thread count keeps every row the same whatever the number of workers
+or the engine.
 
 This module imports nothing heavy at its top (see :mod:`gbh_drake.experiment.task`).
 """
@@ -27,6 +28,9 @@ TIMING_FIELDS = ("stage_times", "worker")
 
 _meshcat = None
 _worker_process = False
+_assets: dict = {}
+#: Objects whose models a worker keeps (an object set's worth).
+ASSET_CACHE_SIZE = 32
 
 
 def set_single_threaded() -> None:
@@ -47,6 +51,21 @@ def _local_meshcat():
 
         _meshcat = local_meshcat()
     return _meshcat
+
+
+def _object_asset(scenario):
+    """The trial's object model (mesh, mass properties), built once per worker and object:
+    the trials of an object differ only in its pose (stable poses are cached by the object set
+    itself)."""
+    from gbh_drake.modeling.object_asset import load_object_asset
+
+    o = scenario.object
+    key = (o.name, o.mesh, o.scale, o.orientation, o.density, o.mass, str(scenario.directory))
+    if key not in _assets:
+        while len(_assets) >= ASSET_CACHE_SIZE:
+            _assets.pop(next(iter(_assets)))
+        _assets[key] = load_object_asset(o, scenario.directory)
+    return _assets[key]
 
 
 def run_trial_task(task: TrialTask) -> TrialResult:
@@ -81,7 +100,7 @@ def _run(task: TrialTask, start: float) -> TrialResult:
         meshcat.Delete()
         meshcat.DeleteRecording()
         meshcat.DeleteAddedControls()
-    trial = build_trial(scenario, meshcat=meshcat)
+    trial = build_trial(scenario, meshcat=meshcat, asset=_object_asset(scenario))
     built = time.perf_counter()
     if meshcat is not None:
         meshcat.SetCameraPose(camera_in_world=[1.3, -1.0, 0.8],

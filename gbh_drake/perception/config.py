@@ -136,8 +136,6 @@ class ScanConfig:
     # --- Depth noise (Kinect/Primesense-like; off by default) ---
     noise: bool = False
     """Whether to corrupt the depth images (see ``gbh_drake.perception.noise``)."""
-    noise_seed: int = 0
-    """Seed of the noise: the same seed gives the same images, hence the same mesh."""
     noise_sigma: float = 0.0012
     """Axial noise standard deviation at 0.4 m depth (m)."""
     noise_sigma_quadratic: float = 0.0019

@@ -129,19 +129,19 @@ class FirstLook:
 
 
 def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
-                noise_seed: int | None = None) -> ScanResult:
+                noise_seed: int = 0) -> ScanResult:
     """Scans the object near the target p_WT (m, in W) with ``config``'s views.
 
     ``query_object`` comes from the SceneGraph's ``query`` output port; its renderer
-    ``config.renderer_name`` must exist. ``noise_seed`` (if given) replaces
-    ``config.noise_seed``. With ``config.aim_views`` a first look finds the object and the views
-    are aimed at it; the table, the robot and everything else are segmented away."""
+    ``config.renderer_name`` must exist. ``noise_seed`` seeds the depth noise (with
+    ``config.noise``): same seed, same images, same mesh. With ``config.aim_views`` a first look
+    finds the object and the views are aimed at it; the table, the robot and everything else
+    are segmented away."""
     config.validate()
-    if noise_seed is not None:
-        config = dataclasses.replace(config, noise_seed=int(noise_seed))
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     start = time.perf_counter()
-    look = first_look(query_object, config, p_WT) if config.aim_views else None
+    look = first_look(query_object, config, p_WT, noise_seed=noise_seed) if config.aim_views \
+        else None
     look_s = time.perf_counter() - start
     aim, distance, warnings = p_WT, config.distance, []
     if look is not None and look.found:
@@ -157,7 +157,7 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     depths = render_depth_images(query_object, make_depth_camera(config), X_WCs)
     render_s = time.perf_counter() - start
     result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT,
-                               first_look=look)
+                               first_look=look, noise_seed=noise_seed)
     result.aim_W, result.view_distance = np.asarray(aim, dtype=float), float(distance)
     result.warnings = warnings + result.warnings
     if look is not None:
@@ -167,7 +167,8 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     return result
 
 
-def first_look(query_object: QueryObject, config: ScanConfig, p_WT) -> FirstLook:
+def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
+               noise_seed: int = 0) -> FirstLook:
     """Finds the table and the object from two small wide views from the sides of p_WT (see
     ``viewpoints.first_look_poses``); looks again, aimed and farther, if the object reaches the
     edge of those views."""
@@ -176,7 +177,7 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT) -> FirstLook
     small = dataclasses.replace(config, width=max(config.width // scale, 8),
                                 height=max(config.height // scale, 6))
     camera, intrinsics = make_depth_camera(small), CameraIntrinsics.from_config(small)
-    rng = np.random.default_rng([config.noise_seed, 1])
+    rng = np.random.default_rng([int(noise_seed), 1])
     # Clusters on a grid coarse enough for the small images' sampling: two pixels' footprint at
     # the look's distance (surfaces seen at up to 60 deg stay connected).
     footprint = 2.0 * np.tan(np.deg2rad(0.5 * config.fov_y_deg)) / intrinsics.height
@@ -219,9 +220,10 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT) -> FirstLook
 
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                       X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT, *,
-                      first_look: FirstLook | None = None) -> ScanResult:
+                      first_look: FirstLook | None = None, noise_seed: int = 0) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
-    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``.
+    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``
+    (seeded by ``noise_seed``).
 
     The table plane is fitted to the images' points and the object is the cluster nearest p_WT
     (see ``segment.segment_points``), unless ``first_look`` (from :func:`first_look`) already
@@ -230,7 +232,7 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     timing: dict[str, float] = {}
     if config.noise:
-        rng = np.random.default_rng(config.noise_seed)
+        rng = np.random.default_rng(int(noise_seed))
         depths = [add_depth_noise(d, intrinsics, config, rng) for d in depths]
     warnings: list[str] = list(first_look.warnings) if first_look is not None else []
     if first_look is not None:

@@ -40,8 +40,8 @@ class AntipodalGraspSampler(AbstractStage):
         params = params or AntipodalParams()
         if ground_clearance is not None:
             params = dataclasses.replace(params, ground_clearance=ground_clearance)
-        self.params = dataclasses.replace(params, seed=seed)
-        self._seed = seed
+        self.params = params
+        self._seed = int(seed)
 
     def compute(self, value):
         if isinstance(value, ScanResult):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 
 import trimesh
@@ -47,14 +46,15 @@ class HangabilityDetector(AbstractStage):
         """``seed``: the surface sampler's seed (the scenario derives it from its own)."""
         super().__init__("mesh_W", no_scan("no input yet"), "hanging_structures", Hangability(),
                          accepts=(ScanResult, trimesh.Trimesh))
-        self.params = dataclasses.replace(params or GbhParams(), seed=seed)
+        self.params = params or GbhParams()
+        self.seed = int(seed)
 
     def compute(self, value) -> Hangability:
         if isinstance(value, ScanResult) and value.empty:
             return Hangability(None, [], value.message or "empty scan")
         mesh = value.mesh_W if isinstance(value, ScanResult) else value
         try:
-            obj, structures = detect(mesh, self.params)
+            obj, structures = detect(mesh, self.params, self.seed)
         except GbhInputError as e:
             return Hangability(None, [], f"unusable mesh: {e}")
         return Hangability(obj, structures, "" if structures else "no hangable structure found")

@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -183,7 +182,7 @@ def test_mug_grasps_hold_the_wall_or_the_handle_never_the_body_across(mug, mug_g
 def test_no_grasp_dips_below_the_table_or_collides(name):
     mesh = make_object(name).mesh
     params = AntipodalParams(top_k=30)
-    obj = prepare_object(mesh, GbhParams(seed=params.seed, n_points=params.n_points))
+    obj = prepare_object(mesh, GbhParams(n_points=params.n_points))
     grasps = sample_antipodal_grasps(obj, params, 1)
     assert grasps
     signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
@@ -240,7 +239,7 @@ def test_descent_corridor_must_be_clear():
 
 def test_same_seed_same_grasps_other_seed_others(mug):
     params = AntipodalParams(n_samples=200)
-    obj = prepare_object(mug, GbhParams(seed=params.seed, n_points=params.n_points))
+    obj = prepare_object(mug, GbhParams(n_points=params.n_points))
     a = sample_antipodal_grasps(obj, params, np.random.default_rng(7))
     b = sample_antipodal_grasps(obj, params, 7)
     c = sample_antipodal_grasps(obj, params, 8)
@@ -276,14 +275,12 @@ def test_flat_object_on_the_table_has_no_pinch():
     assert result.counts["friction"] > 0 and result.ranked == []
 
 
-def test_fast_on_a_scan_sized_mug(mug):
+def test_a_scan_sized_mug_gets_a_full_top_k(mug):
+    """(Its speed is measured by bench/bench_core.py, not here.)"""
     mesh = mug.subdivide().subdivide()  # ~26k triangles, like a 10-view scan
     params = AntipodalParams()
-    obj = prepare_object(mesh, GbhParams(seed=params.seed, n_points=params.n_points))
-    sample_antipodal_grasps(obj, params, 0)  # warm-up (Embree builds its tree on first use)
-    t = time.perf_counter()
+    obj = prepare_object(mesh, GbhParams(n_points=params.n_points))
     grasps = sample_antipodal_grasps(obj, params, 1)
-    assert time.perf_counter() - t < 0.5  # ~20-40 ms measured
     assert len(grasps) == params.top_k
 
 

