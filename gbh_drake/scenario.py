@@ -20,7 +20,7 @@ from pathlib import Path
 
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
-from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
+from pydrake.multibody.parsing import ModelDirective
 from pydrake.multibody.plant import MultibodyPlantConfig
 from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
@@ -31,6 +31,7 @@ from gbh_drake.config import (
     ObjectConfig,
     PickConfig,
     RobotConfig,
+    default_directives,
 )
 from gbh_drake.core.params import AntipodalParams, GbhParams
 from gbh_drake.perception.config import ScanConfig
@@ -52,28 +53,6 @@ from gbh_drake.yaml_check import (
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
 #: the station).
 TASKS = ("pick", "settle")
-
-
-#: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
-DEFAULT_DIRECTIVES = """
-directives:
-- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
-- add_weld: {parent: world, child: panda::panda_link0}
-- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
-- add_weld:
-    parent: panda::panda_link8
-    child: hook_gripper::panda_hand
-    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
-- add_model: {name: table, file: "package://gbh_drake/table.sdf"}
-- add_weld:
-    parent: world
-    child: table::table_top
-    X_PC: {translation: [0.35, 0, 0]}
-"""
-
-
-def default_directives() -> list[ModelDirective]:
-    return LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
 
 
 class ScenarioError(ValueError):

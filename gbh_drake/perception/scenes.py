@@ -19,28 +19,17 @@ import numpy as np
 import trimesh
 from pydrake.geometry import Box, MakeRenderEngineVtk, Mesh, RenderEngineVtkParams
 from pydrake.math import RigidTransform, RollPitchYaw
-from pydrake.multibody.parsing import LoadModelDirectivesFromString, ProcessModelDirectives
+from pydrake.multibody.parsing import ModelDirectives, ProcessModelDirectives
 from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.multibody.tree import SpatialInertia
 from pydrake.systems.framework import DiagramBuilder
 
+from gbh_drake.config import DEFAULT_Q_HOME, default_directives
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.objects import make_object
 
 #: The renderer the default ScanConfig uses.
 RENDERER = "default"
-#: Franka's "ready" pose, the gripper pointing down over the table (rad), as the station's.
-Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
-ROBOT = """
-directives:
-- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
-- add_weld: {parent: world, child: panda::panda_link0}
-- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
-- add_weld:
-    parent: panda::panda_link8
-    child: hook_gripper::panda_hand
-    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
-"""
 
 
 @dataclass
@@ -93,7 +82,8 @@ def build_scene(name: str, model_dir: Path, *, xyz=(0.55, 0.0, 0.0), yaw_deg: fl
                                  Box(1.4, 1.0, 0.04), "table_top",
                                  np.array([0.72, 0.6, 0.45, 1.0]))
     if robot:
-        ProcessModelDirectives(LoadModelDirectivesFromString(ROBOT), plant, make_parser(plant))
+        ProcessModelDirectives(ModelDirectives(directives=default_directives(table=False)),
+                               plant, make_parser(plant))
     body = plant.AddRigidBody(name, plant.AddModelInstance(name),
                               SpatialInertia.SolidSphereWithMass(0.3, 0.05))
     plant.RegisterVisualGeometry(body, RigidTransform(), Mesh(str(obj_path)), f"{name}_visual",
@@ -103,7 +93,7 @@ def build_scene(name: str, model_dir: Path, *, xyz=(0.55, 0.0, 0.0), yaw_deg: fl
     plant.Finalize()
     plant.SetDefaultFloatingBaseBodyPose(body, X_WO)
     if robot:
-        plant.SetDefaultPositions(plant.GetModelInstanceByName("panda"), Q_HOME)
+        plant.SetDefaultPositions(plant.GetModelInstanceByName("panda"), DEFAULT_Q_HOME)
         for index in plant.GetJointIndices(plant.GetModelInstanceByName("hook_gripper")):
             joint = plant.get_joint(index)
             if joint.num_positions() == 1:  # fingers open, as at the station's start
