@@ -269,19 +269,3 @@ def keypoints_W(X_WG: np.ndarray, q: float | None = None, geometry: HookGripperG
     """Keypoints in world W for the gripper pose ``X_WG`` (4, 4 homogeneous matrix)."""
     X = np.asarray(X_WG, dtype=float)
     return {k: X[:3, :3] @ v + X[:3, 3] for k, v in geometry.keypoints_G(q).items()}
-
-
-def transform_points(X_AB: np.ndarray, p_BQ: np.ndarray) -> np.ndarray:
-    """Express points ``p_BQ`` (n, 3) given in frame B in frame A, with ``X_AB`` (4, 4)."""
-    X = np.asarray(X_AB, dtype=float)
-    return np.asarray(p_BQ, dtype=float).reshape(-1, 3) @ X[:3, :3].T + X[:3, 3]
-
-
-def invert_transform(X_AB: np.ndarray) -> np.ndarray:
-    """``X_BA`` from ``X_AB`` (4, 4 homogeneous rigid transform)."""
-    X = np.asarray(X_AB, dtype=float)
-    R, p = X[:3, :3], X[:3, 3]
-    out = np.eye(4)
-    out[:3, :3] = R.T
-    out[:3, 3] = -R.T @ p
-    return out

@@ -109,13 +109,16 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
         com = surface_centroid(clean)
     points, normals, spacing = poisson_disk_samples(clean, params.n_points, params.oversampling,
                                                     seed)
+    return ObjectModel(clean, points, normals, com, spacing, watertight, raycasting_scene(clean),
+                       cKDTree(points), _sampling_key(params, seed))
+
+
+def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:
+    """Open3D's Embree scene of ``mesh``, for ray casting and distance queries (metres)."""
     scene = o3d.t.geometry.RaycastingScene()
-    scene.add_triangles(
-        o3d.core.Tensor(np.asarray(clean.vertices, dtype=np.float32)),
-        o3d.core.Tensor(np.asarray(clean.faces, dtype=np.uint32)),
-    )
-    return ObjectModel(clean, points, normals, com, spacing, watertight, scene, cKDTree(points),
-                       _sampling_key(params, seed))
+    scene.add_triangles(o3d.core.Tensor(np.asarray(mesh.vertices, dtype=np.float32)),
+                        o3d.core.Tensor(np.asarray(mesh.faces, dtype=np.uint32)))
+    return scene
 
 
 def _clean_mesh(mesh: object) -> trimesh.Trimesh:

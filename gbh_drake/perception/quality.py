@@ -12,6 +12,8 @@ import numpy as np
 import open3d as o3d
 import trimesh
 
+from gbh_drake.core.object_model import raycasting_scene
+
 
 @dataclass
 class ScanQuality:
@@ -26,13 +28,6 @@ class ScanQuality:
     coverage: float
     """Fraction of the observable true surface within ``tolerance`` of the scan."""
     tolerance_mm: float
-
-
-def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:
-    scene = o3d.t.geometry.RaycastingScene()
-    scene.add_triangles(np.asarray(mesh.vertices, dtype=np.float32),
-                        np.asarray(mesh.faces, dtype=np.uint32))
-    return scene
 
 
 def distances_to_mesh(p_WQ: np.ndarray, mesh: trimesh.Trimesh) -> np.ndarray:

@@ -21,7 +21,7 @@ from gbh_drake.core.antipodal import (
     plan_antipodal_grasps,
     sample_antipodal_grasps,
 )
-from gbh_drake.core.gripper import HOOK_GRIPPER, Box, invert_transform, transform_points
+from gbh_drake.core.gripper import HOOK_GRIPPER, Box
 from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError
@@ -137,8 +137,8 @@ def test_box_grasps_span_the_5cm_faces_antipodally(box_grasps):
 
 def test_contacts_sit_on_the_rods_pads(box_grasps, mug_grasps):
     for g in box_grasps[1].ranked + mug_grasps.ranked:
-        X_GW = invert_transform(g.X_WG)
-        a, b = transform_points(X_GW, np.stack([g.p_WA, g.p_WB]))
+        X_GW = np.linalg.inv(g.X_WG)
+        a, b = trimesh.transform_points(np.stack([g.p_WA, g.p_WB]), X_GW)
         z_pad = LF - g.contact_depth
         np.testing.assert_allclose(a, [0, -(g.q - R_ROD), z_pad], atol=1e-9)  # L rod's face
         np.testing.assert_allclose(b, [0, g.q - R_ROD, z_pad], atol=1e-9)  # straight rod's
@@ -191,11 +191,11 @@ def test_no_grasp_dips_below_the_table_or_collides(name):
         for q in (g.q_pregrasp, g.q):  # the open gripper and the gripper at the contacts
             corners = np.concatenate([np.asarray(b.center) + signs * b.half_extents
                                       for b in G.solid_boxes_G(q, bar_retracted=True)])
-            lowest = transform_points(g.X_WG, corners)[:, 2].min()
+            lowest = trimesh.transform_points(corners, g.X_WG)[:, 2].min()
             assert lowest >= params.ground_clearance - 1e-9
         assert g.ground_clearance >= params.ground_clearance - 1e-9
         # Independent count with the geometry module: open gripper and gripper at the contacts.
-        p_G = transform_points(invert_transform(g.X_WG), obj.points)
+        p_G = trimesh.transform_points(obj.points, np.linalg.inv(g.X_WG))
         for q in (g.q_pregrasp, g.q + params.contact_tolerance):
             assert G.count_points_inside(p_G, q, bar_retracted=True) <= g.n_collisions
 

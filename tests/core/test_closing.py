@@ -25,7 +25,6 @@ from gbh_drake.core.collision import (
     swept_boxes_G,
 )
 from gbh_drake.core.gripper import HOOK_GRIPPER as GR
-from gbh_drake.core.gripper import invert_transform, transform_points
 from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
@@ -62,7 +61,7 @@ def closing_stop(X_WG: np.ndarray, kind: str, points_W: np.ndarray) -> tuple[flo
     """Where the fingers stop when closing from the grasp pose: the first finger position q at
     which the moving gripper touches an object point that was not already inside the open
     gripper, and how many it touches there; (q_closed, 0) if the loop closes."""
-    p = transform_points(invert_transform(X_WG), points_W)
+    p = trimesh.transform_points(points_W, np.linalg.inv(X_WG))
     ends = reference_boxes(kind, GR.q_open) + reference_boxes(kind, GR.q_closed)
     lo = np.min([c - h for c, h in ends], axis=0)
     hi = np.max([c + h for c, h in ends], axis=0)
@@ -149,7 +148,7 @@ def test_sweep_count_matches_a_stepped_closing(kind, seed, margin, sweep_margin)
         reference_boxes(kind, GR.q_open), reference_boxes(kind, GR.q_closed), strict=True)]
     assert moves.count(True) == 3  # two fingers (parallel) or L finger and hand (vertical)
     for k in range(len(X)):
-        p = transform_points(invert_transform(X[k]), points)
+        p = trimesh.transform_points(points, np.linalg.inv(X[k]))
         already = inside(p, [(c, h + margin) for c, h in reference_boxes(kind, GR.q_open)])
         reached = np.zeros(len(p), dtype=bool)
         for q in openings():
@@ -231,7 +230,7 @@ def threads_a_hole(X_WG: np.ndarray, kind: str, c: Case) -> bool:
     a_G, b_G = center_G.copy(), center_G.copy()
     a_G[axis] -= half[axis]
     b_G[axis] += half[axis]
-    a, b = transform_points(X_WG, np.stack([a_G, b_G]))
+    a, b = trimesh.transform_points(np.stack([a_G, b_G]), X_WG)
     for center, normal, _ in c.holes:
         denom = (b - a) @ normal
         if abs(denom) < 1e-12:
@@ -254,9 +253,9 @@ def check_cage(g, c: Case) -> None:
     assert q_stop == GR.q_closed, (
         f"{g.kind} grasp stops at q = {1e3 * q_stop:.2f} mm on {n} points (closed: "
         f"{1e3 * GR.q_closed:.1f} mm)")
-    p_G = transform_points(invert_transform(g.X_WG), c.dense)
+    p_G = trimesh.transform_points(c.dense, np.linalg.inv(g.X_WG))
     assert in_interior(p_G, g.kind).sum() >= 5, "no material inside the closed loop"
-    h_G = transform_points(invert_transform(g.X_WG), g.h[None])
+    h_G = trimesh.transform_points(g.h[None], np.linalg.inv(g.X_WG))
     assert in_interior(h_G, g.kind)[0], "the hooked material is not inside the closed loop"
     assert threads_a_hole(g.X_WG, g.kind, c)
 
@@ -281,7 +280,7 @@ def test_flat_objects_in_free_space_get_vertical_grasps_that_close_around_them(n
         travel = GR.q_open - GR.q_closed
         for g in vertical:
             loop_G = GR.loop_polygon_G(GR.q_closed) + (0.0, travel, 0.0)
-            assert abs(linking_number(transform_points(g.X_WG, loop_G), circle)) == \
+            assert abs(linking_number(trimesh.transform_points(loop_G, g.X_WG), circle)) == \
                 pytest.approx(1.0, abs=1e-6)
 
 
@@ -308,7 +307,7 @@ def _reference_lowest(X_WG: np.ndarray, kind: str) -> float:
     low = np.inf
     for q in openings()[::8].tolist() + [GR.q_closed]:
         for center, half in reference_boxes(kind, q):
-            low = min(low, transform_points(X_WG, center + signs * half)[:, 2].min())
+            low = min(low, trimesh.transform_points(center + signs * half, X_WG)[:, 2].min())
     return float(low)
 
 

@@ -11,7 +11,7 @@ from gbh_shapes import CUP_RADIUS, RING_R, RING_r
 from scipy.spatial.transform import Rotation
 
 from gbh_drake.core.collision import count_points_in_gripper
-from gbh_drake.core.gripper import HOOK_GRIPPER, invert_transform, keypoints_W, transform_points
+from gbh_drake.core.gripper import HOOK_GRIPPER, keypoints_W
 from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
@@ -49,7 +49,7 @@ def ring_core_circle(n: int = 200) -> np.ndarray:
 
 
 def gripper_loop_W(X_WG: np.ndarray, q: float) -> np.ndarray:
-    return transform_points(X_WG, HOOK_GRIPPER.loop_polygon_G(q))
+    return trimesh.transform_points(HOOK_GRIPPER.loop_polygon_G(q), X_WG)
 
 
 @pytest.fixture(scope="module")
@@ -175,7 +175,7 @@ def test_every_kept_grasp_is_collision_free_by_an_independent_count(mug, mug_res
 
 def _count_reference(X_WG: np.ndarray, points: np.ndarray, q: float, margin: float) -> int:
     """Independent N_c: each point in G, each box of the solid model, one at a time."""
-    p_G = transform_points(invert_transform(X_WG), points)
+    p_G = trimesh.transform_points(points, np.linalg.inv(X_WG))
     inside = np.zeros(len(p_G), dtype=bool)
     for b in HOOK_GRIPPER.solid_boxes_G(q):
         inside |= np.all(np.abs(p_G - b.center) <= np.asarray(b.half_extents) + margin, axis=1)
@@ -191,7 +191,7 @@ def test_batched_count_matches_gripper_model():
     for q, margin in ((HOOK_GRIPPER.q_open, 0.0), (HOOK_GRIPPER.q_closed, 0.002)):
         counts = count_points_in_gripper(points, X, q, margin)
         np.testing.assert_array_equal(counts, [_count_reference(x, points, q, margin) for x in X])
-        p_G = transform_points(invert_transform(X[0]), points)
+        p_G = trimesh.transform_points(points, np.linalg.inv(X[0]))
         assert HOOK_GRIPPER.count_points_inside(p_G, q, margin) == counts[0]
         assert counts.max() > 0
 
@@ -345,8 +345,8 @@ def test_parallel_grasps_centre_the_caged_material_between_the_rods(params):
     X_fixed, _ = parallel_grasp_poses(off_plane)  # no points: c at (p2 + p3) / 2
     for a, b in zip(X, X_fixed, strict=True):
         np.testing.assert_allclose(a[:3, :3], b[:3, :3])
-        assert transform_points(b, parallel_anchor_G()[None])[0] @ s.v == pytest.approx(0.004)
+        assert trimesh.transform_points(parallel_anchor_G()[None], b)[0] @ s.v == pytest.approx(0.004)
         # Centred: (p2 + p3) / 2 back on the ring's mid-plane (z = 0), i.e. moved along the bar.
-        mid = transform_points(a, parallel_anchor_G()[None])[0]
+        mid = trimesh.transform_points(parallel_anchor_G()[None], a)[0]
         assert mid[2] == pytest.approx(0.0, abs=1e-3)
         np.testing.assert_allclose(np.cross(a[:3, 3] - b[:3, 3], a[:3, 1]), 0.0, atol=1e-12)
