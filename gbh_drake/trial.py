@@ -86,6 +86,14 @@ class TrialRecord:
     n_candidates: int = 0
     n_ranked: int = 0
     n_grasps_offered: int = 0
+    true_parts: int = 0
+    """Ground-truth hangable parts of the object (0 for controls and mesh files)."""
+    true_part_found: bool | None = None
+    """Whether a hanging structure lies on a true hangable part (its c within half the part's
+    clear diameter + 2 cm of the part's centre); None without ground truth."""
+    grasped_true_part: bool | None = None
+    """Whether the executed GbH grasp hooked a structure on a true part; None without ground
+    truth or a GbH grasp."""
     grasp_rank: int = -1
     """0-based rank of the executed grasp in its list; -1 if none."""
     grasp_kind: str = ""
@@ -237,6 +245,9 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
     for r in status.refusals:
         refusals[r.key] = refusals.get(r.key, 0) + 1
     plan = status.plan
+    on_part = _on_true_part(station.asset, X)
+    executed = ranked[plan.rank] if plan and not status.fallback and \
+        plan.rank < len(ranked) and hasattr(ranked[plan.rank], "structure") else None
     return TrialRecord(
         object=station.asset.name, source=station.asset.source,
         object_mass=float(station.asset.mass), seed=scenario.seed,
@@ -247,6 +258,11 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         scan_warnings=list(getattr(scan, "warnings", [])),
         n_structures=len(hangability.structures), n_candidates=len(candidates),
         n_ranked=len(ranked), n_grasps_offered=status.n_grasps,
+        true_parts=len(station.asset.hangable_parts),
+        true_part_found=None if not station.asset.hangable_parts else
+        any(on_part(s.c) for s in hangability.structures),
+        grasped_true_part=None if not station.asset.hangable_parts or executed is None else
+        on_part(executed.structure.c),
         grasp_rank=plan.rank if plan else -1, grasp_kind=plan.kind if plan else "",
         grasp_score=status.score, fallback=status.fallback, refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
@@ -262,6 +278,17 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
                  "simulate": wall},
         warnings=list(station.asset.warnings),
     )
+
+
+def _on_true_part(asset: ObjectAsset, X_WO):
+    """A test: does point c (W) lie on one of ``asset``'s true hangable parts (at X_WO)?"""
+    parts = [(X_WO.multiply(p.center_O), 0.5 * p.clear_diameter + 0.02)
+             for p in asset.hangable_parts]
+
+    def on_part(c) -> bool:
+        return any(np.linalg.norm(np.asarray(c) - center) <= radius for center, radius in parts)
+
+    return on_part
 
 
 def _why_no_grasp(scenario: Scenario, scan, hangability, candidates) -> tuple[str, str]:

@@ -216,6 +216,8 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
         rows.append([obj + (" (control)" if control else ""), *cells])
     lines += _table(["Object", *data.methods], rows)
 
+    lines += per_object_detail(data)
+
     lines += ["", "## Failures by outcome (objects with hangable parts)", ""]
     failed = [r for r in hangable if not r["success"]]
     outcomes = Counter(r["outcome"] for r in failed)
@@ -269,6 +271,43 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
                      f"{run.get('engine', '?')} in {run.get('wall', 0.0) / 60:.1f} min "
                      f"({rate:.2f} trials/min){' (interrupted)' if run.get('interrupted') else ''}")
     return "\n".join(lines) + "\n"
+
+
+def per_object_detail(data: ReportInput) -> list[str]:
+    """Per object and method, over its trials: was a true hangable part found, which grasp kinds
+    were executed, cage or pinch, the outcomes."""
+    lines = ["", "## Per object, in detail", "",
+             "Over each object's trials (its random resting poses): *part found*, trials in which "
+             "a hanging structure lay on a true hangable part (the object's ground truth); "
+             "*hooked it*, trials whose executed GbH grasp hooked one; *kinds*, the executed "
+             "grasps; *cage / pinch*, how the successes were held.", ""]
+    rows = []
+    for obj in data.objects:
+        for method in data.methods:
+            mine = [r for r in data.rows if r["object"] == obj and r["method"] == method]
+            if not mine:
+                continue
+            rec = [r.get("record") or {} for r in mine]
+            found = [x.get("true_part_found") for x in rec]
+            hooked = [x.get("grasped_true_part") for x in rec]
+            kinds = Counter(r.get("grasp_kind") or "none" for r in mine)
+            held = Counter(r.get("held_by") for r in mine if r.get("success"))
+            outcomes = Counter(r["outcome"] for r in mine)
+            rows.append([
+                obj, method, len(mine),
+                _fraction(found), _fraction(hooked),
+                ", ".join(f"{k} x{n}" for k, n in sorted(kinds.items())),
+                f"{sum(bool(r['success']) for r in mine)}/{len(mine)}",
+                f"{held.get('cage', 0)} / {held.get('pinch', 0)}",
+                ", ".join(f"{o} x{n}" for o, n in sorted(outcomes.items()))])
+    return lines + _table(["Object", "Method", "Trials", "Part found", "Hooked it", "Kinds",
+                           "Success", "Cage / pinch", "Outcomes"], rows)
+
+
+def _fraction(flags: list) -> str:
+    """``k/n`` of the flags that are known (not None), or ``-``."""
+    known = [f for f in flags if f is not None]
+    return f"{sum(bool(f) for f in known)}/{len(known)}" if known else "-"
 
 
 def _count(n: int, noun: str) -> str:

@@ -10,6 +10,7 @@ never starts inside the table.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,6 +38,9 @@ class ObjectAsset:
     """``object set: <name>`` or the mesh file's path."""
     warnings: list[str] = field(default_factory=list)
     """Plausibility warnings (size, mass), each naming the source and a hint."""
+    hangable_parts: list = field(default_factory=list)
+    """Ground truth of a named object (``HangablePart``: hole centre and axis in O, kind, clear
+    diameter); empty for a mesh file. For judging what GbH found, never for planning."""
 
     @property
     def model_name(self) -> str:
@@ -84,9 +88,14 @@ def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
         props = mass_properties_for(mesh, mass=config.mass)
     else:
         props = mass_properties_for(mesh, density=config.density or spec.density)
+    parts = list(spec.hangable_parts)
+    if config.scale != 1.0:
+        parts = [dataclasses.replace(p, center_O=p.center_O * config.scale,
+                                     clear_diameter=p.clear_diameter * config.scale)
+                 for p in parts]
     return ObjectAsset(spec.name, mesh, float(props.mass), np.asarray(props.com, float),
                        np.asarray(props.inertia, float), tuple(spec.rgba),
-                       f"object set: {spec.name}")
+                       f"object set: {spec.name}", hangable_parts=parts)
 
 
 def initial_object_pose(config: ObjectConfig, asset: ObjectAsset, seed: int) -> RigidTransform:
