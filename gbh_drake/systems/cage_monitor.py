@@ -36,6 +36,7 @@ from pydrake.systems.framework import LeafSystem
 from gbh_drake.config import MonitorConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+from gbh_drake.systems.stage import CopiedShallowly
 
 #: Outcomes of a trial.
 SUCCESS = "success"
@@ -95,7 +96,7 @@ class Verdict:
 
 
 @dataclass
-class _Watch:
+class _Watch(CopiedShallowly):
     """The running record (abstract state)."""
 
     verdict: Verdict = field(default_factory=Verdict)
@@ -104,11 +105,6 @@ class _Watch:
     force_sum: float = 0.0
     force_n: int = 0
     last_phase: str = ""
-
-    def __deepcopy__(self, memo):
-        """Shallow: updates replace members instead of mutating them (Drake copies abstract
-        state at every update; a deep copy of the plan and trajectories would be wasted)."""
-        return copy.copy(self)
 
 
 class CageMonitor(LeafSystem):

@@ -48,6 +48,7 @@ from gbh_drake.planning.pick import (
 )
 from gbh_drake.planning.trajectories import joint_path, linear_move, sample
 from gbh_drake.systems.scanner import no_scan
+from gbh_drake.systems.stage import CopiedShallowly
 
 #: Seconds the machine waits after a motion's trajectory ends before the next mode.
 DWELL = 0.1
@@ -111,7 +112,7 @@ class PickStatus:
 
 
 @dataclass
-class _State:
+class _State(CopiedShallowly):
     status: PickStatus = field(default_factory=PickStatus)
     arm: object = None
     """The arm's current ``PiecewisePolynomial`` (None: hold ``q_hold``)."""
@@ -126,11 +127,6 @@ class _State:
     """The hand's vertical load (N) while the object was held still over the place."""
     release: tuple | None = None
     """(q_slide, q_retreat) when the object was set down before the planned place pose."""
-
-    def __deepcopy__(self, memo):
-        """Shallow: updates replace members instead of mutating them (Drake copies abstract
-        state at every update; a deep copy of the plan and trajectories would be wasted)."""
-        return copy.copy(self)
 
 
 class PickAndCarry(LeafSystem):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
 
@@ -38,3 +40,12 @@ class AbstractStage(LeafSystem):
                             f"{self._input.get_name()!r} expects {names}, got "
                             f"{type(value).__name__}")
         output.set_value(self.compute(value))
+
+
+class CopiedShallowly:
+    """A base for abstract-state records that updates replace, member by member, instead of
+    mutating: Drake copies abstract state at every update, and a deep copy of what they hold
+    (plans, trajectories) would be wasted work."""
+
+    def __deepcopy__(self, memo):
+        return copy.copy(self)
