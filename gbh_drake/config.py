@@ -173,9 +173,14 @@ class PickConfig:
     hold_time: float = 0.5
     """Time (s) the object is held still at the place position, full grasp force, before the
     cage test."""
+    release_depth: float = 0.02
+    """After opening, a parallel hook grasp goes this far (m) on along +z_G (less where the hand
+    would come closer to the table than the grasp clearance), so that the bar leaves the
+    material it was under, ..."""
     release_shift: float = 0.015
-    """After opening, a hook grasp slides this far (m) along -y_G (toward the L rod's side) so
-    that the bar comes out of the hole before the gripper backs off; 0 for antipodal grasps."""
+    """... then slides this far (m) along -y_G (toward the L rod's side), so that the bar comes
+    out of the hole tip first before the gripper backs off. (A vertical grasp opens about its
+    straight rod instead, the reverse of its closing: the bar leaves from under the material.)"""
     retreat_distance: float = 0.10
     """After releasing, the gripper backs off this far (m) along -z_G."""
     plan_paths: bool = True

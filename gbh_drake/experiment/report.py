@@ -162,6 +162,15 @@ def table1(data: ReportInput) -> list[str]:
                  "successes were held (the cage test after the carry). The paper's baseline is "
                  "GraspNet (learned); ours is a learning-free antipodal sampler with the same "
                  "two straight fingers.")
+    released = []
+    for method in data.methods:
+        carried = [r for r in hangable if r["method"] == method and r["success"]]
+        let_go = sum(bool(((r.get("record") or {}).get("verdict") or {}).get("released_on_table"))
+                     for r in carried)
+        released.append(f"{method} {let_go}/{len(carried)}")
+    lines.append("")
+    lines.append("Released on the table after the carry (not part of success, as in the paper): "
+                 + ", ".join(released) + ".")
     return lines
 
 

@@ -24,7 +24,7 @@ from pydrake.math import RigidTransform
 from gbh_drake.config import PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance
-from gbh_drake.core.results import VERTICAL
+from gbh_drake.core.results import PARALLEL, VERTICAL
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
 
@@ -66,8 +66,8 @@ class PickPlan:
     transfer: list[np.ndarray]
     """From the start configuration to ``approach`` (RRT-Connect waypoints, ends included)."""
     q: dict[str, np.ndarray] = field(default_factory=dict)
-    """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, ``slide``,
-    ``retreat``."""
+    """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, then the release's
+    ``opened``, ``down``, ``slide`` and ``retreat`` (:func:`release_path`)."""
     lift: float = 0.0
     """How far (m) the gripper rises after closing."""
     hook_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -160,7 +160,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
             break
     if q["place"] is None:
         return refuse("ik", "place")
-    q["slide"], q["retreat"] = release_path(setup.near, q["place"], hook, cfg, bar)
+    q.update(release_path(setup.near, q["place"], kind, cfg, bar))
 
     if cfg.plan_paths:
         segments = (("descend", q["grasp"], q["closed"], open_hand),
@@ -201,26 +201,43 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     keep_straight_rod)
 
 
-def release_path(model: PlanningModel, q_place: np.ndarray, hook: bool, cfg: PickConfig,
-                 bar: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """After the fingers opened at ``q_place``: slide the bar out of the hole along -y_G (hook
-    grasps), then back out along -z_G; where the arm cannot, straight up; if not even that, stay.
-    Returns (q_slide, q_retreat)."""
+def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: PickConfig,
+                 bar: float = 0.0) -> dict[str, np.ndarray]:
+    """How the gripper lets go at ``q_place`` (closed), the reverse of how it went in:
+
+    * ``opened``: where the arm is once the fingers are open: a vertical grasp opens about its
+      straight rod (the arm moves G along -y_G as each finger travels, so the rod stays in the
+      hole and the bar leaves from under the material); the others open in place;
+    * ``down``: a parallel grasp goes on along +z_G by up to ``release_depth`` (the bar leaves
+      the material it was under; less if the hand would meet the table);
+    * ``slide``: then along -y_G by ``release_shift`` (the bar comes out of the hole tip first);
+    * ``retreat``: every grasp backs out along -z_G by ``retreat_distance``, or straight up where
+      the arm cannot. A move without IK or with a collision is skipped (the arm stays)."""
     g = HOOK_GRIPPER
-    open_hand = HandPose(g.q_open, bar)
-    X_place = model.X_WG(q_place, open_hand)
-    q_slide, X_slid = q_place, X_place
-    if hook and cfg.release_shift > 0:
-        X = _shifted(X_place, -cfg.release_shift * X_place.rotation().col(1))
-        q = model.ik(X, q_place, open_hand)
-        if q is not None:
-            q_slide, X_slid = q, X
-    for d_W in (-cfg.retreat_distance * X_place.rotation().col(2),
-                [0.0, 0.0, cfg.retreat_distance]):
-        q_retreat = model.ik(_shifted(X_slid, d_W), q_slide, open_hand)
-        if q_retreat is not None:
-            return q_slide, q_retreat
-    return q_slide, q_slide
+    closed_hand, open_hand = HandPose(g.q_closed, bar), HandPose(g.q_open, bar)
+    X = model.X_WG(q_place, closed_hand)
+    R = X.rotation()
+
+    def step(q_from, X_from, moves, hand=open_hand):
+        """The first of ``moves`` (W offsets) with an IK solution and a free edge."""
+        for d_W in moves:
+            X_to = _shifted(X_from, d_W)
+            q = model.ik(X_to, q_from, hand)
+            if q is not None and model.edge_free(q_from, q, hand):
+                return q, X_to
+        return q_from, X_from
+
+    q = {"opened": q_place}
+    if kind == VERTICAL:
+        q["opened"], X = step(q_place, X, [-(g.q_open - g.q_closed) * R.col(1)])
+    q["down"], q["slide"] = q["opened"], q["opened"]
+    if kind == PARALLEL:
+        q["down"], X = step(q["opened"], X, [f * cfg.release_depth * R.col(2)
+                                             for f in (1.0, 0.5, 0.25)])
+        q["slide"], X = step(q["down"], X, [-cfg.release_shift * R.col(1)])
+    q["retreat"], _ = step(q["slide"], X, [-cfg.retreat_distance * R.col(2),
+                                           [0.0, 0.0, cfg.retreat_distance]])
+    return q
 
 
 def _shifted(X: RigidTransform, d_W) -> RigidTransform:

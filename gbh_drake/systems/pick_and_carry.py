@@ -125,8 +125,9 @@ class _State(CopiedShallowly):
     """The current mode's earliest end time (s)."""
     load: float = 0.0
     """The hand's vertical load (N) while the object was held still over the place."""
-    release: tuple | None = None
-    """(q_slide, q_retreat) when the object was set down before the planned place pose."""
+    release: dict | None = None
+    """The release's configurations (``place``, ``opened``, ``down``, ``slide``, ``retreat``)
+    when the object was set down before the planned place pose."""
 
 
 class PickAndCarry(LeafSystem):
@@ -319,24 +320,29 @@ class PickAndCarry(LeafSystem):
                                 [0.0, 0.0, self._config.unload_depth])
         q_down = self._near.ik(X_down, q_now, hand)
         q_down = q_now if q_down is None else q_down
-        s.release = (q_down, *release_path(self._near, q_down, plan.kind != ANTIPODAL,
-                                           self._config, plan.bar))
+        s.release = {"place": q_down,
+                     **release_path(self._near, q_down, plan.kind, self._config, plan.bar)}
         self._enter(s, Mode.LOWER, s.status.phase_start[Mode.LOWER.value],
                     arm=joint_path([q_now, q_down], t, velocity_scale=0.1, min_duration=0.3))
         return True
 
     def _after_lower(self, context, s: _State, t: float) -> None:
-        s.command[:2] = [HOOK_GRIPPER.q_open, self._hand.force]
+        """Open as the grasp closed: in place, or about the straight rod (vertical grasps: the
+        arm follows the fingers so that the bar leaves from under the material)."""
+        q = s.release or s.status.plan.q
         travel = HOOK_GRIPPER.q_open - 0.5 * HOOK_GRIPPER.rod_width
-        self._enter(s, Mode.RELEASE, t, until=t + travel / self._hand.speed + 0.2)
+        s.command[:2] = [HOOK_GRIPPER.q_open, self._hand.force]
+        duration = (HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed) / self._hand.speed
+        self._enter(s, Mode.RELEASE, t, arm=linear_move(q["place"], q["opened"], t, duration),
+                    until=t + travel / self._hand.speed + 0.2)
 
     def _after_release(self, context, s: _State, t: float) -> None:
-        q = s.status.plan.q
-        path = s.release or (q["place"], q["slide"], q["retreat"])
-        self._move(s, Mode.RETREAT, t, list(path), velocity_scale=0.2)
+        q = s.release or s.status.plan.q
+        self._move(s, Mode.RETREAT, t, [q["opened"], q["down"], q["slide"], q["retreat"]],
+                   velocity_scale=0.2)
 
     def _after_retreat(self, context, s: _State, t: float) -> None:
-        s.q_hold = s.release[-1] if s.release else s.status.plan.q["retreat"]
+        s.q_hold = (s.release or s.status.plan.q)["retreat"]
         self._enter(s, Mode.DONE, t)
 
     # ---- planning -------------------------------------------------------------------------------
