@@ -96,12 +96,15 @@ class Scenario:
     """Extra RGB-D cameras added to the station (Drake's ``CameraConfig``)."""
     plant_config: MultibodyPlantConfig = field(
         default_factory=lambda: MultibodyPlantConfig(
-            time_step=0.001,
+            time_step=0.002,
             contact_model="hydroelastic_with_fallback",
             discrete_contact_approximation="sap",
         )
     )
-    """The MultibodyPlant (discrete, hydroelastic contact)."""
+    """The MultibodyPlant (discrete, hydroelastic contact). A 2 ms step: measured against 1 ms
+    and 4 ms on every object of the set at two random poses (scenarios/
+    experiment_time_step.yaml), the verdicts agreed in 43 of 46 trials, the differences went
+    both ways (successes 12, 13, 14 of 46), and 2 ms runs the carry 1.9x faster than 1 ms."""
     simulator_config: SimulatorConfig = field(
         default_factory=lambda: SimulatorConfig(publish_every_time_step=False)
     )

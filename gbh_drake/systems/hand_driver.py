@@ -43,7 +43,7 @@ class HandDriver(LeafSystem):
     ``desired_state`` (6): the same layout, for the plant's desired-state input of the gripper.
     """
 
-    def __init__(self, config: HandConfig, time_step: float = 0.005):
+    def __init__(self, config: HandConfig, time_step: float = 0.004):
         """``time_step`` (s): how often the set point moves (a few plant steps: the stiff drive
         smooths the steps of ``speed * time_step``)."""
         super().__init__()
