@@ -3,7 +3,9 @@
 Prints, for the default scenario (mug_classic, 10 views):
 
 * the real-time factor (simulated / wall seconds, and simulated / CPU seconds of this process)
-  of every phase of the pick, the carry's among them (target >= 1.5);
+  of every phase of the pick, the carry's among them (target >= 1.5), for the object set's mug
+  and for a dense user mesh (the mug subdivided to ~100k triangles, imported from a file: its
+  contact geometry is simplified, its look is not);
 * the planning time per grasp from the measured state (median and worst over the grasps tried
   in the default trial and in a few random-pose trials of other objects; target median <= 0.5 s);
 * the wall time and peak memory of ``gbh run scenarios/default.yaml`` as a whole process
@@ -29,13 +31,14 @@ from pydrake.systems.framework import EventStatus
 
 from gbh_drake import REPO_ROOT, SCENARIOS_DIR
 from gbh_drake.config import RandomRestingPose
+from gbh_drake.objects import make_object
 from gbh_drake.scenario import load_scenario
 from gbh_drake.trial import build_trial
 
 
 def phase_rates(overrides: str = "") -> tuple[list[tuple[str, float, float, float]], list[float]]:
-    """(phase, simulated s, wall s, CPU s) of each phase of the default trial, and the planning
-    seconds of each grasp tried."""
+    """(phase, simulated s, wall s, CPU s) of each phase of the default trial (with
+    ``overrides``), and the planning seconds of each grasp tried."""
     scenario = load_scenario(SCENARIOS_DIR / "default.yaml", overrides=overrides)
     trial = build_trial(scenario)
     simulator = Simulator(trial.diagram)
@@ -97,6 +100,16 @@ def whole_process(runs: int, out: Path) -> list[tuple[float, float]]:
     return results
 
 
+def _print_phases(title: str, rows) -> None:
+    print(f"{title}, per phase:  simulated s, wall s, real-time factor (wall / CPU)")
+    for name, sim, wall, cpu in rows:
+        print(f"  {name:10s} {sim:5.2f} {wall:6.2f}   {sim / max(wall, 1e-9):5.2f} / "
+              f"{sim / max(cpu, 1e-9):5.2f}")
+    sim = sum(r[1] for r in rows)
+    wall = sum(r[2] for r in rows)
+    print(f"  {'total':10s} {sim:5.2f} {wall:6.2f}   {sim / wall:5.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=2)
@@ -108,13 +121,13 @@ def main() -> None:
     print(f"load average {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores")
 
     rows, default_grasps = phase_rates()
-    print("default trial, per phase:  simulated s, wall s, real-time factor (wall / CPU)")
-    for name, sim, wall, cpu in rows:
-        print(f"  {name:10s} {sim:5.2f} {wall:6.2f}   {sim / max(wall, 1e-9):5.2f} / "
-              f"{sim / max(cpu, 1e-9):5.2f}")
-    sim = sum(r[1] for r in rows)
-    wall = sum(r[2] for r in rows)
-    print(f"  {'total':10s} {sim:5.2f} {wall:6.2f}   {sim / wall:5.2f}")
+    _print_phases("default trial (mug_classic)", rows)
+    dense = Path(args.out) / "dense_mug.obj"
+    dense.parent.mkdir(parents=True, exist_ok=True)
+    mesh = make_object("mug_classic").mesh.subdivide().subdivide().subdivide()
+    mesh.export(dense)
+    dense_rows, _ = phase_rates(f"object: {{mesh: {dense}, density: 800}}")
+    _print_phases(f"dense user mesh ({len(mesh.faces)} triangles)", dense_rows)
 
     times = default_grasps + planning_times(args.objects, args.seeds)
     print(f"planning per grasp from the measured state: median {statistics.median(times):.3f} s, "
