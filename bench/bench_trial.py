@@ -126,7 +126,7 @@ def main() -> None:
     dense.parent.mkdir(parents=True, exist_ok=True)
     mesh = make_object("mug_classic").mesh.subdivide().subdivide().subdivide()
     mesh.export(dense)
-    dense_rows, _ = phase_rates(f"object: {{mesh: {dense}, density: 800}}")
+    dense_rows, _ = phase_rates(f"object: {{name: '', mesh: {dense}, density: 800}}")
     _print_phases(f"dense user mesh ({len(mesh.faces)} triangles)", dense_rows)
 
     times = default_grasps + planning_times(args.objects, args.seeds)
