@@ -341,6 +341,7 @@ RULES: dict[tuple, dict[str, object]] = {
         "cage_test_force": NonNeg(1000.0, "N"),
         "cage_test_time": NonNeg(30.0, _TIME),
         "hold_time": NonNeg(30.0, _TIME),
+        "release_depth": NonNeg(0.05, "m"),
         "release_shift": NonNeg(0.05, "m"),
         "retreat_distance": NonNeg(0.5, "m"),
         "planner_iterations": Int(1, 100_000),
