@@ -55,6 +55,16 @@ def lift_for_clearance(points_W: np.ndarray, com_W: np.ndarray, hook_W: np.ndarr
                        clearance: float, *, swings: bool = True, ground_height: float = 0.0,
                        up=(0.0, 0.0, 1.0)) -> float:
     """How far (m) the hook must rise so that the hanging object's lowest point is ``clearance``
-    above the ground plane (at ``ground_height`` along ``up``)."""
-    low = hanging_lowest_height(points_W, com_W, hook_W, up, swings=swings)
+    above the ground plane (at ``ground_height`` along ``up``).
+
+    A hooked object (``swings``) is bounded for the worst case: whatever way it turns as it
+    hangs (a scan's centroid is not its centre of mass, and it swings on the way), no point is
+    farther below the hook than its farthest scanned point. Held rigidly, it keeps its pose."""
+    up = unit(np.asarray(up, dtype=float))
+    p = np.asarray(points_W, dtype=float).reshape(-1, 3)
+    if swings and len(p):
+        reach = float(np.linalg.norm(p - np.asarray(hook_W, dtype=float), axis=1).max())
+        low = float(np.asarray(hook_W, dtype=float) @ up) - reach
+    else:
+        low = hanging_lowest_height(p, com_W, hook_W, up, swings=swings)
     return float(ground_height + clearance - low)

@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.config import PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
@@ -32,6 +32,8 @@ from gbh_drake.planning.rrt import plan_rrt_connect
 ANTIPODAL = "antipodal"
 #: Steps (m) by which the approach pose backs off until it is clear of the object's hull.
 APPROACH_STEP = 0.05
+#: Turns (rad) of the hand about the vertical tried for the carry, in order.
+CARRY_YAWS = np.radians([0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 180.0])
 
 
 @dataclass
@@ -140,11 +142,20 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     if q["lift"] is None:
         return refuse("ik", "lift")
 
-    # Carry: the hanging object's CoM (or, held rigidly, its hook offset) over the place.
+    # Carry: the hanging object's CoM (or, held rigidly, its hook offset) over the place. Where
+    # the arm cannot reach that with the grasp's orientation, the hand also turns about the
+    # vertical through the hook point (the object hangs the same way).
     com_offset = np.zeros(2) if hook else (hook_W - setup.com_W)[:2]
     target_xy = np.asarray(cfg.place_position[:2], dtype=float) + com_offset
-    carry = np.array([*(target_xy - hook_W[:2]), lift])
-    q["carry"] = ik(_shifted(X_closed, carry), q["lift"], closed_hand)
+    q["carry"], X_carry = None, None
+    for yaw in CARRY_YAWS:
+        R_turn = RotationMatrix.MakeZRotation(yaw)
+        X_carry = RigidTransform(R_turn.multiply(X_closed.rotation()),
+                                 [*target_xy, hook_W[2] + lift]) @ \
+            RigidTransform(X_closed.inverse().multiply(hook_W)).inverse()
+        q["carry"] = ik(X_carry, q["lift"], closed_hand)
+        if q["carry"] is not None:
+            break
     if q["carry"] is None:
         return refuse("ik", "carry")
     # Lower: at most until the object's estimated lowest point is place_depth under the table
@@ -152,8 +163,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
     q["place"] = None
     for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
-        q_place = ik(_shifted(X_closed, carry - [0.0, 0.0, max(down, 0.0)]), q["carry"],
-                     closed_hand)
+        q_place = ik(_shifted(X_carry, [0.0, 0.0, -max(down, 0.0)]), q["carry"], closed_hand)
         if q_place is not None and (not cfg.plan_paths or
                                     setup.near.edge_free(q["carry"], q_place, closed_hand)):
             q["place"] = q_place
@@ -196,7 +206,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return refuse(blocked, "transfer" if blocked == "planner" else "grasp")
     q["approach"] = transfer[-1]
     place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
-        X_closed.inverse().multiply(hook_W))
+        X_closed.inverse().multiply(hook_W))  # the hook point at the release
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
                     keep_straight_rod)
 
