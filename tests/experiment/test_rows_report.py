@@ -149,3 +149,24 @@ def test_a_broken_trial_is_a_row_not_a_crash():
     assert row["outcome"] == "error" and not row["success"]
     assert "not_a_field" in row["reason"] and "Traceback" in row["traceback"]
     assert row_key(row) == ("box", "m", 0) and row["scenario_digest"] == "d"
+
+
+def test_resting_pose_classes_and_their_table(made_up):
+    from math import pi
+
+    from gbh_drake.experiment.report import by_resting_pose, resting_pose
+
+    assert resting_pose([0, 0, 0, 0.0, 0.0, 2.0]) == "upright"
+    assert resting_pose([0, 0, 0, pi / 2, 0.43, -2.3]) == "on its side"  # a mug on its side
+    assert resting_pose([0, 0, 0, 0.0, pi / 2 - 0.01, 0.0]) == "on its side"
+    assert resting_pose([0, 0, 0, -pi, 0.0, 1.0]) == "upside down"
+    folder, rows = made_up
+    for r in rows:
+        if r["object"] == "kettle":
+            r["pose"] = [0.5, 0.0, 0.05, pi / 2, 0.0, 0.0]
+    RowStore(folder).rewrite(rows)
+    table = by_resting_pose(read_input(folder))
+    # gbh-10: the mug upright 2/2; the kettle on its side 1/2; antipodal: 0/2 and 1/2.
+    assert "| gbh-10 | 2/2 (100.0 %) | 1/2 (50.0 %) | - |" in table
+    assert "| antipodal | 0/2 (0.0 %) | 1/2 (50.0 %) | - |" in table
+    assert "## By resting pose" in summary_markdown(read_input(folder))
