@@ -9,9 +9,10 @@
    farther away.
 2. **Aimed views**: the ``num_views`` views look at the centre of the object's bounding sphere
    from the distance at which the sphere fits the field of view (``viewpoints.fit_view_distance``).
-3. **Segmentation**: the views' points near the object are segmented again; only the object's
-   pixels and the table's around it are fused (TSDF), everything else (robot, other objects) is
-   dropped.
+3. **Segmentation**: the views' points near the object are segmented again (the clusters that
+   touch what the first look saw are the object's, even when a view does not see where it rests
+   on the table); only the object's pixels and the table's around it are fused (TSDF),
+   everything else (robot, other objects) is dropped.
 4. **Cut and cap**: the mesh is cut just above the table and its bottom capped, except where
    the cameras saw the table through the object (``cap.cap_bottom``).
 
@@ -253,8 +254,10 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
                         table=table, aim_W=p_WT, view_distance=config.distance)
     points = view_points(depths, intrinsics, X_WCs, region)
-    reference = first_look.reference_W if first_look is not None and first_look.found else None
-    segmentation = segment_points(points.p_WQ, table, config, p_WT, box, reference=reference)
+    seen = first_look is not None and first_look.found
+    reference = first_look.reference_W if seen else None
+    segmentation = segment_points(points.p_WQ, table, config, p_WT, box, reference=reference,
+                                  known_W=first_look.p_W_object if seen else None)
     result.p_WQ = points.p_WQ[segmentation.object_mask].astype(np.float64)
     timing["segment"] = time.perf_counter() - start
 

@@ -8,6 +8,12 @@ the cluster nearest the reference point (the scan target, or a point already kno
 object) among those that are big enough, rest on the table (the robot's hand hovering above the
 object does not), keep clear of the robot's base (the arm may be in view) and come near enough
 to the target. Everything else (robot, other objects, noise) is dropped.
+
+When the object's points are already known from another look (``known_W``: the first look, which
+sees it from two sides, standing on the table), every allowed cluster that comes within
+``KNOWN_MARGIN`` of them is the object's, whether or not its own lowest point reaches the table:
+one view may see only the top of an object that stands on a part hidden from it (an upside-down
+teapot on its lid) or see it split in two by an occlusion.
 """
 
 from __future__ import annotations
@@ -16,12 +22,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
+from scipy.spatial import cKDTree
 
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.table import TablePlane
 
 _CONNECTIVITY = np.ones((3, 3, 3), dtype=bool)
+
+KNOWN_MARGIN = 0.015
+"""A cluster is the already known object's if one of its points is this close (m) to a known
+point (the first look's images sample the surface a few millimetres apart)."""
+_KNOWN_SAMPLE = 4000
+"""At most this many points of a cluster are compared with the known points."""
 
 
 @dataclass
@@ -75,13 +88,15 @@ def cluster_labels(p_WQ: np.ndarray, cell: float, min_cell_points: int = 1) -> n
 
 
 def segment_points(p_WQ: np.ndarray, table: TablePlane, config: ScanConfig, p_WT,
-                   box: CropBox, *, reference=None, search_radius: float | None = None
-                   ) -> Segmentation:
+                   box: CropBox, *, reference=None, search_radius: float | None = None,
+                   known_W: np.ndarray | None = None) -> Segmentation:
     """Segments points p_WQ (n, 3) in W (all inside ``box``) into table, object and the rest.
 
     The object's cluster must come within ``search_radius`` (default
     ``config.object_search_radius``) horizontally of p_WT; among those allowed, the one nearest
-    ``reference`` (default p_WT) in 3-D is the object."""
+    ``reference`` (default p_WT) in 3-D is the object. With ``known_W`` (k, 3), the object's
+    points seen before, the object is every allowed cluster within ``KNOWN_MARGIN`` of them,
+    resting on the table or not (module docstring); if none is, the rule above."""
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     reference = p_WT if reference is None else np.asarray(reference, dtype=float).reshape(3)
     radius = config.object_search_radius if search_radius is None else search_radius
@@ -112,9 +127,10 @@ def segment_points(p_WQ: np.ndarray, table: TablePlane, config: ScanConfig, p_WT
     to_robot = lowest_per_cluster(np.hypot(sorted_points[:, 0] - base[0],
                                            sorted_points[:, 1] - base[1]))
     to_reference = lowest_per_cluster(np.linalg.norm(sorted_points - reference, axis=1))
+    near_known = _near_known(sorted_points, starts, count, known_W)
     reasons = [("too small", count < config.min_cluster_points),
                ("robot", to_robot <= config.robot_clearance),
-               ("not on the table", lowest > config.support_gap),
+               ("not on the table", (lowest > config.support_gap) & ~near_known),
                ("too far", to_target > radius)]
     allowed = np.ones(len(index), dtype=bool)
     for reason, bad in reasons:
@@ -122,10 +138,28 @@ def segment_points(p_WQ: np.ndarray, table: TablePlane, config: ScanConfig, p_WT
         allowed &= ~bad
     if not allowed.any():
         return result
-    chosen = index[np.flatnonzero(allowed)[np.argmin(to_reference[allowed])]]
-    result.object_mask[above[labels == chosen]] = True
+    if (allowed & near_known).any():
+        chosen = index[allowed & near_known]
+    else:
+        chosen = index[[np.flatnonzero(allowed)[np.argmin(to_reference[allowed])]]]
+    result.object_mask[above[np.isin(labels, chosen)]] = True
     result.touches = box_faces_reached(p_WQ[result.object_mask], box, config.cluster_cell)
     return result
+
+
+def _near_known(sorted_points: np.ndarray, starts: np.ndarray, count: np.ndarray,
+                known_W: np.ndarray | None) -> np.ndarray:
+    """(c,) bool: whether each cluster (``count`` points from ``starts`` in ``sorted_points``)
+    comes within ``KNOWN_MARGIN`` of a known point (all False without ``known_W``)."""
+    near = np.zeros(len(starts), dtype=bool)
+    if known_W is None or len(known_W) == 0:
+        return near
+    tree = cKDTree(np.asarray(known_W, dtype=float).reshape(-1, 3))
+    for k, (start, n) in enumerate(zip(starts, count, strict=True)):
+        sample = sorted_points[start:start + n][:: max(1, int(n) // _KNOWN_SAMPLE)]
+        distance, _ = tree.query(sample, distance_upper_bound=KNOWN_MARGIN)
+        near[k] = bool(np.isfinite(distance).any())
+    return near
 
 
 def box_faces_reached(p_WQ: np.ndarray, box: CropBox, margin: float) -> list[str]:

@@ -10,7 +10,9 @@ The rules (paper Sec. 3.1: a trial succeeds only if the object is picked up and 
 without falling), fixed in :class:`~gbh_drake.config.MonitorConfig` before any experiment:
 
 * lifted: the object's lowest point is ``lifted_height`` above the table (z = 0 of W);
-* dropped: once lifted, its lowest point falls back below half of that (it lies on the table);
+* dropped: once lifted, its lowest point falls back below half of that (it lies on the table)
+  and no gripper body touches it; if one still does, it came down while held (dragged: "sank",
+  not dropped, and judged by the next rule);
 * success: lifted during the lift or the carry, never dropped, and still lifted at the end of
   the hold over the place position (all with the full grasp force);
 * held by a cage or by a pinch, decided by physics in the cage test: the squeeze is relaxed to
@@ -70,6 +72,10 @@ class Verdict:
     """Time when the object's lowest point first reached ``lifted_height``."""
     dropped_at: float = float("nan")
     dropped_phase: str = ""
+    sank_at: float = float("nan")
+    sank_phase: str = ""
+    """When and in which phase the lifted object came back down onto the table while a gripper
+    body still touched it (dragged, not dropped; "" if it did not)."""
     max_clearance: float = 0.0
     """Highest lowest point above the table while carried."""
     clearance_after_hold: float = float("nan")
@@ -102,6 +108,7 @@ class _Watch(CopiedShallowly):
     verdict: Verdict = field(default_factory=Verdict)
     lifted: bool = False
     dropped: bool = False
+    table_in_hold: bool = False
     force_sum: float = 0.0
     force_n: int = 0
     last_phase: str = ""
@@ -197,106 +204,145 @@ class CageMonitor(LeafSystem):
 
     # ---- judging ----------------------------------------------------------------------------------
     def _update(self, context, state) -> None:
-        w: _Watch = copy.copy(context.get_abstract_state(self._watch).get_value())
-        w.verdict = copy.copy(w.verdict)  # (its lists and dicts are replaced, never mutated)
+        w: _Watch = context.get_abstract_state(self._watch).get_value()
         status: PickStatus = self._status.Eval(context)
-        v = w.verdict
-        t = context.get_time()
         mode = status.mode
         if mode in (Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP) and w.last_phase == mode.value:
             return
         X_WO = self._poses.Eval(context)[int(self._object)]
-        low = self.lowest_point(X_WO)
         gripper, table = self.touching(self._contacts.Eval(context))
-        hand = self._hand.Eval(context)
-        if gripper:
-            seen = set(v.touching.get(mode.value, [])) | gripper
-            v.touching = {**v.touching, mode.value: sorted(seen)}
-        cfg = self._config
-        if mode == Mode.PLAN and not v.settled_at:
-            v.settled_at = X_WO.translation().tolist()
-        if mode in _AIRBORNE and not w.dropped:
-            if not w.lifted and low >= cfg.lifted_height and mode in _CARRIED:
-                w.lifted, v.lifted_at = True, t
-            if w.lifted:
-                v.max_clearance = max(v.max_clearance, low)
-                if mode in _CARRIED and table:
-                    v.table_touch_while_carried = True
-                if low < 0.5 * cfg.lifted_height:
-                    w.dropped, v.dropped_at, v.dropped_phase = True, t, mode.value
-        if mode in (Mode.CARRY, Mode.HOLD):
-            w.force_sum += float(-np.mean(self._actuation.Eval(context)[:2]))
-            w.force_n += 1
-            v.squeeze_force = w.force_sum / w.force_n
-        if mode == Mode.HOLD:
-            v.clearance_after_hold = low
-        if mode == Mode.CAGE_TEST:
-            v.finger_q_cage_test = float(np.mean(hand[:2]))
-            closed = HOOK_GRIPPER.q_closed + cfg.closed_tolerance
-            v.bar_deployed = bool(abs(hand[2]) < self._bar_max)
-            v.loop_closed = bool(np.all(hand[:2] <= closed) and v.bar_deployed)
-            v.cage_test_held = bool(not w.dropped and low >= 0.5 * cfg.lifted_height
-                                    and gripper)
-        if mode == Mode.DONE:
-            v.released_at = X_WO.translation().tolist()
-            v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
-        self._conclude(w, status)
-        w.last_phase = mode.value
+        squeeze = float(-np.mean(self._actuation.Eval(context)[:2]))
+        w = observe(w, status, Observation(
+            t=context.get_time(), p_WO=X_WO.translation().tolist(),
+            low=self.lowest_point(X_WO), gripper=gripper, table=table,
+            hand=np.asarray(self._hand.Eval(context)), squeeze=squeeze),
+            self._config, self._bar_max)
         state.get_mutable_abstract_state(self._watch).set_value(w)
 
-    def _conclude(self, w: _Watch, status: PickStatus) -> None:
-        """Outcome, held_by and reason from the record (final once the machine finished)."""
-        v = w.verdict
-        mode = status.mode
-        if mode == Mode.NO_GRASP:
-            v.outcome, v.reason = NO_GRASP, "no grasp to try"
-            return
-        if mode == Mode.NO_REACHABLE_GRASP:
-            counts: dict[str, int] = {}
-            for r in status.refusals:
-                counts[r.key] = counts.get(r.key, 0) + 1
-            why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
-            v.outcome = NO_REACHABLE_GRASP
-            v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
-            return
-        order = [m.value for m in Mode]
-        reached = order.index(mode.value)
-        if reached <= order.index(Mode.HOLD.value):
-            v.outcome, v.success = INCOMPLETE, False
-            v.reason = f"the pick is in its {mode.value} phase"
-            return
-        if w.dropped and v.dropped_phase in (Mode.LIFT.value, Mode.CARRY.value, Mode.HOLD.value):
-            v.outcome = DROPPED_DURING_LIFT if v.dropped_phase == Mode.LIFT.value else \
-                DROPPED_DURING_CARRY
-            v.success, v.held_by = False, ""
-            v.reason = f"dropped during the {v.dropped_phase} at t = {v.dropped_at:.2f} s"
-            return
-        if not w.lifted or not (v.clearance_after_hold >= self._config.lifted_height):
-            v.outcome, v.success, v.held_by = NOT_LIFTED, False, ""
-            touched = sorted({b for bodies in v.touching.values() for b in bodies})
-            if touched and v.touching.get(Mode.HOLD.value):
-                v.reason = (f"held by the gripper ({', '.join(v.touching[Mode.HOLD.value])}) "
-                            "but still touching the table: dragged, not lifted clear "
-                            f"(lowest point {100 * v.clearance_after_hold:.1f} cm)")
-            else:
-                v.reason = "the object was not lifted: the gripper came away without it"
-            return
-        v.outcome, v.success = SUCCESS, True
-        if mode == Mode.CAGE_TEST:
-            v.held_by, v.reason = "", "carried; the cage test is running"
-            return
-        caged = v.cage_test_held and v.loop_closed
-        v.held_by = CAGE if caged else PINCH
-        if caged:
-            v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
-                       "the squeeze relaxed"
-        elif v.cage_test_held and not v.bar_deployed:
-            v.reason = "picked and carried; held by a pinch between the two straight rods " \
-                       "(the bar folded), still held with the squeeze relaxed"
-        elif v.cage_test_held:
-            v.reason = ("picked and carried; held by a pinch: the loop did not close "
-                        f"(fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
-                        f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm)")
+@dataclass
+class Observation:
+    """One look at the scene: time (s), the object's origin p_WO (m), its lowest point's height
+    above the table ``low`` (m), the gripper bodies touching it, whether the table does, the
+    gripper's state ``hand`` (6) and the fingers' squeeze (N, positive closing)."""
+
+    t: float
+    p_WO: list[float]
+    low: float
+    gripper: set[str]
+    table: bool
+    hand: np.ndarray
+    squeeze: float
+
+
+def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
+            bar_deployed_max: float = 0.1) -> _Watch:
+    """The record after observation ``o`` in the machine's ``status`` (a new record; ``w`` is
+    not changed). Pure: the monitor's rules without a diagram.
+
+    A lifted object whose lowest point comes back below half of ``lifted_height`` has dropped if
+    no gripper body touches it; if one does, it has come down onto the table while still held
+    (recorded as ``sank_at`` / ``sank_phase``: dragged, not dropped)."""
+    w = copy.copy(w)
+    w.verdict = v = copy.copy(w.verdict)  # (its lists and dicts are replaced, never mutated)
+    mode, t, low, gripper, table = status.mode, o.t, o.low, o.gripper, o.table
+    if gripper:
+        seen = set(v.touching.get(mode.value, [])) | gripper
+        v.touching = {**v.touching, mode.value: sorted(seen)}
+    if mode == Mode.PLAN and not v.settled_at:
+        v.settled_at = list(o.p_WO)
+    if mode in _AIRBORNE and not w.dropped:
+        if not w.lifted and low >= cfg.lifted_height and mode in _CARRIED:
+            w.lifted, v.lifted_at = True, t
+        if w.lifted:
+            v.max_clearance = max(v.max_clearance, low)
+            if mode in _CARRIED and table:
+                v.table_touch_while_carried = True
+            if low < 0.5 * cfg.lifted_height:
+                if not gripper:
+                    w.dropped, v.dropped_at, v.dropped_phase = True, t, mode.value
+                elif not v.sank_phase:
+                    v.sank_at, v.sank_phase = t, mode.value
+    if mode in (Mode.CARRY, Mode.HOLD):
+        w.force_sum += o.squeeze
+        w.force_n += 1
+        v.squeeze_force = w.force_sum / w.force_n
+    if mode == Mode.HOLD:
+        v.clearance_after_hold = low
+        w.table_in_hold = w.table_in_hold or table
+    if mode == Mode.CAGE_TEST:
+        hand = o.hand
+        v.finger_q_cage_test = float(np.mean(hand[:2]))
+        closed = HOOK_GRIPPER.q_closed + cfg.closed_tolerance
+        v.bar_deployed = bool(abs(hand[2]) < bar_deployed_max)
+        v.loop_closed = bool(np.all(hand[:2] <= closed) and v.bar_deployed)
+        v.cage_test_held = bool(not w.dropped and low >= 0.5 * cfg.lifted_height and gripper)
+    if mode == Mode.DONE:
+        v.released_at = list(o.p_WO)
+        v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
+    conclude(w, status, cfg)
+    w.last_phase = mode.value
+    return w
+
+
+def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig) -> None:
+    """Outcome, held_by and reason from the record (final once the machine finished)."""
+    v = w.verdict
+    mode = status.mode
+    if mode == Mode.NO_GRASP:
+        v.outcome, v.reason = NO_GRASP, "no grasp to try"
+        return
+    if mode == Mode.NO_REACHABLE_GRASP:
+        counts: dict[str, int] = {}
+        for r in status.refusals:
+            counts[r.key] = counts.get(r.key, 0) + 1
+        why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
+        v.outcome = NO_REACHABLE_GRASP
+        v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
+        return
+    order = [m.value for m in Mode]
+    reached = order.index(mode.value)
+    if reached <= order.index(Mode.HOLD.value):
+        v.outcome, v.success = INCOMPLETE, False
+        v.reason = f"the pick is in its {mode.value} phase"
+        return
+    if w.dropped and v.dropped_phase in (Mode.LIFT.value, Mode.CARRY.value, Mode.HOLD.value):
+        v.outcome = DROPPED_DURING_LIFT if v.dropped_phase == Mode.LIFT.value else \
+            DROPPED_DURING_CARRY
+        v.success, v.held_by = False, ""
+        v.reason = f"dropped during the {v.dropped_phase} at t = {v.dropped_at:.2f} s"
+        return
+    if not w.lifted or not (v.clearance_after_hold >= cfg.lifted_height):
+        v.outcome, v.success, v.held_by = NOT_LIFTED, False, ""
+        held = v.touching.get(Mode.HOLD.value)
+        sank = (f"; it came back down onto the table during the {v.sank_phase} at "
+                f"t = {v.sank_at:.2f} s" if v.sank_phase else "")
+        if held and w.table_in_hold:
+            v.reason = (f"held by the gripper ({', '.join(held)}) but still touching the "
+                        "table at the place: dragged, not lifted clear (lowest point "
+                        f"{100 * v.clearance_after_hold:.1f} cm){sank}")
+        elif held:
+            v.reason = (f"held by the gripper ({', '.join(held)}) but hanging only "
+                        f"{100 * v.clearance_after_hold:.1f} cm above the table at the place, "
+                        f"under the {100 * cfg.lifted_height:.0f} cm that lifted means{sank}")
         else:
-            v.reason = "picked and carried; held by a pinch: it slid out when the squeeze " \
-                       "was relaxed"
+            v.reason = "the object was not lifted: the gripper came away without it"
+        return
+    v.outcome, v.success = SUCCESS, True
+    if mode == Mode.CAGE_TEST:
+        v.held_by, v.reason = "", "carried; the cage test is running"
+        return
+    caged = v.cage_test_held and v.loop_closed
+    v.held_by = CAGE if caged else PINCH
+    if caged:
+        v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
+                   "the squeeze relaxed"
+    elif v.cage_test_held and not v.bar_deployed:
+        v.reason = "picked and carried; held by a pinch between the two straight rods " \
+                   "(the bar folded), still held with the squeeze relaxed"
+    elif v.cage_test_held:
+        v.reason = ("picked and carried; held by a pinch: the loop did not close "
+                    f"(fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
+                    f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm)")
+    else:
+        v.reason = "picked and carried; held by a pinch: it slid out when the squeeze " \
+                   "was relaxed"

@@ -92,6 +92,27 @@ def test_nothing_near_the_target_is_no_object():
     assert not seg.found
 
 
+def test_what_a_look_saw_before_keeps_parts_that_do_not_reach_the_table():
+    """One view sees an upside-down teapot's body floating 4 cm above the table (what it stands
+    on is hidden) and its handle apart: both touch what the first look saw, so both are the
+    object; the hand hovering above (not near the known points) is still dropped."""
+    table, parts = scene_points()
+    body = blob([0.5, -0.05, 0.04], [0.6, 0.05, 0.12])
+    handle = blob([0.615, -0.01, 0.06], [0.63, 0.01, 0.1])
+    p = np.vstack([table, body, handle, parts["hand"]])
+    box = CropBox((-0.05, -0.6, -0.05), (1.15, 0.6, 0.6))
+    seg = segment_points(p, TABLE, ScanConfig(), [0.55, 0.0, 0.06], box)
+    assert not seg.found and seg.dropped["not on the table"] == 3  # without a first look
+    known = np.vstack([blob([0.5, -0.05, 0.0], [0.6, 0.05, 0.12], 0.01),
+                       blob([0.615, -0.01, 0.06], [0.63, 0.01, 0.1], 0.01)])
+    seg = segment_points(p, TABLE, ScanConfig(), [0.55, 0.0, 0.06], box, known_W=known)
+    n_table, n_body, n_handle = len(table), len(body), len(handle)
+    assert seg.object_mask[n_table:n_table + n_body + n_handle].all()
+    assert not seg.object_mask[:n_table].any()
+    assert not seg.object_mask[n_table + n_body + n_handle:].any()  # the hand
+    assert seg.dropped["not on the table"] == 1
+
+
 def test_faces_reached_and_bounding_sphere():
     p = blob([0.5, -0.05, 0.0], [0.6, 0.05, 0.2])
     box = CropBox((0.3, -0.04, -0.1), (0.8, 0.3, 0.2))

@@ -1,0 +1,92 @@
+"""The CageMonitor's rules as a pure function of what it observes (``cage_monitor.observe``):
+what counts as lifted, dropped, dragged, carried, cage and pinch, and the words for each."""
+
+import numpy as np
+import pytest
+
+from gbh_drake.config import MonitorConfig
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.systems.cage_monitor import (
+    CAGE,
+    DROPPED_DURING_CARRY,
+    NOT_LIFTED,
+    PINCH,
+    SUCCESS,
+    Observation,
+    _Watch,
+    observe,
+)
+from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+
+CFG = MonitorConfig()
+CLOSED = np.array([HOOK_GRIPPER.q_closed] * 2 + [0.0, 0, 0, 0])
+HOOK = {"bar", "l_finger"}
+
+
+def run(script):
+    """Feeds observations (mode, lowest point m, gripper bodies, table touch, hand state) at
+    10 ms steps through every phase in order and returns the verdict."""
+    w, t = _Watch(), 0.0
+    for mode, low, gripper, table, hand in script:
+        t += 0.01
+        w = observe(w, PickStatus(mode=mode), Observation(
+            t=t, p_WO=[0.5, 0.0, low], low=low, gripper=set(gripper), table=table,
+            hand=hand, squeeze=70.0), CFG)
+    return w.verdict
+
+
+def trial(carry_lows, *, carry_gripper=HOOK, hold_low=None, hold_table=False,
+          cage_hand=CLOSED, cage_low=None):
+    script = [(Mode.PLAN, 0.0, (), True, CLOSED), (Mode.CLOSE, 0.0, HOOK, True, CLOSED),
+              (Mode.LIFT, 0.01, HOOK, True, CLOSED), (Mode.LIFT, 0.06, HOOK, False, CLOSED)]
+    script += [(Mode.CARRY, low, carry_gripper if low < 0.01 else HOOK, low <= 0.0, CLOSED)
+               for low in carry_lows]
+    hold_low = carry_lows[-1] if hold_low is None else hold_low
+    script += [(Mode.HOLD, hold_low, HOOK if hold_low > -1 else (), hold_table, CLOSED)]
+    cage_low = hold_low if cage_low is None else cage_low
+    script += [(Mode.CAGE_TEST, cage_low, HOOK, False, cage_hand),
+               (Mode.LOWER, 0.0, HOOK, True, CLOSED), (Mode.DONE, 0.0, (), True, CLOSED)]
+    return run(script)
+
+
+def test_carried_on_the_closed_loop_is_a_caged_success():
+    v = trial([0.06, 0.07, 0.06])
+    assert v.outcome == SUCCESS and v.held_by == CAGE and "cage" in v.reason
+    assert v.lifted_at > 0 and v.max_clearance == pytest.approx(0.07)
+    assert v.released_on_table and v.touching["carry"] == ["bar", "l_finger"]
+
+
+def test_held_with_the_loop_open_is_a_pinch():
+    open_hand = np.array([0.03, 0.03, 0, 0, 0, 0])
+    v = trial([0.06], cage_hand=open_hand)
+    assert v.outcome == SUCCESS and v.held_by == PINCH and "did not close" in v.reason
+
+
+def test_falling_free_of_the_gripper_is_a_drop():
+    v = trial([0.06, 0.003, 0.0], carry_gripper=(), hold_low=0.0, hold_table=True)
+    assert v.outcome == DROPPED_DURING_CARRY and v.dropped_phase == "carry"
+    assert "dropped during the carry" in v.reason
+
+
+def test_coming_down_on_the_table_while_hooked_is_dragged_not_dropped():
+    """A basket still on the bar whose bottom comes back to the table during the carry."""
+    v = trial([0.06, 0.003, 0.0], hold_low=0.0, hold_table=True)
+    assert v.outcome == NOT_LIFTED and not v.dropped_phase and v.sank_phase == "carry"
+    assert "still touching the table" in v.reason and "came back down" in v.reason
+    assert "dropped" not in v.reason
+
+
+def test_hanging_low_but_clear_of_the_table_is_not_called_touching():
+    """A bucket hanging 1.6 cm above the table at the place: held, not lifted clear, not
+    touching."""
+    v = trial([0.05, 0.03, 0.016])
+    assert v.outcome == NOT_LIFTED and "hanging only 1.6 cm above the table" in v.reason
+    assert "touching" not in v.reason
+
+
+def test_a_gripper_that_came_away_empty():
+    script = [(Mode.PLAN, 0.0, (), True, CLOSED), (Mode.LIFT, 0.0, (), True, CLOSED),
+              (Mode.CARRY, 0.0, (), True, CLOSED), (Mode.HOLD, 0.0, (), True, CLOSED),
+              (Mode.CAGE_TEST, 0.0, (), True, CLOSED), (Mode.DONE, 0.0, (), True, CLOSED)]
+    v = run(script)
+    assert v.outcome == NOT_LIFTED and "came away without it" in v.reason
