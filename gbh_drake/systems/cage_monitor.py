@@ -11,7 +11,8 @@ without falling), fixed in :class:`~gbh_drake.config.MonitorConfig` before any e
 
 * lifted: the object's lowest point is ``lifted_height`` above the table (z = 0 of W);
 * dropped: once lifted, its lowest point falls back below half of that (it lies on the table)
-  and no gripper body touches it; if one still does, it came down while held (dragged: "sank",
+  and no gripper body touches it for ``DROP_CONFIRM`` (0.2 s; the drop's time is when that
+  began); if one still does, it came down while held (dragged: "sank",
   not dropped, and judged by the next rule);
 * success: lifted during the lift or the carry, never dropped, and still lifted at the end of
   the hold over the place position (all with the full grasp force);
@@ -50,6 +51,10 @@ NO_GRASP = "no_grasp"
 INCOMPLETE = "incomplete"
 #: How the object was held.
 CAGE, PINCH = "cage", "pinch"
+
+#: A lifted object that is back on the table is dropped once no gripper body has touched it
+#: for this long (s): a basket still hanging on the bar loses contact for a step now and then.
+DROP_CONFIRM = 0.2
 
 #: Phases in which the object should be in the air.
 _AIRBORNE = (Mode.LIFT, Mode.CARRY, Mode.HOLD, Mode.CAGE_TEST)
@@ -109,6 +114,10 @@ class _Watch(CopiedShallowly):
     lifted: bool = False
     dropped: bool = False
     table_in_hold: bool = False
+    free_since: float = float("nan")
+    free_phase: str = ""
+    """Since when (and from which phase) the lifted object has been down and free of the
+    gripper (a drop once it lasts ``DROP_CONFIRM``)."""
     force_sum: float = 0.0
     force_n: int = 0
     last_phase: str = ""
@@ -240,8 +249,8 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     not changed). Pure: the monitor's rules without a diagram.
 
     A lifted object whose lowest point comes back below half of ``lifted_height`` has dropped if
-    no gripper body touches it; if one does, it has come down onto the table while still held
-    (recorded as ``sank_at`` / ``sank_phase``: dragged, not dropped)."""
+    no gripper body touches it for ``DROP_CONFIRM``; if one does, it has come down onto the
+    table while still held (recorded as ``sank_at`` / ``sank_phase``: dragged, not dropped)."""
     w = copy.copy(w)
     w.verdict = v = copy.copy(w.verdict)  # (its lists and dicts are replaced, never mutated)
     mode, t, low, gripper, table = status.mode, o.t, o.low, o.gripper, o.table
@@ -257,11 +266,18 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
             v.max_clearance = max(v.max_clearance, low)
             if mode in _CARRIED and table:
                 v.table_touch_while_carried = True
+            if low >= 0.5 * cfg.lifted_height or gripper:
+                w.free_since, w.free_phase = float("nan"), ""
             if low < 0.5 * cfg.lifted_height:
-                if not gripper:
-                    w.dropped, v.dropped_at, v.dropped_phase = True, t, mode.value
-                elif not v.sank_phase:
-                    v.sank_at, v.sank_phase = t, mode.value
+                if gripper:
+                    if not v.sank_phase:
+                        v.sank_at, v.sank_phase = t, mode.value
+                else:
+                    if not w.free_phase:
+                        w.free_since, w.free_phase = t, mode.value
+                    if t - w.free_since >= DROP_CONFIRM - 1e-9:
+                        w.dropped, v.dropped_at, v.dropped_phase = \
+                            True, w.free_since, w.free_phase
     if mode in (Mode.CARRY, Mode.HOLD):
         w.force_sum += o.squeeze
         w.force_n += 1

@@ -63,7 +63,7 @@ def test_held_with_the_loop_open_is_a_pinch():
 
 
 def test_falling_free_of_the_gripper_is_a_drop():
-    v = trial([0.06, 0.003, 0.0], carry_gripper=(), hold_low=0.0, hold_table=True)
+    v = trial([0.06] + [0.003] * 25, carry_gripper=(), hold_low=0.0, hold_table=True)
     assert v.outcome == DROPPED_DURING_CARRY and v.dropped_phase == "carry"
     assert "dropped during the carry" in v.reason
 
@@ -72,6 +72,17 @@ def test_coming_down_on_the_table_while_hooked_is_dragged_not_dropped():
     """A basket still on the bar whose bottom comes back to the table during the carry."""
     v = trial([0.06, 0.003, 0.0], hold_low=0.0, hold_table=True)
     assert v.outcome == NOT_LIFTED and not v.dropped_phase and v.sank_phase == "carry"
+    assert "still touching the table" in v.reason and "came back down" in v.reason
+    # Contact lost for a few steps (under DROP_CONFIRM) while it hangs on the bar: no drop.
+    lows = [0.06, 0.003, 0.0, 0.0]
+    w = _Watch()
+    for k, (mode, low, gripper) in enumerate(
+            [(Mode.LIFT, 0.06, HOOK)] + [(Mode.CARRY, low, ()) for low in lows[1:]]
+            + [(Mode.CARRY, 0.0, HOOK)] * 3):
+        w = observe(w, PickStatus(mode=mode), Observation(
+            t=0.05 * k, p_WO=[0, 0, low], low=low, gripper=set(gripper), table=low <= 0,
+            hand=CLOSED, squeeze=0.0), CFG)
+    assert not w.dropped and w.verdict.sank_phase == "carry"
     assert "still touching the table" in v.reason and "came back down" in v.reason
     assert "dropped" not in v.reason
 
