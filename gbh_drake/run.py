@@ -21,6 +21,9 @@ from gbh_drake.scenario import Scenario, dump_resolved
 from gbh_drake.trial import TrialRecord, build_trial, simulate_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
+#: Below this mean squeeze (N) a closed loop is said to hold what hangs in it without squeezing.
+LOOP_SQUEEZE = 5.0
+
 
 @dataclass
 class RunSummary:
@@ -67,9 +70,11 @@ class RunSummary:
             held = f" [{r.held_by}]" if r.held_by else ""
             lines.append(f"  verdict: {verdict}{held}: {r.outcome}: {r.reason}")
             if v.get("squeeze_force") == v.get("squeeze_force"):  # not nan
-                lines.append(f"  squeeze {v['squeeze_force']:.0f} N while carried; highest "
-                             f"clearance {v['max_clearance'] * 100:.1f} cm; touching: "
-                             f"{_touching(v['touching'])}")
+                squeeze = f"squeeze {v['squeeze_force']:.0f} N while carried"
+                if v.get("loop_closed") and v["squeeze_force"] < LOOP_SQUEEZE:
+                    squeeze += " (the loop closed on its stop: what hangs in it is not squeezed)"
+                lines.append(f"  {squeeze}; highest clearance {v['max_clearance'] * 100:.1f} cm; "
+                             f"touching: {_touching(v['touching'])}")
             lines.append("  timings: " + ", ".join(f"{k} {t:.2f} s" for k, t in r.timings.items()))
         lines.append(f"  replay: {self.replay}")
         return "\n".join(lines)

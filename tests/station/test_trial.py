@@ -11,6 +11,7 @@ import pytest
 from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.objects import list_objects
+from gbh_drake.run import RunSummary
 from gbh_drake.seeds import derive_seeds
 from gbh_drake.systems.pick_and_carry import Mode
 from gbh_drake.trial import build_trial, simulate_trial
@@ -47,6 +48,8 @@ def test_mug_hooked_by_its_handle_is_carried_released_and_caged(scenario):
     # The loop closed at the width command around the handle: the hook holds it without
     # squeezing it (the hand's 70 N go to whatever blocks the fingers, here nothing).
     assert record.verdict["squeeze_force"] < 5.0
+    text = RunSummary("s.yaml", "pick", record, "replay.html", 0.0).to_text()
+    assert "verdict: SUCCESS [cage]" in text and "the loop closed on its stop" in text
     # Carried to the place position and lowered there (the object hangs with its CoM below
     # the hook and stands up when set down: within a body radius or so of the place).
     place = np.asarray(scenario.pick.place_position)
