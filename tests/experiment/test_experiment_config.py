@@ -8,6 +8,7 @@ import pytest
 import yaml
 
 from gbh_drake import SCENARIOS_DIR
+from gbh_drake.config import DEFAULT_DIRECTIVES
 from gbh_drake.experiment.config import (
     ExperimentError,
     load_experiment,
@@ -89,6 +90,8 @@ def test_a_trial_does_not_depend_on_the_others(tmp_path):
 
 def test_overrides_as_mapping_or_text(tmp_path):
     """A method's overrides may be a mapping (Drake's tags kept) or YAML text: same scenario."""
+    # The default directives, Drake's !Rpy tag included, as a mapping inside the overrides.
+    directives = textwrap.indent(DEFAULT_DIRECTIVES.strip(), " " * 12)
     mapping = write(tmp_path, """\
         base: BASE
         objects: [mug_classic]
@@ -98,20 +101,8 @@ def test_overrides_as_mapping_or_text(tmp_path):
         - name: tilted
           overrides:
             grasp_method: antipodal
-            directives:
-            - add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
-            - add_weld: {parent: world, child: panda::panda_link0}
-            - add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
-            - add_weld:
-                parent: panda::panda_link8
-                child: hook_gripper::panda_hand
-                X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
-            - add_model: {name: table, file: "package://gbh_drake/table.sdf"}
-            - add_weld:
-                parent: world
-                child: table::table_top
-                X_PC: {translation: [0.35, 0, 0]}
-        """, "mapping.yaml")
+""" + directives + "\n", "mapping.yaml")
+    assert "!Rpy" in mapping.read_text()
     text = write(tmp_path, """\
         base: BASE
         objects: [mug_classic]
