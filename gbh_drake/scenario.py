@@ -214,7 +214,22 @@ def _load_layer(text: str, origin: str, defaults: Scenario) -> tuple[Scenario, y
 
 def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario) -> None:
     """Fields one of which would be ignored: a named object and a mesh, a pose and a random
-    pose; and ``source_path``, which the loader sets."""
+    pose; and ``source_path``, which the loader sets.
+
+    Between layers (the file, then each override) the later of ``object.pose`` and
+    ``object.random_pose`` wins: ``--set "{object: {random_pose: {}}}"`` draws a random pose for
+    a file that gives a pose (its pose goes back to the default), and a pose given over a file's
+    random pose clears it. Both in one layer are refused."""
+    last = ""
+    for _, root in roots:
+        wrote = [k for k in ("pose", "random_pose") if _written(root, ("object", k))]
+        if len(wrote) == 2:
+            raise FieldError(("object", "random_pose"), _BOTH_POSES)
+        last = wrote[0] if wrote else last
+    if last == "random_pose":
+        scenario.object.pose = ObjectConfig().pose
+    elif last == "pose":
+        scenario.object.random_pose = None
     for _, root in roots:
         if _written(root, ("source_path",), nonempty=True):
             raise FieldError(("source_path",), "is set by the loader to the file itself; remove "
@@ -226,10 +241,11 @@ def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario)
     if obj.mesh and obj.name not in ("", default.name):
         raise FieldError(("object", "mesh"), _BOTH_OBJECTS)
     if obj.random_pose is not None and _pose_text(obj.pose) != _pose_text(default.pose):
-        raise FieldError(("object", "random_pose"), "give object.pose or object.random_pose, not "
-                                                    "both (object.pose would be ignored)")
+        raise FieldError(("object", "random_pose"), _BOTH_POSES)
 
 
+_BOTH_POSES = ("give object.pose or object.random_pose, not both (object.pose would be "
+               "ignored; a later override of one replaces the other)")
 _BOTH_OBJECTS = ("give object.name or object.mesh, not both (object.name would be ignored; "
                  "name: '' clears it)")
 

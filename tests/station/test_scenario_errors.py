@@ -148,3 +148,21 @@ def test_errors_pickle_with_their_parts():
         copy = pickle.loads(pickle.dumps(error))
         assert type(copy) is type(error) and str(copy) == str(error)
         assert vars(copy) == vars(error)
+
+
+def test_a_later_layer_chooses_between_pose_and_random_pose(tmp_path):
+    """The file gives a pose; an override asking for a random pose replaces it (and the other
+    way round); both in one layer are refused with the field and line."""
+    path = _write(tmp_path, "object:\n  name: kettle\n  pose: {translation: [0.5, 0.1, 0]}\n",
+                  "posed.yaml")
+    s = load_scenario(path, overrides="{object: {random_pose: {x: [0.5, 0.55]}}}")
+    assert s.object.random_pose is not None and s.object.random_pose.x == [0.5, 0.55]
+    assert list(s.object.pose.translation) == list(Scenario().object.pose.translation)
+    s = load_scenario(path, overrides=["{object: {random_pose: {}}}",
+                                       "{object: {pose: {translation: [0.6, 0, 0]}}}"])
+    assert s.object.random_pose is None and list(s.object.pose.translation) == [0.6, 0, 0]
+    with pytest.raises(ScenarioError) as e:
+        load_scenario(path, overrides="{object: {pose: {translation: [0.5, 0, 0]}, "
+                                      "random_pose: {}}}")
+    assert "object.random_pose" in str(e.value) and "(overrides)" in str(e.value)
+    assert "not both" in str(e.value)
