@@ -78,7 +78,13 @@ def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
         path = path if path.is_absolute() else Path(base_dir) / path
         prepared = load_mesh_object(path, scale=config.scale, density=config.density or None,
                                     mass=config.mass or None, orientation=config.orientation)
-        return _asset(path.stem, prepared, (0.85, 0.45, 0.2, 1.0), str(path))
+        asset = _asset(path.stem, prepared, (0.85, 0.45, 0.2, 1.0), str(path))
+        if config.random_pose is not None and config.random_pose.stable:
+            # The start pose is one of its stable resting poses: whether it would stand as
+            # given does not matter.
+            as_given = {f"{prepared.source}: {w}" for w in prepared.placement.warnings}
+            asset.warnings = [w for w in asset.warnings if w not in as_given]
+        return asset
     spec = make_object(config.name)
     mesh = spec.mesh
     if config.scale != 1.0:

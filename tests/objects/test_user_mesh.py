@@ -83,6 +83,25 @@ def test_unstable_as_given_is_a_warning_naming_the_source():
     assert warning.startswith("tilted.stl: not stable as given (z up): it will tip over")
 
 
+def test_a_random_stable_pose_does_not_warn_about_the_orientation_as_given(tmp_path):
+    """With ``random_pose`` (stable) the object starts on one of its stable resting poses, so
+    whether it would stand as given is not worth a warning; with a pose it is."""
+    from gbh_drake.config import ObjectConfig, RandomRestingPose
+    from gbh_drake.modeling.object_asset import load_object_asset
+
+    box = trimesh.creation.box((0.04, 0.06, 0.15))
+    box.apply_transform(trimesh.transformations.rotation_matrix(0.6, (1, 0, 0)))
+    box.export(tmp_path / "tilted.stl")
+    posed = load_object_asset(ObjectConfig(mesh="tilted.stl", mass=0.2), tmp_path)
+    assert any("not stable as given" in w for w in posed.warnings)
+    drawn = load_object_asset(ObjectConfig(mesh="tilted.stl", mass=0.2,
+                                           random_pose=RandomRestingPose()), tmp_path)
+    assert not any("stable as given" in w for w in drawn.warnings)
+    kept = load_object_asset(ObjectConfig(mesh="tilted.stl", mass=0.2,
+                                          random_pose=RandomRestingPose(stable=False)), tmp_path)
+    assert any("not stable as given" in w for w in kept.warnings)
+
+
 def test_mass_and_density_together_are_refused():
     with pytest.raises(ValueError, match="either mass or density"):
         prepare_mesh_object(filled_mug(), source="x", mass=0.3, density=600.0)
