@@ -219,13 +219,13 @@ def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario)
     Between layers (the file, then each override) the later of ``object.pose`` and
     ``object.random_pose`` wins: ``--set "{object: {random_pose: {}}}"`` draws a random pose for
     a file that gives a pose (its pose goes back to the default), and a pose given over a file's
-    random pose clears it. Both in one layer are refused."""
+    random pose clears it. Both in one layer are refused unless the pose is the default one (as
+    in a resolved ``scenario.yaml``, which writes every field)."""
     last = ""
     for _, root in roots:
         wrote = [k for k in ("pose", "random_pose") if _written(root, ("object", k))]
-        if len(wrote) == 2:
-            raise FieldError(("object", "random_pose"), _BOTH_POSES)
-        last = wrote[0] if wrote else last
+        if wrote:  # both in one layer: judged below (a default pose beside it is allowed)
+            last = wrote[0] if len(wrote) == 1 else "both"
     if last == "random_pose":
         scenario.object.pose = ObjectConfig().pose
     elif last == "pose":
