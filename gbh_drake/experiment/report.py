@@ -71,6 +71,13 @@ class Tally:
     def rate(self) -> str:
         return f"{100.0 * self.success / self.total:.1f} %" if self.total else "-"
 
+    @classmethod
+    def of(cls, rows) -> Tally:
+        tally = cls()
+        for r in rows:
+            tally.add(r)
+        return tally
+
     def add(self, row: dict) -> None:
         self.total += 1
         if row.get("success"):
@@ -147,9 +154,7 @@ def table1(data: ReportInput) -> list[str]:
     out = []
     for method in data.methods:
         rows = [r for r in hangable if r["method"] == method]
-        tally = Tally()
-        for r in rows:
-            tally.add(r)
+        tally = Tally.of(rows)
         views = sorted({r["viewpoints"] for r in rows if r.get("viewpoints")})
         paper = data.paper.get(method, "")
         if paper in PAPER_TABLE1:
@@ -208,7 +213,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
         mine = [r for r in controls if r["method"] == method]
         outcomes = Counter(r["outcome"] for r in mine)
         rows.append([method, len(mine), sum(bool(r["success"]) for r in mine),
-                     ", ".join(f"{o} x{n}" for o, n in sorted(outcomes.items())) or "-"])
+                     _counts(outcomes) or "-"])
     lines += _table(["Method", "Total", "Picked", "Outcomes"], rows)
     lines.append("")
     lines.append("GbH should find nothing to hang on a control; a pick is a fallback grasp or a "
@@ -220,10 +225,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
         mine = [r for r in data.rows if r["object"] == obj]
         cells = []
         for method in data.methods:
-            tally = Tally()
-            for r in mine:
-                if r["method"] == method:
-                    tally.add(r)
+            tally = Tally.of(r for r in mine if r["method"] == method)
             cells.append(f"{tally.success}/{tally.total}" if tally.total else "-")
         control = any(r.get("is_control") for r in mine)
         rows.append([obj + (" (control)" if control else ""), *cells])
@@ -310,9 +312,7 @@ def by_resting_pose(data: ReportInput) -> list[str]:
         for name, _, _ in RESTING_POSES:
             mine = [r for r in hangable if r["method"] == method and r.get("pose")
                     and resting_pose(r["pose"]) == name]
-            tally = Tally()
-            for r in mine:
-                tally.add(r)
+            tally = Tally.of(mine)
             cells.append(f"{tally.success}/{tally.total} ({tally.rate()})" if tally.total else "-")
         rows.append([method, *cells])
     return _table(["Method", *(name for name, _, _ in RESTING_POSES)], rows) + [
@@ -347,12 +347,17 @@ def per_object_detail(data: ReportInput) -> list[str]:
             rows.append([
                 obj, method, len(mine),
                 _fraction(found), _fraction(hooked),
-                ", ".join(f"{k} x{n}" for k, n in sorted(kinds.items())),
+                _counts(kinds),
                 f"{sum(bool(r['success']) for r in mine)}/{len(mine)}",
                 f"{held.get('cage', 0)} / {held.get('pinch', 0)}",
-                ", ".join(f"{o} x{n}" for o, n in sorted(outcomes.items()))])
+                _counts(outcomes)])
     return lines + _table(["Object", "Method", "Trials", "Part found", "Hooked it", "Kinds",
                            "Success", "Cage / pinch", "Outcomes"], rows)
+
+
+def _counts(counter: Counter) -> str:
+    """``a x2, b x1``: a counter's keys in order, each with its count."""
+    return ", ".join(f"{k} x{n}" for k, n in sorted(counter.items()))
 
 
 def _fraction(flags: list) -> str:

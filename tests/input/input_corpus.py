@@ -16,6 +16,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from gbh_drake.validation import REMOTE_PACKAGES
+
+#: A package Drake would download on first use (refused by validation; never fetched here).
+REMOTE = REMOTE_PACKAGES[0]
+
 #: A valid mesh (a 2 cm cube) for cases that need one.
 CUBE_OBJ = "\n".join(
     [f"v {x} {y} {z}" for x in (0, 0.02) for y in (0, 0.02) for z in (0, 0.02)]
@@ -405,7 +410,7 @@ CASES: list[Case] = [
                                              "https://example.com/t.sdf"),
        "directives[4].add_model.file", 6, "runs are offline"),
     _c("directives_remote_package", DIRECTIVES.replace("package://gbh_drake/table.sdf",
-                                                       "package://drake_models/t.sdf"),
+                                                       f"package://{REMOTE}/t.sdf"),
        "directives[4].add_model.file", 6, "downloaded by Drake on first use"),
     _c("directives_unknown_package", DIRECTIVES.replace("package://gbh_drake/table.sdf",
                                                         "package://furniture/t.sdf"),
@@ -419,7 +424,7 @@ CASES: list[Case] = [
     _c("directives_nested_remote", DIRECTIVES + "- add_directives: {file: 'file://@DIR@/r.dmd.yaml'}\n",
        "directives[6].add_directives.file", 8, "downloaded by Drake on first use",
        files={"r.dmd.yaml": "directives:\n- add_model: {name: x, "
-                            "file: 'package://drake_models/x.sdf'}\n"}),
+                            f"file: 'package://{REMOTE}/x.sdf'}}\n"}),
     _c("directives_bad_frame", DIRECTIVES.replace("table::table_top", "table::top"), "directives",
        1, "top"),
     _c("directives_model_clash", DIRECTIVES + "- add_model: {name: mug_classic, file: "
