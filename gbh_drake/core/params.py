@@ -12,11 +12,25 @@ frame the mesh is given in (called W in the docstrings).
 
 # No ``from __future__ import annotations`` here: yaml_load_typed reads the field types at run
 # time and needs real types, not strings.
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    Pos,
+    Range,
+    checker,
+    ranged,
+    sibling,
+)
 from gbh_drake.core.results import GbhInputError
+
+#: Segment samples per cluster GbH may test (max_contacts_per_cluster x n_segment_samples).
+MAX_SEGMENT_SAMPLES = 50_000
 
 
 @dataclass
@@ -24,49 +38,49 @@ class GbhParams:
     """Parameters of hangability detection, grasp synthesis, collision checking and scoring."""
 
     # ---- sampling ---------------------------------------------------------------------------
-    n_points: int = 5000
+    n_points: int = ranged(5000, Int(100, 50_000, "sampling and ray casting grow with it"))
     """Number of Poisson-disk points sampled on the mesh (at most; a few fewer on tiny meshes).
     design.md Sec. 3: 5000 points found a mug handle, 3000 missed it."""
-    oversampling: int = 5
+    oversampling: int = ranged(5, Int(1, 20))
     """Uniform candidates per Poisson-disk point (the disk elimination keeps about 1 in this)."""
     require_watertight: bool = False
     """Raise GbhInputError for open/non-manifold meshes instead of the best effort (surface
     centroid as CoM, normals as wound)."""
 
     # ---- hangability: contact points and hanging positions ----------------------------------
-    contact_angle_deg: float = 30.0
+    contact_angle_deg: float = ranged(30.0, Range(0.0, 90.0, lo_open=True, hi_open=True, unit="deg"))
     """Degrees. A point is a hanging-contact candidate when its outward normal is within this
     angle of the direction to the CoM (design.md Sec. 3: 30 found a mug handle, 25 missed it)."""
-    cluster_radius: float = 2.5
+    cluster_radius: float = ranged(2.5, Pos(100.0))
     """Contact points closer than this many mean sample spacings are in one cluster
     (single-linkage, i.e. DBSCAN with min_samples = 1). Dimensionless."""
-    min_cluster_size: int = 1
+    min_cluster_size: int = ranged(1, Int(1, 50_000))
     """Clusters with fewer contact points are ignored. 1 keeps isolated candidates: on a thin
     wire (a bucket's bail, a bag's strap) at 5000 points the few candidates on its underside
     lie farther apart than the cluster radius; the through-hole test removes noise."""
-    max_contacts_per_cluster: int = 48
+    max_contacts_per_cluster: int = ranged(48, Int(1, 1000))
     """Contact points of a cluster whose segments are searched (a deterministic random subset
     when the cluster is larger; bounds the cost on big clusters such as a cup's inner wall)."""
-    n_segment_samples: int = 32
+    n_segment_samples: int = ranged(32, Int(2, 1000))
     """Points sampled on the free part of each contact-to-CoM segment to find the clearance max."""
-    max_hanging_distance: float = 0.05
+    max_hanging_distance: float = ranged(0.05, Pos(1.0, "m"))
     """Metres. c is searched on the segment toward the CoM at most this far from the contact
     point: the gripper's loop is l_f = 8 cm long, so a c farther from the material it hooks
     cannot be used; without the cap, a bucket's bail hands its c to the bucket's cavity."""
-    min_clearance: float = 0.002
+    min_clearance: float = ranged(0.002, NonNeg(0.1, "m"))
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
-    dedup_radius_factor: float = 1.0
+    dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
 
     # ---- hangability: hanging direction ---------------------------------------------------------
-    n_plane_normals: int = 400
+    n_plane_normals: int = ranged(400, Int(2, 10_000))
     """Candidate plane normals u on a Fibonacci sphere (u, -u are one plane: half are cast)."""
-    n_rays_per_plane: int = 36
+    n_rays_per_plane: int = ranged(36, Int(3, 720))
     """Rays cast from c_i in each candidate plane (K in the paper); also the size bound of H_i."""
-    refine_cone_deg: float = 15.0
+    refine_cone_deg: float = ranged(15.0, Range(0.0, 90.0, hi_open=True, unit="deg"))
     """Degrees. Half-angle of the cone around the coarse best normal searched by the refinement."""
-    n_refine_normals: int = 120
+    n_refine_normals: int = ranged(120, Int(1, 5000))
     """Normals tried in the refinement cone."""
 
     # ---- grasp synthesis ------------------------------------------------------------------------
@@ -76,29 +90,29 @@ class GbhParams:
     vertical_grasps: bool = True
     """Generate vertical grasps (straight finger along +-v_i or the ground normal, the bar's inner
     face ``cage_clearance + d2`` beyond q_f)."""
-    ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    ground_normal: list[float] = ranged(lambda: [0.0, 0.0, 1.0], Items(3, what="components"))
     """Unit anti-gravity direction (ground normal) in W; normalised on use."""
-    p_theta: float = 0.95
+    p_theta: float = ranged(0.95, Range(0.0, 1.0, lo_open=True))
     """*paper*: the straight finger snaps to the ground normal when cos(theta) > p_theta."""
-    d1: float = 0.01
+    d1: float = ranged(0.01, NonNeg(0.1, "m"))
     """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
-    d2: float = 0.0
+    d2: float = ranged(0.0, Range(-0.05, 0.05, unit="m"))
     """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view.
     Added on top of ``cage_clearance`` (see grasp_synthesis: the paper's p2 is a point of a
     rod of no thickness; ours is the centre line of an 8 mm bar)."""
-    cage_clearance: float = 0.003
+    cage_clearance: float = ranged(0.003, NonNeg(0.05, "m"))
     """Metres. A vertical grasp puts the bar's inner face (z_G = l_f - rod_width / 2) this far
     beyond the farthest caged material point q_f (plus d2), so the bar closes past the material
     instead of onto it. Ours, not the paper's: the paper's p2 has no thickness."""
-    slice_half_width: float = 0.005
+    slice_half_width: float = ranged(0.005, Pos(0.05, "m"))
     """Metres. Half thickness of the slab (about the gripper's plane) that selects the caged
     points Q of a grasp (vertical: q_f; parallel: the material centred between the rods); a bit
     more than half a rod so a sparse cloud still has points."""
 
     # ---- collision checking ------------------------------------------------------------------
-    ground_height: float = 0.0
+    ground_height: float = ranged(0.0, Range(-1.0, 1.0, unit="m"))
     """m: height of the supporting surface (the table top) along ``ground_normal``, in W."""
-    ground_clearance: float = 0.003
+    ground_clearance: float = ranged(0.003, Range(-1.0, 0.1, unit="m", note="negative: no ground check"))
     """m: the gripper's solid model (hand, rods, bar) at the grasp pose, open, during the
     closing sweep and closed, must stay at least this far above the supporting surface
     (``ground_height`` along ``ground_normal``); grasps that come closer (rods under a flat
@@ -107,15 +121,15 @@ class GbhParams:
     this number for the segments near the grasp (descend, close, lift), so a ranked grasp is
     not refused there for touching the table. A negative value turns the check off (e.g. an
     object in free space)."""
-    p_c: int = 10
+    p_c: int = ranged(10, Int(1, 50_000))
     """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper
     (open, at the grasp pose)."""
-    p_sweep: int = 1
+    p_sweep: int = ranged(1, Int(1, 50_000))
     """Ours: a grasp is kept only if fewer than p_sweep object points lie in the volume the
     gripper sweeps while closing (hand, rods and bar moving from the open to the closed pose,
     the closed pose included) that are not already counted in N_c. Default 1: none, because
     the closing motion must not meet material (that is a pinch, not a cage); see scoring.py."""
-    sweep_margin_spacings: float = 0.25
+    sweep_margin_spacings: float = ranged(0.25, NonNeg(10.0))
     """Ours, in sample spacings (the Poisson-disk radius of the object's points: about 0.5 mm on
     a key ring, 2.4 mm on a mug, 4.2 mm on a pot): for N_sweep the moving parts' swept boxes are
     grown by this much, because material can cut into a box between two samples unseen. Only a
@@ -123,130 +137,104 @@ class GbhParams:
     object set: it rejects the pot's grasp whose hand sweeps 1 mm into the rim between samples
     4.2 mm apart (found with 20k samples), and keeps the headphones' top-down grasps, whose 24 mm
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
-    collision_margin: float = 0.0
+    collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
 
     # ---- scoring -------------------------------------------------------------------------------
-    gamma_alpha: float = 0.04
+    gamma_alpha: float = ranged(0.04, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""
-    gamma_beta: float = 2.0
+    gamma_beta: float = ranged(2.0, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
-    top_k: int = 10
+    top_k: int = ranged(10, Int(1, 100))
     """*paper*: number of best grasps returned for execution."""
-    min_miss_resultant: float = 0.2
+    min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
     direction and beta is pi/2 (neutral). One opening of angular width phi has a mean of length
     sin(phi/2) / (phi/2), above 0.2 for phi < 290 degrees."""
 
-    def check(self) -> None:
-        """Raise GbhInputError naming the first field whose value cannot work."""
-        problems = [
-            ("n_points", self.n_points >= 1),
-            ("oversampling", self.oversampling >= 1),
-            ("contact_angle_deg", 0.0 < self.contact_angle_deg < 90.0),
-            ("n_segment_samples", self.n_segment_samples >= 2),
-            ("cluster_radius", self.cluster_radius > 0.0),
-            ("min_cluster_size", self.min_cluster_size >= 1),
-            ("max_contacts_per_cluster", self.max_contacts_per_cluster >= 1),
-            ("max_hanging_distance", self.max_hanging_distance > 0.0),
-            ("min_clearance", self.min_clearance >= 0.0),
-            ("dedup_radius_factor", self.dedup_radius_factor >= 0.0),
-            ("refine_cone_deg", 0.0 <= self.refine_cone_deg < 90.0),
-            ("d1", self.d1 >= 0.0),
-            ("slice_half_width", self.slice_half_width > 0.0),
-            ("p_c", self.p_c >= 1),
-            ("p_sweep", self.p_sweep >= 1),
-            ("sweep_margin_spacings", self.sweep_margin_spacings >= 0.0),
-            ("cage_clearance", self.cage_clearance >= 0.0),
-            ("min_miss_resultant", 0.0 <= self.min_miss_resultant <= 1.0),
-            ("n_plane_normals", self.n_plane_normals >= 2),
-            ("n_rays_per_plane", self.n_rays_per_plane >= 3),
-            ("n_refine_normals", self.n_refine_normals >= 1),
-            ("ground_normal", len(self.ground_normal) == 3
-             and bool(np.linalg.norm(self.ground_normal) > 0)),
-            ("p_theta", 0.0 < self.p_theta <= 1.0),
-            ("gamma_alpha", self.gamma_alpha > 0.0),
-            ("gamma_beta", self.gamma_beta > 0.0),
-            ("top_k", self.top_k >= 1),
-        ]
-        for name, ok in problems:
-            if not ok:
-                raise GbhInputError(f"GbhParams.{name} = {getattr(self, name)!r} is out of range")
+    check = checker(GbhInputError)
+
+    def check_relations(self, at: tuple = ()) -> None:
+        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        _check_nonzero(self.ground_normal, at + ("ground_normal",))
+        _check_at_most_n_points(self, at, ("p_c", "p_sweep"))
+        work = self.max_contacts_per_cluster * self.n_segment_samples
+        if work > MAX_SEGMENT_SAMPLES:
+            raise FieldError(at + ("n_segment_samples",), f"{sibling(at, 'max_contacts_per_cluster')} x "
+                             f"n_segment_samples = {work}; at most {MAX_SEGMENT_SAMPLES} per cluster "
+                             "(1000 x 1000 took two minutes on a mug)")
 
 
 @dataclass
 class AntipodalParams:
     """Parameters of the antipodal baseline; lengths metres, angles degrees."""
 
-    n_points: int = 5000
+    n_points: int = ranged(5000, Int(100, 50_000))
     """Poisson-disk surface points (the samples' pool and the collision cloud) for a mesh input."""
-    n_samples: int = 300
+    n_samples: int = ranged(300, Int(1, 10_000))
     """Surface points A drawn as first contacts (without replacement; all if fewer)."""
-    n_rolls: int = 7
+    n_rolls: int = ranged(7, Int(1, 360))
     """Rotations about the closing axis tried per contact pair."""
-    max_roll_deg: float = 90.0
+    max_roll_deg: float = ranged(90.0, Range(0.0, 90.0, unit="deg"))
     """Degrees: rolls span [-max, +max] about the most downward approach (the course: 60; 90
     adds the side approaches a handle's pinch may need). At most 90: beyond, the approach would
     point upward."""
-    contact_depth: float = 0.015
+    contact_depth: float = ranged(0.015, NonNeg(0.08, "m"))
     """m: the contacts' distance behind the rods' tip keypoint p2 (z_G = l_f): the finger pads."""
-    min_contact_depth: float = 0.006
+    min_contact_depth: float = ranged(0.006, NonNeg(0.08, "m"))
     """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
     contacts are this close to the tips, no closer."""
-    opening_margin: float = 0.003
+    opening_margin: float = ranged(0.003, NonNeg(0.04, "m"))
     """m: the contact opening q must be at most q_open minus this (room to open around it)."""
-    min_width: float = 0.001
+    min_width: float = ranged(0.001, NonNeg(0.08, "m"))
     """m: thinner material between the contacts is not pinched."""
-    friction_coefficient: float = 0.4
+    friction_coefficient: float = ranged(0.4, Pos(10.0))
     """mu: both contact normals must lie within atan(mu) of the closing axis (21.8 deg)."""
-    contact_tolerance: float = 0.001
+    contact_tolerance: float = ranged(0.001, NonNeg(0.01, "m"))
     """m: the swept collision volume of the rods stops this short of the contacts."""
-    approach_distance: float = 0.10
+    approach_distance: float = ranged(0.10, NonNeg(0.5, "m"))
     """m: the open gripper descends along +z_G from this far back (the pick's pre-grasp offset,
     ``PickParams.approach_distance``); the material it would pass through counts in N_c.
     0: only the grasp pose and the closing are checked (as GbH's N_c)."""
-    p_c: int = 10
+    p_c: int = ranged(10, Int(1, 50_000))
     """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
-    collision_margin: float = 0.0
+    collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """m: every box of the solid model is grown by this for the point count."""
-    ground_normal: list[float] = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    ground_normal: list[float] = ranged(lambda: [0.0, 0.0, 1.0], Items(3, what="components"))
     """Unit anti-gravity direction (the supporting surface's normal) in W; normalised on use."""
-    ground_height: float = 0.0
+    ground_height: float = ranged(0.0, Range(-1.0, 1.0, unit="m"))
     """m: height of the supporting surface along ``ground_normal`` (as GbhParams')."""
-    ground_clearance: float = 0.002
+    ground_clearance: float = ranged(0.002, Range(-1.0, 0.1, unit="m"))
     """m: the swept solid model's lowest corner must be at least this far above the surface."""
     check_ground: bool = True
     """Apply the supporting-surface rule (off for objects floating in space)."""
-    weight_direction: float = 1.0
+    weight_direction: float = ranged(1.0, Range(-1e3, 1e3))
     """Cost per unit of z_G . up (the approach's upward component)."""
-    weight_antipodal: float = 5.0
+    weight_antipodal: float = ranged(5.0, Range(-1e3, 1e3))
     """Cost per unit of 1 - mean (n . y_G)^2 over the two contacts."""
-    weight_com: float = 10.0
+    weight_com: float = ranged(10.0, Range(-1e3, 1e3, unit="1/m"))
     """1/m: cost per metre between the CoM and the closing line."""
-    top_k: int = 10
+    top_k: int = ranged(10, Int(1, 1000))
     """Number of best grasps returned."""
 
-    def check(self) -> None:
-        """Raise GbhInputError naming the first field whose value cannot work."""
-        problems = [
-            ("n_points", self.n_points >= 1),
-            ("n_samples", self.n_samples >= 1),
-            ("n_rolls", self.n_rolls >= 1),
-            ("max_roll_deg", 0.0 <= self.max_roll_deg <= 90.0),
-            ("contact_depth", 0.0 <= self.contact_depth),
-            ("min_contact_depth", 0.0 <= self.min_contact_depth <= self.contact_depth),
-            ("opening_margin", self.opening_margin >= 0.0),
-            ("min_width", self.min_width >= 0.0),
-            ("friction_coefficient", self.friction_coefficient > 0.0),
-            ("contact_tolerance", self.contact_tolerance >= 0.0),
-            ("approach_distance", self.approach_distance >= 0.0),
-            ("p_c", self.p_c >= 1),
-            ("ground_normal", len(self.ground_normal) == 3
-             and bool(np.linalg.norm(self.ground_normal) > 0)),
-            ("top_k", self.top_k >= 1),
-        ]
-        for name, ok in problems:
-            if not ok:
-                raise GbhInputError(
-                    f"AntipodalParams.{name} = {getattr(self, name)!r} is out of range")
+    check = checker(GbhInputError)
+
+    def check_relations(self, at: tuple = ()) -> None:
+        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        _check_nonzero(self.ground_normal, at + ("ground_normal",))
+        _check_at_most_n_points(self, at, ("p_c",))
+        if self.min_contact_depth > self.contact_depth:
+            raise FieldError(at + ("min_contact_depth",), f"must be <= {sibling(at, 'contact_depth')} "
+                                                          f"({self.contact_depth:g} m)")
+
+
+def _check_nonzero(vector, path: tuple) -> None:
+    if not np.linalg.norm(np.asarray(vector, float)) > 0:
+        raise FieldError(path, f"must not be zero, got {list(vector)}")
+
+
+def _check_at_most_n_points(params, at: tuple, names: tuple[str, ...]) -> None:
+    for name in names:
+        if getattr(params, name) > params.n_points:
+            raise FieldError(at + (name,), f"must be <= {sibling(at, 'n_points')} ({params.n_points})")
