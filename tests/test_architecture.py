@@ -11,8 +11,11 @@ from gbh_drake import REPO_ROOT
 
 PACKAGE = REPO_ROOT / "gbh_drake"
 #: Configuration modules: they may import Drake's config structs, never the pipeline.
-CONFIG_MODULES = ("gbh_drake.config", "gbh_drake.scenario", "gbh_drake.core.params",
-                  "gbh_drake.perception.config", "gbh_drake.seeds")
+CONFIG_MODULES = ("gbh_drake.scenario", "gbh_drake.scenario.schema", "gbh_drake.core.ranges",
+                  "gbh_drake.core.params", "gbh_drake.perception.config", "gbh_drake.modeling.names",
+                  "gbh_drake.modeling.directives", "gbh_drake.seeds")
+#: Modules that import no Drake at all (the core's rules, the station's names).
+DRAKE_FREE = ("gbh_drake.core.ranges", "gbh_drake.core.params", "gbh_drake.modeling.names")
 #: What the configuration must not pull in.
 PIPELINE = ("gbh_drake.perception.", "gbh_drake.planning", "gbh_drake.systems",
             "gbh_drake.station", "gbh_drake.trial", "gbh_drake.run", "gbh_drake.experiment",
@@ -53,6 +56,14 @@ def test_configuration_imports_nothing_of_the_pipeline(module):
                             text=True, cwd=REPO_ROOT).stdout.split()
     pulled = [m for m in loaded if m.startswith(PIPELINE) and m != "gbh_drake.perception.config"]
     assert pulled == [], f"{module} pulls in {pulled}"
+
+
+@pytest.mark.parametrize("module", DRAKE_FREE)
+def test_rules_and_names_import_no_drake(module):
+    code = f"import sys, {module}; print(any(m.startswith('pydrake') for m in sys.modules))"
+    loaded = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
+                            text=True, cwd=REPO_ROOT).stdout.strip()
+    assert loaded == "False", f"{module} imports pydrake"
 
 
 def test_no_module_imports_one_that_imports_it_back():

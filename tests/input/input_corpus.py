@@ -9,14 +9,14 @@ where ``field`` and ``line`` are given (``line=None``: no line in the message; `
 problem of the file as a whole, ``<file>: line N, column C: <problem>``) and ``problem``
 contains ``expect``. ``test_corpus.py`` runs every case through the real command line.
 Generated cases (every numeric field NaN and infinite, every rule out of range, every field
-of the wrong type) are in ``test_every_field.py``.
+of the wrong type) are in ``tests/scenario/test_every_field.py``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from gbh_drake.validation import REMOTE_PACKAGES
+from gbh_drake.modeling.directives import REMOTE_PACKAGES
 
 #: A package Drake would download on first use (refused by validation; never fetched here).
 REMOTE = REMOTE_PACKAGES[0]

@@ -1,8 +1,10 @@
-"""Scenario files: one YAML file describes one run (robot, table, object, cameras, simulation).
+"""Loading scenario files: one YAML file describes one run (robot, table, object, cameras,
+simulation).
 
-The schema is the :class:`Scenario` dataclass. :func:`load_scenario` loads a file, then each
-``--set`` override on top of it, with Drake's ``yaml_load_typed`` (typos fail loudly) and checks
-every field (:mod:`gbh_drake.validation`) before anything is built. Any problem raises one
+The schema is the :class:`~gbh_drake.scenario.schema.Scenario` dataclass.
+:func:`load_scenario` loads a file, then each ``--set`` override on top of it, with Drake's
+``yaml_load_typed`` (typos fail loudly) and checks every field
+(:mod:`gbh_drake.scenario.checks`) before anything is built. Any problem raises one
 :class:`ScenarioError` that names the file (``<file> (overrides)`` for an override), the field,
 its line when it is written there, and what was expected; docs/errors.md lists the checks and
 limits. An empty, whitespace-only or comment-only file is the default scenario.
@@ -15,44 +17,25 @@ which also takes distributions such as ``!UniformVector``, sampled from the scen
 
 
 import copy
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
-from pydrake.multibody.parsing import ModelDirective
-from pydrake.multibody.plant import MultibodyPlantConfig
-from pydrake.systems.analysis import SimulatorConfig
-from pydrake.systems.sensors import CameraConfig
-from pydrake.visualization import VisualizationConfig
 
-from gbh_drake.config import (
-    MonitorConfig,
-    ObjectConfig,
-    PickConfig,
-    RobotConfig,
-    default_directives,
-)
-from gbh_drake.core.params import AntipodalParams, GbhParams
-from gbh_drake.perception.config import ScanConfig
-from gbh_drake.validation import FieldError, check_scenario
-from gbh_drake.yaml_check import (
+from gbh_drake.core.ranges import FieldError, format_path
+from gbh_drake.scenario.checks import check_scenario
+from gbh_drake.scenario.schema import ObjectConfig, Scenario
+from gbh_drake.scenario.yaml_text import (
     YamlFieldError,
     YamlTextError,
     check_document,
     compose,
     decode,
-    format_path,
     line_of,
     locate_load_error,
     node_at,
     read_text,
 )
-
-#: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
-#: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
-#: the station).
-TASKS = ("pick", "settle")
 
 
 class ScenarioError(ValueError):
@@ -80,87 +63,6 @@ class ScenarioError(ValueError):
         return type(self), (self.origin, self.field, self.line, self.problem, self.column)
 
 
-@dataclass
-class Scenario:
-    """One run of gbh_drake. Units: metres, radians, seconds, kilograms."""
-
-    seed: int = 0
-    """Seeds every random choice of the run (object pose, sampling, depth noise): same seed, same run."""
-    object: ObjectConfig = field(default_factory=ObjectConfig)
-    robot: RobotConfig = field(default_factory=RobotConfig)
-    directives: list[ModelDirective] = field(default_factory=default_directives)
-    """The fixed models (Drake ``ModelDirectives``): by default the arm ``panda`` on the table,
-    the ``hook_gripper`` on its flange and the ``table`` whose top is the plane z = 0 of W.
-    Add models here; keep those three names."""
-    cameras: list[CameraConfig] = field(default_factory=list)
-    """Extra RGB-D cameras added to the station (Drake's ``CameraConfig``)."""
-    plant_config: MultibodyPlantConfig = field(
-        default_factory=lambda: MultibodyPlantConfig(
-            time_step=0.002,
-            contact_model="hydroelastic_with_fallback",
-            discrete_contact_approximation="sap",
-        )
-    )
-    """The MultibodyPlant (discrete, hydroelastic contact). A 2 ms step: measured against 1 ms
-    and 4 ms on every object of the set at two random poses (scenarios/
-    experiment_time_step.yaml), the verdicts agreed in 43 of 46 trials, the differences went
-    both ways (successes 12, 13, 14 of 46), and 2 ms runs the carry 1.9x faster than 1 ms."""
-    simulator_config: SimulatorConfig = field(
-        default_factory=lambda: SimulatorConfig(publish_every_time_step=False)
-    )
-    visualization: VisualizationConfig = field(
-        default_factory=lambda: VisualizationConfig(publish_period=1 / 32)
-    )
-    """Meshcat visualisation (illustration, contact forces); see Drake's VisualizationConfig."""
-    task: str = "pick"
-    """``pick`` (the whole GbH pipeline) or ``settle`` (only the station)."""
-    settle_time: float = 0.5
-    """Simulated time (s) to let the object settle on the table before anything else."""
-    scan_target: list[float] = field(default_factory=lambda: [0.55, 0.0, 0.06])
-    """p_WT (m): where the object is expected (the nominal spot, not its true pose): a first
-    look searches around it (the object must be within ``scan.object_search_radius``) and the
-    views are then aimed at what it found."""
-    scan: ScanConfig = field(default_factory=ScanConfig)
-    """Depth scan of the object (views, camera, TSDF, segmentation, cap, noise); 1 view:
-    ``{num_views: 1}``. Its noise is seeded from the scenario's ``seed``."""
-    gbh: GbhParams = field(default_factory=GbhParams)
-    """Grasping-by-Hanging parameters (paper values by default). Its surface sampling is seeded
-    from the scenario's ``seed``."""
-    grasp_method: str = "gbh"
-    """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
-    (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
-    antipodal: AntipodalParams = field(default_factory=AntipodalParams)
-    """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
-    pick: PickConfig = field(default_factory=PickConfig)
-    """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
-    monitor: MonitorConfig = field(default_factory=MonitorConfig)
-    """The success rules (lifted height, closed-loop tolerance)."""
-    max_time: float = 60.0
-    """Simulated seconds after which a trial is cut off (it normally ends when the pick-and-carry
-    machine has finished)."""
-    replay_fps: float = 16.0
-    """Frames per second of the saved Meshcat replay (fewer frames, smaller file)."""
-    output_dir: str = ""
-    """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
-    source_path: str = ""
-    """Set by the loader: the scenario file itself (do not write it in YAML)."""
-
-    @property
-    def directory(self) -> Path:
-        """The folder of the scenario file (relative paths in the file resolve against it)."""
-        return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
-
-    def resolve(self, path: str) -> Path:
-        p = Path(path).expanduser()
-        return p if p.is_absolute() else self.directory / p
-
-    def output_path(self) -> Path:
-        if self.output_dir:
-            return self.resolve(self.output_dir)
-        stem = Path(self.source_path).stem if self.source_path else "scenario"
-        return Path.cwd() / "output" / stem
-
-
 def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[str, ...] = ""
                   ) -> Scenario:
     """Loads and checks a scenario file; ``overrides`` (YAML text, or several applied in order)
@@ -184,7 +86,7 @@ def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[st
     scenario.source_path = str(path.resolve())
     try:
         _check_layers(roots, scenario)
-        validate_fields(scenario)
+        check_scenario(scenario)
     except FieldError as e:
         raise _located(e, roots, origin) from None
     return scenario
@@ -272,30 +174,12 @@ def _located(error: FieldError, roots, origin: str) -> ScenarioError:
     return ScenarioError(origin, format_path(path), None, error.problem)
 
 
-def validate_fields(scenario: Scenario) -> None:
-    """Checks every field of ``scenario`` (:func:`gbh_drake.validation.check_scenario`); raises
-    :class:`gbh_drake.validation.FieldError`."""
-    check_scenario(scenario)
-
-
 def validate_scenario(scenario: Scenario, origin: str) -> None:
     """Checks a scenario built in code; raises :class:`ScenarioError` naming ``origin``."""
     try:
         check_scenario(scenario)
     except FieldError as e:
         raise ScenarioError(origin, format_path(e.path), None, e.problem) from None
-
-
-def directive_problem(directives: list[ModelDirective]) -> str:
-    """What is wrong with ``directives`` for the station (a missing file, a bad frame name,
-    a missing arm...), or ""."""
-    from gbh_drake.validation import _model_info
-
-    try:
-        _model_info(directives)
-    except FieldError as e:
-        return e.problem
-    return ""
 
 
 def dump_resolved(scenario: Scenario) -> str:

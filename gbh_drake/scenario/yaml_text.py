@@ -31,6 +31,8 @@ import yaml
 from pydrake.common import pretty_class_name
 from pydrake.common.yaml import yaml_load_typed
 
+from gbh_drake.core.ranges import format_path
+
 #: Largest scenario file read (bytes): a scenario is a few kilobytes.
 MAX_FILE_BYTES = 1_000_000
 #: Largest number of YAML values a document may expand to (aliases included).
@@ -74,14 +76,6 @@ class YamlFieldError(ValueError):
 
     def __reduce__(self):  # picklable with its parts
         return type(self), (self.path, self.line, self.problem)
-
-
-def format_path(path: Path_) -> str:
-    """``("robot", "q_home", 3)`` -> ``robot.q_home[3]``."""
-    text = ""
-    for part in path:
-        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
-    return text
 
 
 # ---- reading the file ------------------------------------------------------------------------

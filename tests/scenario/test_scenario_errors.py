@@ -3,8 +3,10 @@ YAML. The command-line corpus of bad inputs is in tests/input/."""
 
 import pytest
 
-from gbh_drake import station, validation
-from gbh_drake.scenario import Scenario, ScenarioError, load_scenario, validate_scenario
+from gbh_drake import station
+from gbh_drake.modeling import names
+from gbh_drake.scenario import RandomRestingPose, Scenario, ScenarioError, load_scenario, validate_scenario
+from gbh_drake.scenario.checks import DRAKE_RULES
 
 
 def _write(tmp_path, text, name="bad.yaml"):
@@ -115,16 +117,16 @@ def test_validate_scenario_built_in_code():
 
 
 def test_station_names_match_the_validation():
-    assert (validation.ARM, validation.GRIPPER) == (station.ARM, station.GRIPPER)
-    assert validation.HAND_ACTUATORS == station.HAND_ACTUATORS
+    assert (names.ARM, names.GRIPPER) == (station.ARM, station.GRIPPER)
+    assert names.HAND_ACTUATORS == station.HAND_ACTUATORS
 
 
 def test_rules_name_existing_fields():
-    """Every rule of gbh_drake.validation.RULES names a field that exists (a renamed field
-    would silently lose its check)."""
+    """Every rule of the table of Drake's structs (DRAKE_RULES) names a field that exists (a
+    renamed field would silently lose its check; our own fields carry their rules)."""
     scenario = Scenario()
-    scenario.object.random_pose = __import__("gbh_drake.config", fromlist=["x"]).RandomRestingPose()
-    for section, rules in validation.RULES.items():
+    scenario.object.random_pose = RandomRestingPose()
+    for section, rules in DRAKE_RULES.items():
         obj = scenario
         for part in section:
             obj = getattr(obj, part)
@@ -138,8 +140,8 @@ def test_errors_pickle_with_their_parts():
     import pickle
 
     from gbh_drake.outputs import OutputError
-    from gbh_drake.validation import FieldError
-    from gbh_drake.yaml_check import YamlFieldError, YamlTextError
+    from gbh_drake.scenario import FieldError
+    from gbh_drake.scenario.yaml_text import YamlFieldError, YamlTextError
 
     for error in (ScenarioError("f.yaml", "seed", 2, "expected an integer", None),
                   ScenarioError("f.yaml", "", 3, "not valid YAML", 7),

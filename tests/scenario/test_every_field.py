@@ -2,11 +2,11 @@
 
 For every field reachable through mappings (our dataclasses and Drake's config structs): a
 non-finite number (nan, inf, -inf) where it takes a number, a value of the wrong type, an
-unknown sub-field where it takes a mapping; for every rule of ``gbh_drake.validation.RULES``: a
+unknown sub-field where it takes a mapping; for every rule (``gbh_drake.scenario.checks.rule_table``): a
 value on each side out of its range, a name that is not allowed, a list of the wrong length.
 Each case runs through the real command line: exit code 2, one line naming the file, the
 field's exact path and its line, nothing written. Lists of Drake structs (``directives``,
-``cameras``) and poses (``schema.Transform``) are walked by hand in input_corpus.py.
+``cameras``) and poses (``schema.Transform``) are walked by hand in tests/input/input_corpus.py.
 """
 
 from __future__ import annotations
@@ -19,9 +19,12 @@ import numpy as np
 import pytest
 
 from gbh_drake.cli import main
+from gbh_drake.core.ranges import Fixed, Items, OneOf, Range, format_path
 from gbh_drake.scenario import Scenario
-from gbh_drake.validation import RULES, Fixed, Items, OneOf, Range
-from gbh_drake.yaml_check import format_path, optional_of, struct_fields, union_options
+from gbh_drake.scenario.checks import rule_table
+from gbh_drake.scenario.yaml_text import optional_of, struct_fields, union_options
+
+RULES = rule_table()
 
 #: Fields walked by hand (input_corpus.py): lists of Drake structs and poses.
 BY_HAND = {("directives",), ("cameras",), ("object", "pose"), ("source_path",)}
@@ -204,7 +207,8 @@ def test_nan_everywhere_is_refused_by_the_walk():
     """check_finite reaches numbers inside Drake structs, distributions and lists."""
     from pydrake.common import schema
 
-    from gbh_drake.validation import FieldError, check_finite
+    from gbh_drake.core.ranges import FieldError
+    from gbh_drake.scenario.checks import check_finite
 
     s = Scenario()
     s.object.pose.translation = schema.UniformVector[3](min=[0, 0, 0], max=[0, math.nan, 0])

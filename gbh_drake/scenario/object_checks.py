@@ -1,0 +1,71 @@
+"""The object to pick: a known name of the object set (with a suggestion for a typo), at a size
+that can be simulated, or a mesh file the mesh import accepts. The object set is imported on
+demand (its generators are heavy)."""
+
+import difflib
+from pathlib import Path
+
+import numpy as np
+
+from gbh_drake.core.ranges import FieldError
+
+#: Largest extent (m) a scaled named object may have.
+NAMED_SIZE = (0.01, 2.0)
+
+
+def check_object(scenario) -> None:
+    obj = scenario.object
+    if obj.mesh:
+        if "\0" in obj.mesh:
+            raise FieldError(("object", "mesh"), "holds a NUL character")
+        path = scenario.resolve(obj.mesh)
+        if not path.is_file():
+            what = "is a folder" if path.is_dir() else "file not found"
+            raise FieldError(("object", "mesh"), f"{what}: {path}")
+        from gbh_drake.objects import MeshImportError, load_mesh_object
+
+        try:
+            load_mesh_object(path, scale=obj.scale, density=obj.density or None,
+                             mass=obj.mass or None, orientation=obj.orientation)
+        except MeshImportError as e:
+            raise FieldError(("object", "mesh"), str(e)) from None
+        return
+    if obj.orientation != "keep":
+        raise FieldError(("object", "orientation"), "applies to mesh files (object.mesh); the "
+                                                    "named objects stand as designed")
+    if not obj.name:
+        raise FieldError(("object",), "give a named object (object.name) or a mesh file "
+                                      "(object.mesh)")
+    from gbh_drake.objects import list_objects  # the object set (its generators) on demand
+
+    known = list_objects()
+    if obj.name not in known:
+        close = difflib.get_close_matches(obj.name, known, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise FieldError(("object", "name"), f"unknown object {obj.name!r} ({hint}known: "
+                                             f"{', '.join(known)}; or give object.mesh)")
+    size = _named_extent(obj.name) * obj.scale
+    if not NAMED_SIZE[0] <= size <= NAMED_SIZE[1]:
+        raise FieldError(("object", "scale"), f"makes {obj.name} {size * 1000:.3g} mm across; "
+                                              f"objects of {NAMED_SIZE[0] * 100:g} cm to "
+                                              f"{NAMED_SIZE[1]:g} m can be simulated")
+
+
+_EXTENTS: dict[str, float] = {}
+
+
+def _named_extent(name: str) -> float:
+    """Largest extent (m) of the object set's ``name`` at scale 1 (cached per process)."""
+    if name not in _EXTENTS:
+        from gbh_drake.objects import make_object
+
+        bounds = make_object(name).mesh.bounds
+        _EXTENTS[name] = float(np.max(bounds[1] - bounds[0]))
+    return _EXTENTS[name]
+
+
+def object_model_name(scenario) -> str:
+    from gbh_drake.modeling.object_sdf import model_name
+
+    return model_name(Path(scenario.object.mesh).stem if scenario.object.mesh
+                      else scenario.object.name)

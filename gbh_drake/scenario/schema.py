@@ -1,0 +1,344 @@
+"""The scenario's schema: :class:`Scenario` and the configuration dataclasses it composes.
+
+Plain dataclasses on the ground floor (they import nothing of the pipeline: perception,
+planning, systems), loadable with Drake's ``yaml_load_typed`` (no ``from __future__ import
+annotations`` here: the loader needs real types). Each field documents its unit and default and
+declares its range beside it (:func:`gbh_drake.core.ranges.ranged`); rules between fields of one
+dataclass are its ``check_relations``. :class:`Scenario` composes them with Drake's own config
+structs and the two other ground-floor configs, :class:`gbh_drake.core.params.GbhParams` and
+:class:`gbh_drake.perception.config.ScanConfig`. Frames: W is the world (z up, the table top is
+the plane z = 0); lengths in metres, angles in radians unless a name says ``_deg``, forces in
+newtons, times in seconds, masses in kilograms.
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pydrake.common.schema import Transform
+from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
+from pydrake.multibody.plant import MultibodyPlantConfig
+from pydrake.systems.analysis import SimulatorConfig
+from pydrake.systems.sensors import CameraConfig
+from pydrake.visualization import VisualizationConfig
+
+from gbh_drake.core.params import AntipodalParams, GbhParams
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    ranged,
+    sibling,
+)
+from gbh_drake.modeling.names import TABLE
+from gbh_drake.perception.config import ScanConfig
+
+#: Franka's "ready" pose, the gripper pointing down over the table (rad).
+DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
+
+#: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
+DEFAULT_DIRECTIVES = """
+directives:
+- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
+- add_weld: {parent: world, child: panda::panda_link0}
+- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
+- add_weld:
+    parent: panda::panda_link8
+    child: hook_gripper::panda_hand
+    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
+- add_model: {name: table, file: "package://gbh_drake/table.sdf"}
+- add_weld:
+    parent: world
+    child: table::table_top
+    X_PC: {translation: [0.35, 0, 0]}
+"""
+
+
+def default_directives(*, table: bool = True) -> list[ModelDirective]:
+    """The station's fixed models (without the table's two directives when not ``table``)."""
+    directives = LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
+    if table:
+        return directives
+    return [d for d in directives
+            if not (d.add_model and d.add_model.name == TABLE)
+            and not (d.add_weld and d.add_weld.child.startswith(f"{TABLE}::"))]
+
+
+#: How grasps are chosen (``Scenario.grasp_method``):
+#:
+#: * ``gbh``: Grasping by Hanging (the paper): the hook gripper's bar deployed;
+#: * ``antipodal``: a learning-free antipodal baseline with two straight fingers (the bar
+#:   retracted), the paper's fairness rule for its baseline;
+#: * ``gbh_fallback``: GbH, and when it finds nothing hangable or nothing reachable, an antipodal
+#:   grasp with the bar retracted (the revolute joint the paper proposes in Sec. 4).
+GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback")
+
+#: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
+#: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
+#: the station).
+TASKS = ("pick", "settle")
+
+
+@dataclass
+class RandomRestingPose:
+    """A random start pose: one of the object's stable resting orientations (drawn by its
+    probability), a uniform yaw and a uniform position on the table, from the scenario's seed."""
+
+    x: list[float] = ranged(lambda: [0.45, 0.62], Items(2, what="values [min, max] (m)"))
+    """Range [min, max] (m) of the object's x in W (its footprint's centre)."""
+    y: list[float] = ranged(lambda: [-0.18, 0.18], Items(2, what="values [min, max] (m)"))
+    """Range [min, max] (m) of the object's y in W."""
+    yaw_deg: list[float] = ranged(
+        lambda: [-180.0, 180.0], Items(2, Range(-360.0, 360.0, unit="deg"), what="values [min, max] (deg)"))
+    """Range [min, max] (deg) of the yaw about +z_W."""
+    stable: bool = True
+    """Draw among the object's stable resting orientations (trimesh); False: as modelled."""
+
+    def check_relations(self, at: tuple = ()) -> None:
+        for name in ("x", "y", "yaw_deg"):
+            lo_hi = getattr(self, name)
+            if lo_hi[0] > lo_hi[1]:
+                raise FieldError(at + (name,), f"needs [min, max] with min <= max, got {list(lo_hi)}")
+
+
+@dataclass
+class ObjectConfig:
+    """The object to pick."""
+
+    name: str = "mug_classic"
+    """A named object of the object set (``gbh objects list``); ignored when ``mesh`` is set."""
+    mesh: str = ""
+    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file; ``scale``
+    turns its units into metres. It is placed resting on the table whatever its origin."""
+    scale: float = ranged(1.0, Pos(1000.0, note="e.g. 0.001 for a file in millimetres"))
+    """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
+    orientation: str = ranged("keep", OneOf(("keep", "nearest_stable", "most_probable")))
+    """How a ``mesh`` file stands on the table: ``keep`` (the file's z is up), ``nearest_stable``
+    (its stable resting pose nearest to that) or ``most_probable`` (its likeliest resting
+    pose)."""
+    density: float = ranged(
+        0.0, NonNeg(25000.0, "kg/m^3", "0: the object's own; osmium, the densest metal, is 22600"))
+    """kg/m^3 for mass and inertia; 0: the named object's own density (600 for a mesh)."""
+    mass: float = ranged(0.0, NonNeg(100.0, "kg", "0: from the density; the Franka carries at most 3 kg"))
+    """kg; when positive, the object's mass (inertia scaled to it) instead of ``density``."""
+    pose: Transform = field(default_factory=lambda: Transform(translation=[0.55, 0.0, 0.0]))
+    """X_WO, the object's pose on the table (its lowest point at z = 0 when the translation's z
+    is 0). Takes Drake's distributions (``!UniformVector``, ``!Rpy {deg: !UniformVector ...}``),
+    sampled from the scenario's seed. Ignored when ``random_pose`` is given."""
+    random_pose: RandomRestingPose | None = None
+    """When given: a stable resting pose, yaw and position drawn from the seed."""
+    drop_height: float = ranged(0.002, NonNeg(0.5, "m"))
+    """Extra height (m) above the resting pose at the start, so the object settles onto the
+    table."""
+
+    def check_relations(self, at: tuple = ()) -> None:
+        if self.density > 0 and self.mass > 0:
+            raise FieldError(at + ("mass",), f"give {sibling(at, 'mass')} or {sibling(at, 'density')}, "
+                                             "not both (mass wins otherwise)")
+
+
+@dataclass
+class HandConfig:
+    """The Franka Hand's finger drive: force-limited like the real hand (70 N continuous, 140 N
+    peak grasp force, about 0.05 m/s per finger). Each finger's joint is a position-controlled
+    actuator (the plant's implicit PD, stiffness ``kp``) whose effort is limited to
+    ``max_force`` by the plant; the hand driver moves its set point at ``speed`` and keeps it
+    within ``force / kp`` of the measured finger, so a blocked finger squeezes with ``force``."""
+
+    force: float = ranged(70.0, Pos(1000.0, "N"))
+    """Grasp force (N) each finger applies once it is blocked (Franka: 70 N continuous)."""
+    max_force: float = ranged(140.0, Pos(1000.0, "N"))
+    """Effort limit (N) of each finger's actuator (Franka: 140 N peak)."""
+    speed: float = ranged(0.05, Pos(1.0, "m/s"))
+    """Finger speed (m/s, each finger) while opening or closing."""
+    kp: float = ranged(20000.0, Pos(1e7, "N/m"))
+    """Finger position stiffness (N/m) of the drive."""
+    kd: float = ranged(60.0, Pos(1e5, "N s/m"))
+    """Finger damping (N s/m) of the drive."""
+
+    def check_relations(self, at: tuple = ()) -> None:
+        if self.force > self.max_force:
+            raise FieldError(at + ("force",), f"must be <= {sibling(at, 'max_force')} "
+                                              f"({self.max_force:g} N), got {self.force:g}")
+
+
+@dataclass
+class RobotConfig:
+    """The Franka arm with the hook gripper."""
+
+    q_home: list[float] = ranged(
+        lambda: list(DEFAULT_Q_HOME), Items(7, what="joint positions (rad, panda_joint1..7)"))
+    """Arm joint positions (rad, 7 values, panda_joint1..7) at the start and when idle."""
+    gripper_open: bool = True
+    """Whether the gripper starts open (q = l_w / 2) or closed."""
+    arm_kp: list[float] = ranged(
+        lambda: [4000.0] * 4 + [1500.0] * 3, Items(7, Pos(1e6, "N m/rad"), what="gains (panda_joint1..7)"))
+    """Joint PD stiffness (N m / rad) of panda_joint1..7 (set on the actuators by name)."""
+    arm_kd: list[float] = ranged(
+        lambda: [200.0] * 4 + [60.0] * 3, Items(7, Pos(1e5, "N m s/rad"), what="gains (panda_joint1..7)"))
+    """Joint PD damping (N m s / rad) of panda_joint1..7."""
+    hand: HandConfig = field(default_factory=HandConfig)
+    """The fingers' force-limited drive."""
+
+
+@dataclass
+class PickConfig:
+    """How a chosen grasp is planned and executed: approach, insert, close, lift until clear,
+    carry to ``place_position``, cage test, lower, release, retreat."""
+
+    approach_distance: float = ranged(0.10, Pos(0.5, "m"))
+    """Pre-grasp offset (m) back along the approach direction (-z_G)."""
+    max_approach_distance: float = ranged(0.25, Pos(0.5, "m"))
+    """The pre-grasp pose backs off in 5 cm steps up to this distance (m) until the gripper is
+    clear of the scanned object's convex hull."""
+    lift_clearance: float = ranged(0.05, NonNeg(0.5, "m"))
+    """After the lift, the object's lowest point (estimated from the scan, hanging from the
+    grasp) is at least this far (m) above the table."""
+    min_lift: float = ranged(0.10, Pos(1.0, "m"))
+    """The gripper rises at least this much (m)."""
+    max_lift: float = ranged(0.40, Pos(1.0, "m"))
+    """The gripper rises at most this much (m); lower when the arm cannot reach higher."""
+    place_position: list[float] = ranged(lambda: [0.40, 0.30], Items(2, what="coordinates (x, y in m)"))
+    """Where (x, y in W, m) the object is carried, lowered and released."""
+    place_depth: float = ranged(0.03, NonNeg(0.2, "m"))
+    """The gripper is lowered until the hand's load drops (the object stands on the table: a
+    hook that still carries the object would drag it along as it opens), at most until the
+    object's estimated lowest point is this far (m) below the table top."""
+    unloaded_fraction: float = ranged(0.4, Range(0.0, 1.0, lo_open=True, hi_open=True))
+    """The object counts as set down when the hand's vertical load falls below this fraction of
+    what it was while carried (as Franka senses its external force)."""
+    unload_depth: float = ranged(0.006, NonNeg(0.05, "m"))
+    """Once set down, the gripper goes on down this far (m) so that the hook hangs free in the
+    hole before the fingers open (a bar pressed against the material would drag it along)."""
+    cage_test_force: float = ranged(2.0, NonNeg(1000.0, "N"))
+    """Grasp force (N) during the cage test after the carry: with the squeeze relaxed to this
+    force, a caged object keeps hanging on the closed loop and a pinched one slides out."""
+    cage_test_time: float = ranged(1.0, NonNeg(30.0, "s"))
+    """Duration (s) of the cage test."""
+    hold_time: float = ranged(0.5, NonNeg(30.0, "s"))
+    """Time (s) the object is held still at the place position, full grasp force, before the
+    cage test."""
+    release_depth: float = ranged(0.02, NonNeg(0.05, "m"))
+    """After opening, a parallel hook grasp goes this far (m) on along +z_G (less where the hand
+    would come closer to the table than the grasp clearance), so that the bar leaves the
+    material it was under, ..."""
+    release_shift: float = ranged(0.015, NonNeg(0.05, "m"))
+    """... then slides this far (m) along -y_G (toward the L rod's side), so that the bar comes
+    out of the hole tip first before the gripper backs off. (A vertical grasp opens about its
+    straight rod instead, the reverse of its closing: the bar leaves from under the material.)"""
+    retreat_distance: float = ranged(0.10, NonNeg(0.5, "m"))
+    """After releasing, the gripper backs off this far (m) along -z_G."""
+    plan_paths: bool = True
+    """Plan the transfer by RRT-Connect and collision-check every segment (False: IK only,
+    straight joint-space moves)."""
+    planner_iterations: int = ranged(3000, Int(1, 100_000))
+    """RRT-Connect iterations before a transfer is given up."""
+    max_grasps: int = ranged(10, Int(1, 100))
+    """At most this many ranked grasps are tried, in order, before 'no reachable grasp'."""
+
+    def check_relations(self, at: tuple = ()) -> None:
+        if self.max_approach_distance < self.approach_distance:
+            raise FieldError(at + ("max_approach_distance",),
+                             f"must be >= {sibling(at, 'approach_distance')} "
+                             f"({self.approach_distance:g} m)")
+        if self.min_lift > self.max_lift:
+            raise FieldError(at + ("min_lift",), f"must be <= {sibling(at, 'max_lift')} "
+                                                 f"({self.max_lift:g} m)")
+
+
+@dataclass
+class MonitorConfig:
+    """The success rules of the ``CageMonitor``, fixed before any experiment."""
+
+    lifted_height: float = ranged(0.02, Pos(1.0, "m"))
+    """The object counts as lifted when its lowest point is this far (m) above the table."""
+    closed_tolerance: float = ranged(0.002, Pos(0.02, "m"))
+    """The hook's loop counts as closed when each finger is within this distance (m) of its
+    closed position (the bar's tip on the straight rod)."""
+    period: float = ranged(0.01, Range(1e-3, 1.0, unit="s"))
+    """Update period (s) of the monitor."""
+
+
+@dataclass
+class Scenario:
+    """One run of gbh_drake. Units: metres, radians, seconds, kilograms."""
+
+    seed: int = ranged(0, Int(0, 2**64 - 1, "seeds are unsigned 64-bit integers"))
+    """Seeds every random choice of the run (object pose, sampling, depth noise): same seed, same run."""
+    object: ObjectConfig = field(default_factory=ObjectConfig)
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    directives: list[ModelDirective] = field(default_factory=default_directives)
+    """The fixed models (Drake ``ModelDirectives``): by default the arm ``panda`` on the table,
+    the ``hook_gripper`` on its flange and the ``table`` whose top is the plane z = 0 of W.
+    Add models here; keep those three names."""
+    cameras: list[CameraConfig] = field(default_factory=list)
+    """Extra RGB-D cameras added to the station (Drake's ``CameraConfig``)."""
+    plant_config: MultibodyPlantConfig = field(
+        default_factory=lambda: MultibodyPlantConfig(
+            time_step=0.002,
+            contact_model="hydroelastic_with_fallback",
+            discrete_contact_approximation="sap",
+        )
+    )
+    """The MultibodyPlant (discrete, hydroelastic contact). A 2 ms step: measured against 1 ms
+    and 4 ms on every object of the set at two random poses (scenarios/
+    experiment_time_step.yaml), the verdicts agreed in 43 of 46 trials, the differences went
+    both ways (successes 12, 13, 14 of 46), and 2 ms runs the carry 1.9x faster than 1 ms."""
+    simulator_config: SimulatorConfig = field(
+        default_factory=lambda: SimulatorConfig(publish_every_time_step=False)
+    )
+    visualization: VisualizationConfig = field(
+        default_factory=lambda: VisualizationConfig(publish_period=1 / 32)
+    )
+    """Meshcat visualisation (illustration, contact forces); see Drake's VisualizationConfig."""
+    task: str = ranged("pick", OneOf(TASKS))
+    """``pick`` (the whole GbH pipeline) or ``settle`` (only the station)."""
+    settle_time: float = ranged(0.5, NonNeg(60.0, "s"))
+    """Simulated time (s) to let the object settle on the table before anything else."""
+    scan_target: list[float] = ranged(lambda: [0.55, 0.0, 0.06],
+                                      Items(3, what="coordinates (x, y, z in m)"))
+    """p_WT (m): where the object is expected (the nominal spot, not its true pose): a first
+    look searches around it (the object must be within ``scan.object_search_radius``) and the
+    views are then aimed at what it found."""
+    scan: ScanConfig = field(default_factory=ScanConfig)
+    """Depth scan of the object (views, camera, TSDF, segmentation, cap, noise); 1 view:
+    ``{num_views: 1}``. Its noise is seeded from the scenario's ``seed``."""
+    gbh: GbhParams = field(default_factory=GbhParams)
+    """Grasping-by-Hanging parameters (paper values by default). Its surface sampling is seeded
+    from the scenario's ``seed``."""
+    grasp_method: str = ranged("gbh", OneOf(GRASP_METHODS))
+    """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
+    (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
+    antipodal: AntipodalParams = field(default_factory=AntipodalParams)
+    """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
+    pick: PickConfig = field(default_factory=PickConfig)
+    """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
+    monitor: MonitorConfig = field(default_factory=MonitorConfig)
+    """The success rules (lifted height, closed-loop tolerance)."""
+    max_time: float = ranged(60.0, Pos(600.0, "s", "a pick takes about 10-20 simulated seconds"))
+    """Simulated seconds after which a trial is cut off (it normally ends when the pick-and-carry
+    machine has finished)."""
+    replay_fps: float = ranged(16.0, Pos(120.0, "frames/s"))
+    """Frames per second of the saved Meshcat replay (fewer frames, smaller file)."""
+    output_dir: str = ""
+    """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
+    source_path: str = ""
+    """Set by the loader: the scenario file itself (do not write it in YAML)."""
+
+    @property
+    def directory(self) -> Path:
+        """The folder of the scenario file (relative paths in the file resolve against it)."""
+        return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
+
+    def resolve(self, path: str) -> Path:
+        p = Path(path).expanduser()
+        return p if p.is_absolute() else self.directory / p
+
+    def output_path(self) -> Path:
+        if self.output_dir:
+            return self.resolve(self.output_dir)
+        stem = Path(self.source_path).stem if self.source_path else "scenario"
+        return Path.cwd() / "output" / stem
