@@ -30,9 +30,9 @@ from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import EventStatus
 
 from gbh_drake import REPO_ROOT, SCENARIOS_DIR
-from gbh_drake.config import RandomRestingPose
 from gbh_drake.objects import make_object
 from gbh_drake.scenario import load_scenario
+from gbh_drake.scenario.schema import RandomRestingPose
 from gbh_drake.trial import build_trial
 
 

@@ -45,11 +45,11 @@ from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.sensors import ApplyCameraConfig, CameraConfig
 from pydrake.visualization import ApplyVisualizationConfig, VisualizationConfig
 
-from gbh_drake.config import RobotConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
 from gbh_drake.modeling.package_map import make_parser
+from gbh_drake.scenario.schema import RobotConfig
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
 

@@ -51,6 +51,16 @@ def _num(v) -> str:
     return f"{float(v):g}"
 
 
+def check_finite_number(path: Path_, value) -> None:
+    """Refuses NaN, +-inf and an int too large for a float."""
+    try:
+        finite = math.isfinite(value)
+    except OverflowError:
+        finite = False
+    if not finite:
+        raise FieldError(path, f"must be a finite number, got {value}")
+
+
 def _note(note: str) -> str:
     return f" ({note})" if note else ""
 
@@ -95,12 +105,7 @@ class Range:
     def check(self, path: Path_, value) -> None:
         if isinstance(value, bool) or not isinstance(value, int | float | np.number):
             raise FieldError(path, f"expected a number, got {value!r}")
-        try:
-            finite = math.isfinite(value)
-        except OverflowError:  # an int too large for a float
-            finite = False
-        if not finite:
-            raise FieldError(path, f"must be a finite number, got {value}")
+        check_finite_number(path, value)
         if self.integer and not float(value).is_integer():
             raise FieldError(path, f"expected an integer, got {value!r}")
         if not self.contains(value):

@@ -38,10 +38,15 @@ import numpy as np
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
-from gbh_drake.config import RandomRestingPose
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
-from gbh_drake.scenario import Scenario, ScenarioError, load_scenario, validate_scenario
+from gbh_drake.scenario import (
+    RandomRestingPose,
+    Scenario,
+    ScenarioError,
+    load_scenario,
+    validate_scenario,
+)
 
 #: What ``replays`` may say: keep a Meshcat replay of every failed trial, of every trial, or none.
 REPLAY_MODES = ("failures", "all", "none")

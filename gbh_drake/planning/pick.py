@@ -21,12 +21,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 
-from gbh_drake.config import PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance
 from gbh_drake.core.results import PARALLEL, VERTICAL
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
+from gbh_drake.scenario.schema import PickConfig
 
 #: Grasp kind of the antipodal baseline (two straight rods, the bar folded away).
 ANTIPODAL = "antipodal"

@@ -22,7 +22,6 @@ what was expected) on the first field that cannot give a meaningful run:
 """
 
 import dataclasses
-import math
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +37,7 @@ from gbh_drake.core.ranges import (
     Pos,
     Range,
     Rule,
+    check_finite_number,
     check_ranges,
     format_path,
     rule_of,
@@ -170,12 +170,7 @@ def iter_numbers(value, path: Path_ = ()):
 
 def check_finite(scenario) -> None:
     for path, v in iter_numbers(scenario):
-        try:
-            finite = math.isfinite(v)
-        except OverflowError:  # an int too large for a float
-            finite = False
-        if not finite:
-            raise FieldError(path, f"must be a finite number, got {v}")
+        check_finite_number(path, v)
 
 
 def check_relations(scenario) -> None:

@@ -36,8 +36,8 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
-from gbh_drake.config import MonitorConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.scenario.schema import MonitorConfig
 from gbh_drake.systems.pick_and_carry import Mode, PickStatus
 from gbh_drake.systems.stage import CopiedShallowly
 

@@ -19,7 +19,7 @@ import math
 
 from pydrake.systems.framework import BasicVector, LeafSystem
 
-from gbh_drake.config import HandConfig
+from gbh_drake.scenario.schema import HandConfig
 
 #: Indices of the command vector.
 Q_TARGET, FORCE, BAR_ANGLE = 0, 1, 2

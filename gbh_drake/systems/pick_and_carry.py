@@ -33,7 +33,6 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
-from gbh_drake.config import HandConfig, PickConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
 from gbh_drake.perception.scan import ScanResult
@@ -47,6 +46,7 @@ from gbh_drake.planning.pick import (
     release_path,
 )
 from gbh_drake.planning.trajectories import joint_path, linear_move, sample
+from gbh_drake.scenario.schema import HandConfig, PickConfig
 from gbh_drake.systems.scanner import no_scan
 from gbh_drake.systems.stage import CopiedShallowly
 

@@ -8,7 +8,6 @@ import pytest
 import yaml
 
 from gbh_drake import SCENARIOS_DIR
-from gbh_drake.config import DEFAULT_DIRECTIVES
 from gbh_drake.experiment.config import (
     ExperimentError,
     load_experiment,
@@ -17,6 +16,7 @@ from gbh_drake.experiment.config import (
     trial_seed,
 )
 from gbh_drake.objects import make_object
+from gbh_drake.scenario import DEFAULT_DIRECTIVES
 
 HERE = Path(__file__).parent
 SHORT = HERE / "short_experiment.yaml"

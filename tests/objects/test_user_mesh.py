@@ -86,8 +86,8 @@ def test_unstable_as_given_is_a_warning_naming_the_source():
 def test_a_random_stable_pose_does_not_warn_about_the_orientation_as_given(tmp_path):
     """With ``random_pose`` (stable) the object starts on one of its stable resting poses, so
     whether it would stand as given is not worth a warning; with a pose it is."""
-    from gbh_drake.config import ObjectConfig, RandomRestingPose
     from gbh_drake.modeling.object_asset import load_object_asset
+    from gbh_drake.scenario.schema import ObjectConfig, RandomRestingPose
 
     box = trimesh.creation.box((0.04, 0.06, 0.15))
     box.apply_transform(trimesh.transformations.rotation_matrix(0.6, (1, 0, 0)))

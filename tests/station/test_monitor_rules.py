@@ -4,8 +4,8 @@ what counts as lifted, dropped, dragged, carried, cage and pinch, and the words 
 import numpy as np
 import pytest
 
-from gbh_drake.config import MonitorConfig
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.scenario.schema import MonitorConfig
 from gbh_drake.systems.cage_monitor import (
     CAGE,
     DROPPED_DURING_CARRY,

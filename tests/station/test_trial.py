@@ -124,7 +124,7 @@ def test_every_object_gets_a_plan_or_true_reasons(scenario, name):
     with its reason, or why there was nothing to try)."""
     scenario.object.name = name
     scenario.settle_time = 0.3
-    from gbh_drake.config import RandomRestingPose
+    from gbh_drake.scenario.schema import RandomRestingPose
 
     scenario.object.random_pose = RandomRestingPose()
     for seed in range(3):
