@@ -23,8 +23,10 @@ hidden staging folder, then each object's folder replaces the old one.
 from __future__ import annotations
 
 import contextlib
+import enum
 import errno
 import fcntl
+import math
 import os
 import shutil
 from collections.abc import Callable
@@ -81,11 +83,23 @@ def prepare_folder(folder: Path, *, min_free: int = MIN_FREE_BYTES) -> Path:
 
 
 class FolderLock:
-    """An exclusive ``flock`` on ``<folder>/.gbh.lock``; :class:`OutputError` if held."""
+    """An exclusive ``flock`` on ``<folder>/.gbh.lock``; :class:`OutputError` if held. Also a
+    context manager (acquired on entry, released on exit). ``holder``: what holds such locks,
+    for the message (``gbh run``, ``gbh experiment``); ``hint``: what to do instead."""
 
-    def __init__(self, folder: Path):
+    def __init__(self, folder: Path, *, holder: str = "gbh run",
+                 hint: str = "give another output folder (output_dir)"):
         self.path = Path(folder) / LOCK_NAME
+        self.holder = holder
+        self.hint = hint
         self._fd: int | None = None
+
+    def __enter__(self) -> FolderLock:
+        self.acquire()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
 
     def acquire(self) -> None:
         try:
@@ -98,9 +112,9 @@ class FolderLock:
         except BlockingIOError:
             holder = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
             os.close(fd)
-            raise OutputError(self.path.parent, f"another gbh run (process {holder}) is writing "
-                                                "into this folder; wait for it to finish or give "
-                                                "another output folder (output_dir)") from None
+            raise OutputError(self.path.parent, f"another {self.holder} (process {holder}) is "
+                                                "writing into this folder; wait for it to finish "
+                                                f"or {self.hint}") from None
         try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
@@ -268,3 +282,19 @@ def replace_contents(out: Path, build: Callable[[Path], list], *,
     finally:
         _remove(staging)
         lock.release()
+
+
+def plain(value):
+    """``value`` made ready for JSON and YAML: numpy scalars as Python numbers, enums as their
+    values, tuples as lists, keys as strings, NaN and infinities as None."""
+    if isinstance(value, dict):
+        return {str(k): plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [plain(v) for v in value]
+    if isinstance(value, enum.Enum):
+        return plain(value.value)
+    if hasattr(value, "item") and not isinstance(value, str | bytes):  # numpy scalar
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -16,9 +16,9 @@ import numpy as np
 import yaml
 from pydrake.geometry import Meshcat
 
-from gbh_drake.outputs import RunOutputs
+from gbh_drake.outputs import RunOutputs, plain
 from gbh_drake.scenario import Scenario, dump_resolved
-from gbh_drake.trial import TrialRecord, build_trial, simulate_trial
+from gbh_drake.trial import TrialRecord, record_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
 #: Below this mean squeeze (N) a closed loop is said to hold what hangs in it without squeezing.
@@ -69,12 +69,12 @@ class RunSummary:
             verdict = "SUCCESS" if r.success else "FAILURE"
             held = f" [{r.held_by}]" if r.held_by else ""
             lines.append(f"  verdict: {verdict}{held}: {r.outcome}: {r.reason}")
-            if v.get("squeeze_force") == v.get("squeeze_force"):  # not nan
-                squeeze = f"squeeze {v['squeeze_force']:.0f} N while carried"
-                if v.get("loop_closed") and v["squeeze_force"] < LOOP_SQUEEZE:
+            if v.squeeze_force == v.squeeze_force:  # not nan
+                squeeze = f"squeeze {v.squeeze_force:.0f} N while carried"
+                if v.loop_closed and v.squeeze_force < LOOP_SQUEEZE:
                     squeeze += " (the loop closed on its stop: what hangs in it is not squeezed)"
-                lines.append(f"  {squeeze}; highest clearance {v['max_clearance'] * 100:.1f} cm; "
-                             f"touching: {_touching(v['touching'])}")
+                lines.append(f"  {squeeze}; highest clearance {v.max_clearance * 100:.1f} cm; "
+                             f"touching: {_touching(v.touching)}")
             lines.append("  timings: " + ", ".join(f"{k} {t:.2f} s" for k, t in r.timings.items()))
         lines.append(f"  replay: {self.replay}")
         return "\n".join(lines)
@@ -99,19 +99,12 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
 
 
 def _simulate(scenario: Scenario, meshcat: Meshcat | None, outputs: RunOutputs) -> RunSummary:
-    meshcat = meshcat or local_meshcat()
-    trial = build_trial(scenario, meshcat=meshcat)
-    # A view of the work area from the front right (the user can orbit it in the browser).
-    meshcat.SetCameraPose(camera_in_world=[1.3, -1.0, 0.8], target_in_world=[0.45, 0.0, 0.15])
-    meshcat.StartRecording(frames_per_second=scenario.replay_fps)
-    max_time = scenario.settle_time if scenario.task == "settle" else scenario.max_time
-    simulator, record = simulate_trial(trial, max_time=max_time)
-    meshcat.StopRecording()
-    meshcat.PublishRecording()
-    replay = outputs.stage("replay.html", meshcat.StaticHtml())
+    done = record_trial(scenario, meshcat=meshcat or local_meshcat())
+    trial, record = done.trial, done.record
+    replay = outputs.stage("replay.html", done.replay_html)
 
     plant = trial.station.plant
-    plant_context = plant.GetMyContextFromRoot(simulator.get_context())
+    plant_context = plant.GetMyContextFromRoot(done.simulator.get_context())
     X_WO_0 = trial.station.X_WO_initial
     drift = float(np.linalg.norm(
         (plant.GetFreeBodyPose(plant_context, plant.GetBodyByName(trial.station.object_name))
@@ -122,24 +115,11 @@ def _simulate(scenario: Scenario, meshcat: Meshcat | None, outputs: RunOutputs) 
     outputs.stage("scenario.yaml", dump_resolved(scenario))
     outputs.stage("summary.yaml", yaml.safe_dump(
         {"scenario": summary.scenario, "task": summary.task, "replay": summary.replay,
-         "settle_drift": drift, **_plain(asdict(record))}, sort_keys=False))
+         "settle_drift": drift, **plain(asdict(record))}, sort_keys=False))
     return summary
 
 
 def _settle_drift(record: TrialRecord) -> float:
     """How far (m, horizontally) the object moved between its start and the scan."""
-    settled = record.verdict.get("settled_at") or record.pose[:3]
+    settled = record.verdict.settled_at or record.pose[:3]
     return float(np.linalg.norm(np.subtract(settled[:2], record.pose[:2])))
-
-
-def _plain(value):
-    """``value`` with numpy scalars and non-finite floats made YAML-friendly."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not np.isfinite(value):
-        return None
-    return value

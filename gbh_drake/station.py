@@ -32,33 +32,38 @@ port                        kind    what
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from pydrake.geometry import Meshcat, RenderEngineVtkParams
 from pydrake.lcm import DrakeLcm
 from pydrake.math import RigidTransform
-from pydrake.multibody.parsing import ModelDirective, ModelDirectives, ProcessModelDirectives
+from pydrake.multibody.parsing import (
+    ModelDirective,
+    ModelDirectives,
+    Parser,
+    ProcessModelDirectives,
+)
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
 from pydrake.multibody.tree import PdControllerGains
 from pydrake.systems.framework import Diagram, DiagramBuilder
 from pydrake.systems.sensors import ApplyCameraConfig, CameraConfig
 from pydrake.visualization import ApplyVisualizationConfig, VisualizationConfig
 
-from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED
+from gbh_drake.core.gripper import BAR_DEPLOYED, HOOK_GRIPPER
+from gbh_drake.methods import method_named
+from gbh_drake.modeling.names import ARM, GRIPPER, HAND_ACTUATORS
+from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
 from gbh_drake.modeling.package_map import make_parser
+from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.schema import RobotConfig
+from gbh_drake.seeds import derive_seeds
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
 
 #: Name of the VTK render engine that cameras use.
 RENDERER_NAME = "default"
-#: Names of the robot's model instances.
-ARM, GRIPPER = "panda", "hook_gripper"
-#: The hand's actuators, in the order of the hand's positions.
-HAND_ACTUATORS = ("straight_finger_joint", "l_finger_joint", "bar_joint")
 #: PD gains (N m/rad, N m s/rad) of the bar's servo.
 BAR_KP, BAR_KD = 20.0, 0.5
 
@@ -75,9 +80,13 @@ class Station(Diagram):
                  robot: RobotConfig, asset: ObjectAsset, X_WO: RigidTransform,
                  bar_angle: float = BAR_DEPLOYED, cameras: Sequence[CameraConfig] = (),
                  visualization: VisualizationConfig | None = None,
-                 meshcat: Meshcat | None = None):
+                 meshcat: Meshcat | None = None,
+                 prefinalize: Callable[[Parser], None] | None = None):
         """``X_WO``: the object's initial pose; ``bar_angle`` (rad): the bar's initial angle;
-        ``visualization`` and ``meshcat``: Meshcat visualisation (both or neither)."""
+        ``visualization`` and ``meshcat``: Meshcat visualisation (both or neither);
+        ``prefinalize``: called with the station's parser (``parser.plant()`` is the plant)
+        once every model is added, before the plant is finalized: add models or frames of your
+        own (as ``MakeHardwareStation``'s ``parser_prefinalize_callback``)."""
         super().__init__()
         builder = DiagramBuilder()
 
@@ -89,8 +98,8 @@ class Station(Diagram):
             scene_graph.AddRenderer(RENDERER_NAME, MakeRenderEngineVtk(RenderEngineVtkParams()))
 
         # The fixed models (arm, gripper, table and whatever the scenario adds), the object.
-        ProcessModelDirectives(ModelDirectives(directives=list(directives)), plant,
-                               make_parser(plant))
+        parser = make_parser(plant)
+        ProcessModelDirectives(ModelDirectives(directives=list(directives)), plant, parser)
         arm = plant.GetModelInstanceByName(ARM)
         gripper = plant.GetModelInstanceByName(GRIPPER)
         body, collision_id, support_id = add_object_body(plant, asset)
@@ -113,6 +122,8 @@ class Station(Diagram):
             joint1=plant.GetJointByName(HAND_ACTUATORS[1], gripper), gear_ratio=1.0, offset=0.0)
         plant.set_gravity_enabled(arm, False)
         plant.set_gravity_enabled(gripper, False)
+        if prefinalize is not None:
+            prefinalize(parser)
         plant.Finalize()
         filter_object_contacts(plant, scene_graph, collision_id, support_id, (arm, gripper))
         q_home = np.asarray(robot.q_home, dtype=float)
@@ -165,6 +176,23 @@ class Station(Diagram):
         self.asset = asset
         self.X_WO_initial = X_WO
         self.q_home = q_home
+
+
+def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,
+                 object_asset: ObjectAsset | None = None,
+                 prefinalize: Callable[[Parser], None] | None = None) -> Station:
+    """The :class:`Station` of ``scenario``: its directives, plant, robot, cameras and
+    visualisation, the object (``object_asset``, else the scenario's, loaded) at its start pose
+    (drawn from the scenario's seed), the bar as the scenario's grasp method starts it.
+    ``meshcat``: visualise there; ``prefinalize``: see :class:`Station`. Add it to your builder
+    with ``builder.AddSystem(make_station(scenario))`` and wire to its exported ports."""
+    asset = object_asset or load_object_asset(scenario.object, scenario.directory)
+    X_WO = initial_object_pose(scenario.object, asset, derive_seeds(scenario.seed).pose)
+    return Station(directives=scenario.directives, plant_config=scenario.plant_config,
+                   robot=scenario.robot, asset=asset, X_WO=X_WO,
+                   bar_angle=method_named(scenario.grasp_method).bar_angle,
+                   cameras=scenario.cameras, visualization=scenario.visualization,
+                   meshcat=meshcat, prefinalize=prefinalize)
 
 
 def _set_gains(plant, instance, joint: str, kp: float, kd: float) -> None:

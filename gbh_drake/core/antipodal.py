@@ -86,9 +86,10 @@ from gbh_drake.core.geometry import frame_coordinates, orthonormal_basis, unit
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import AntipodalParams, GbhParams
+from gbh_drake.core.results import GraspKind
 
-#: Grasp kind of this module (GbH's are "parallel" and "vertical").
-ANTIPODAL = "antipodal"
+#: Grasp kind of this module (GbH's are parallel and vertical).
+ANTIPODAL = GraspKind.ANTIPODAL
 
 #: Points x poses per chunk of the collision count (bounds the (chunk, N) temporaries).
 _CHUNK_POINTS = 400_000
@@ -141,7 +142,7 @@ class AntipodalGrasp:
     """m: height of the swept solid model's lowest corner above the supporting surface."""
     sample_index: int
     """Index of A in the object's surface points."""
-    kind: str = ANTIPODAL
+    kind: GraspKind = ANTIPODAL
     bar_retracted: bool = True
     """The grasp is for the gripper with its bar folded onto the L rod (always True here)."""
 

@@ -44,6 +44,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+#: Bar joint angle (rad) when deployed (the hook, the paper's gripper) and when folded onto the
+#: L rod (two straight rods: the baseline's gripper, the revolute joint the paper proposes in
+#: Sec. 4). The SDF model's joint limits are generated from these.
+BAR_DEPLOYED = 0.0
+BAR_RETRACTED = -0.5 * np.pi
 #: Keypoint names in the paper's order.
 KEYPOINT_NAMES = ("p1", "p2", "p3", "p4", "p5", "p6", "p7", "pM")
 

@@ -7,13 +7,31 @@ is given in. Poses are 4x4 homogeneous numpy matrices (``X_WG``: pose of the gri
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass, field
 
 import numpy as np
 
-#: Grasp kinds of the paper (Sec. 2.3).
-PARALLEL = "parallel"
-VERTICAL = "vertical"
+
+class GraspKind(enum.StrEnum):
+    """How a grasp holds the object: the paper's two hook grasps (Sec. 2.3) and the baseline's.
+    A ``str`` enum: it compares equal to its value and is written as it in rows and YAML."""
+
+    PARALLEL = "parallel"
+    """The bar (n2) along +-v, the hand in the loop's plane (a hook)."""
+    VERTICAL = "vertical"
+    """The straight finger along v or the ground normal (a hook)."""
+    ANTIPODAL = "antipodal"
+    """Two straight rods, the bar folded (the antipodal baseline and fallback)."""
+
+    @property
+    def hooks(self) -> bool:
+        """Whether the grasp closes the hook's loop (the bar deployed)."""
+        return self is not GraspKind.ANTIPODAL
+
+
+#: The paper's grasp kinds by their names (Sec. 2.3).
+PARALLEL, VERTICAL = GraspKind.PARALLEL, GraspKind.VERTICAL
 
 
 class GbhInputError(ValueError):
@@ -55,7 +73,7 @@ class GraspCandidate:
 
     X_WG: np.ndarray
     """(4, 4) pose of the gripper frame G in W (G: palm centre, +z_G approach, +y_G closing)."""
-    kind: str
+    kind: GraspKind
     """``"parallel"`` (bar along +-v) or ``"vertical"`` (straight finger along v or ground)."""
     structure_index: int
     """Index of the structure in the detector's list."""

@@ -21,7 +21,8 @@ from pathlib import Path
 
 import yaml
 
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key, write_atomically
+from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key
+from gbh_drake.outputs import write_atomically
 
 #: Files of an experiment folder besides the rows.
 EXPERIMENT_FILE = "experiment.yaml"

@@ -23,6 +23,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from gbh_drake.experiment.worker import TIMING_FIELDS
+from gbh_drake.outputs import write_atomically
 
 #: The rows' file in an experiment's folder.
 ROWS_FILE = "trials.jsonl"
@@ -107,10 +108,3 @@ class RowStore:
     def rewrite(self, rows: Iterable[dict]) -> None:
         """Replaces the file with ``rows`` (atomically: a temporary file renamed into place)."""
         write_atomically(self.path, "".join(to_line(r) for r in rows))
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Writes ``text`` to a temporary file beside ``path`` and renames it into place."""
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)

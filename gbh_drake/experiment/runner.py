@@ -19,10 +19,9 @@ The folder::
 
 from __future__ import annotations
 
+import contextlib
 import datetime
-import fcntl
 import json
-import os
 import re
 import time
 from dataclasses import dataclass
@@ -39,7 +38,8 @@ from gbh_drake.experiment.config import (
 )
 from gbh_drake.experiment.engines import local_results, ray_results
 from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, write_report
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key, write_atomically
+from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key
+from gbh_drake.outputs import FolderLock, OutputError, write_atomically
 
 
 @dataclass
@@ -178,25 +178,15 @@ def _progress_bar(total: int, name: str, *, enabled: bool):
                 dynamic_ncols=True, smoothing=0.1)
 
 
-class _folder_lock:
+@contextlib.contextmanager
+def _folder_lock(folder: Path):
     """An exclusive lock on the folder: two experiments never append to the same rows."""
-
-    def __init__(self, folder: Path):
-        self.path = folder / ".lock"
-
-    def __enter__(self):
-        self.file = open(self.path, "w")  # noqa: SIM115 (held until __exit__)
-        try:
-            fcntl.flock(self.file, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError as e:
-            self.file.close()
-            raise ExperimentError(f"{self.path.parent}: another gbh experiment is writing "
-                                  "there") from e
-        self.file.write(str(os.getpid()))
-        self.file.flush()
-        return self
-
-    def __exit__(self, *exc):
-        fcntl.flock(self.file, fcntl.LOCK_UN)
-        self.file.close()
-        return False
+    lock = FolderLock(folder, holder="gbh experiment", hint="give another folder (--out)")
+    try:
+        lock.acquire()
+    except OutputError as e:
+        raise ExperimentError(str(e)) from None
+    try:
+        yield lock
+    finally:
+        lock.release()

@@ -12,7 +12,6 @@ This module imports nothing heavy at its top (see :mod:`gbh_drake.experiment.tas
 from __future__ import annotations
 
 import logging
-import math
 import os
 import signal
 import socket
@@ -21,6 +20,7 @@ import time
 import traceback
 
 from gbh_drake.experiment.task import TrialResult, TrialTask
+from gbh_drake.outputs import plain
 
 #: Row fields that are measurements of this run, not results: they differ between runs and are
 #: left out when rows are compared (:func:`gbh_drake.experiment.rows.comparable`).
@@ -89,33 +89,16 @@ def _run(task: TrialTask, start: float) -> TrialResult:
     from pydrake.common.yaml import yaml_load_typed
 
     from gbh_drake.scenario import Scenario
-    from gbh_drake.trial import build_trial, simulate_trial
+    from gbh_drake.trial import record_trial
 
     if _worker_process:  # (pydrake's import sets the level: set it after)
         logging.getLogger("drake").setLevel(logging.WARNING)
     scenario = yaml_load_typed(schema=Scenario, data=task.scenario_yaml)
     scenario.source_path = task.source_path
     meshcat = _local_meshcat() if task.replays != "none" else None
-    if meshcat is not None:  # a clean scene for this trial
-        meshcat.Delete()
-        meshcat.DeleteRecording()
-        meshcat.DeleteAddedControls()
-    trial = build_trial(scenario, meshcat=meshcat, asset=_object_asset(scenario))
-    built = time.perf_counter()
-    if meshcat is not None:
-        meshcat.SetCameraPose(camera_in_world=[1.3, -1.0, 0.8],
-                              target_in_world=[0.45, 0.0, 0.15])
-        meshcat.StartRecording(frames_per_second=scenario.replay_fps)
-    _, record = simulate_trial(trial, max_time=scenario.max_time)
-    simulated = time.perf_counter()
-    html = None
-    if meshcat is not None:
-        meshcat.StopRecording()
-        if not record.success or task.replays == "all":
-            meshcat.PublishRecording()
-            html = meshcat.StaticHtml()
-        meshcat.DeleteRecording()
-    done = time.perf_counter()
+    done = record_trial(scenario, meshcat=meshcat, asset=_object_asset(scenario),
+                        keep_replay=lambda r: task.replays == "all" or not r.success)
+    record, seconds = done.record, done.seconds
     row = _base_row(task)
     row.update(
         grasp_method=record.method, viewpoints=record.num_views, pose=record.pose,
@@ -123,14 +106,14 @@ def _run(task: TrialTask, start: float) -> TrialResult:
         held_by=record.held_by, grasp_kind=record.grasp_kind, grasp_score=record.grasp_score,
         grasp_rank=record.grasp_rank, fallback=bool(record.fallback),
         refusals=dict(record.refusals),
-        stage_times={"build": built - start, "scan": record.timings.get("scan", 0.0),
+        stage_times={"build": seconds["build"], "scan": record.timings.get("scan", 0.0),
                      "grasps": record.timings.get("grasps", 0.0),
                      "plan": record.timings.get("plan", 0.0),
-                     "simulate": simulated - built, "replay": done - simulated,
-                     "total": done - start},
+                     "simulate": seconds["simulate"], "replay": seconds["replay"],
+                     "total": time.perf_counter() - start},
         record=record.to_dict(),
     )
-    return TrialResult(plain(row), html)
+    return TrialResult(plain(row), done.replay_html)
 
 
 def _base_row(task: TrialTask) -> dict:
@@ -144,17 +127,3 @@ def _base_row(task: TrialTask) -> dict:
         "scenario_digest": task.digest, "worker": f"{socket.gethostname()}:{os.getpid()}",
         "stage_times": {}, "record": {},
     }
-
-
-def plain(value):
-    """``value`` made JSON-ready: numpy scalars as Python numbers, tuples as lists, NaN and
-    infinities as None."""
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [plain(v) for v in value]
-    if hasattr(value, "item") and not isinstance(value, str | bytes):  # numpy scalar
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake import MODELS_DIR
-from gbh_drake.core.gripper import HOOK_GRIPPER, Box, HookGripperGeometry
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER, Box, HookGripperGeometry
 from gbh_drake.modeling.sdf_text import (
     box_geometry,
     box_inertia,
@@ -56,9 +56,6 @@ FINGER_EFFORT_LIMIT = 140.0
 BAR_EFFORT_LIMIT = 10.0
 #: Mass (kg) of the bar.
 BAR_MASS = 0.01
-#: Bar joint angle (rad) when deployed (the hook) and when folded onto the L rod.
-BAR_DEPLOYED = 0.0
-BAR_RETRACTED = -0.5 * np.pi
 ROD_RGBA = (0.55, 0.57, 0.6, 1.0)
 
 

@@ -24,6 +24,7 @@ from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.multibody.tree import SpatialInertia
 from pydrake.systems.framework import DiagramBuilder
 
+from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.objects import make_object
 from gbh_drake.scenario.schema import DEFAULT_Q_HOME, default_directives
@@ -93,8 +94,8 @@ def build_scene(name: str, model_dir: Path, *, xyz=(0.55, 0.0, 0.0), yaw_deg: fl
     plant.Finalize()
     plant.SetDefaultFloatingBaseBodyPose(body, X_WO)
     if robot:
-        plant.SetDefaultPositions(plant.GetModelInstanceByName("panda"), DEFAULT_Q_HOME)
-        for index in plant.GetJointIndices(plant.GetModelInstanceByName("hook_gripper")):
+        plant.SetDefaultPositions(plant.GetModelInstanceByName(ARM), DEFAULT_Q_HOME)
+        for index in plant.GetJointIndices(plant.GetModelInstanceByName(GRIPPER)):
             joint = plant.get_joint(index)
             if joint.num_positions() == 1:  # fingers open, as at the station's start
                 upper = joint.position_upper_limits()[0]

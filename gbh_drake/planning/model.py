@@ -26,10 +26,8 @@ from pydrake.multibody.parsing import ModelDirective, ModelDirectives, ProcessMo
 from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
 from pydrake.solvers import Solve
 
+from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.package_map import add_packages
-
-#: Names of the robot's model instances (the directives must add them).
-ARM, GRIPPER = "panda", "hook_gripper"
 
 
 @dataclass(frozen=True)

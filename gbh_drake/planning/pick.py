@@ -23,13 +23,11 @@ from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance
-from gbh_drake.core.results import PARALLEL, VERTICAL
+from gbh_drake.core.results import PARALLEL, VERTICAL, GraspKind
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
 from gbh_drake.scenario.schema import PickConfig
 
-#: Grasp kind of the antipodal baseline (two straight rods, the bar folded away).
-ANTIPODAL = "antipodal"
 #: Steps (m) by which the approach pose backs off until it is clear of the object's hull.
 APPROACH_STEP = 0.05
 #: Turns (rad) of the hand about the vertical tried for the carry, in order.
@@ -105,7 +103,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     R = X_WG.rotation()
     approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> tips; +y_G: L rod -> straight rod
     keep_straight_rod = kind == VERTICAL
-    hook = kind != ANTIPODAL
+    hook = GraspKind(kind).hooks
     q_closed = g.q_closed if hook else 0.5 * g.rod_width
     open_hand, closed_hand = HandPose(g.q_open, bar), HandPose(q_closed, bar)
     shift = (g.q_open - g.q_closed) if keep_straight_rod else 0.0

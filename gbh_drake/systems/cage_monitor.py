@@ -28,6 +28,7 @@ Only contact holds the object: it is a free body throughout, never welded or att
 from __future__ import annotations
 
 import copy
+import enum
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,20 +38,52 @@ from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.modeling.names import GRIPPER, TABLE
 from gbh_drake.scenario.schema import MonitorConfig
 from gbh_drake.systems.pick_and_carry import Mode, PickStatus
 from gbh_drake.systems.stage import CopiedShallowly
 
-#: Outcomes of a trial.
-SUCCESS = "success"
-NOT_LIFTED = "not_lifted"
-DROPPED_DURING_LIFT = "dropped_during_lift"
-DROPPED_DURING_CARRY = "dropped_during_carry"
-NO_REACHABLE_GRASP = "no_reachable_grasp"
-NO_GRASP = "no_grasp"
-INCOMPLETE = "incomplete"
-#: How the object was held.
-CAGE, PINCH = "cage", "pinch"
+
+class Outcome(enum.StrEnum):
+    """What a trial came to: decided here, by the monitor, and copied by every record and row
+    (a ``str`` enum: it compares equal to, and is written as, its value)."""
+
+    SUCCESS = "success"
+    """Lifted and carried over the place without falling."""
+    NOT_LIFTED = "not_lifted"
+    DROPPED_DURING_LIFT = "dropped_during_lift"
+    DROPPED_DURING_CARRY = "dropped_during_carry"
+    NO_REACHABLE_GRASP = "no_reachable_grasp"
+    """Grasps were offered; none could be planned."""
+    NO_HANGABLE_STRUCTURE = "no_hangable_structure"
+    """GbH found nothing to hang the object by (a result, not an error)."""
+    NO_GRASP_FOUND = "no_grasp_found"
+    """The method offered no grasp (GbH: no candidate passed its rules)."""
+    EMPTY_SCAN = "empty_scan"
+    """The scan holds no object."""
+    INCOMPLETE = "incomplete"
+    """The machine has not finished (the verdict while it runs, or a trial cut off)."""
+    ERROR = "error"
+    """The pipeline raised (an experiment's row of a broken trial; never a monitor verdict)."""
+
+
+class HeldBy(enum.StrEnum):
+    """How a carried object was held (decided by the cage test)."""
+
+    NONE = ""
+    CAGE = "cage"
+    PINCH = "pinch"
+
+
+
+@dataclass
+class GraspSearch:
+    """Why a method offered no grasp (the monitor's ``grasp_search`` input): the outcome
+    (``empty_scan``, ``no_hangable_structure`` or ``no_grasp_found``) and its reason in words.
+    Made by the method's :class:`~gbh_drake.systems.grasp_search.GraspSearchReport`."""
+
+    outcome: Outcome = Outcome.NO_GRASP_FOUND
+    reason: str = "no grasp to try"
 
 #: A lifted object that is back on the table is dropped once no gripper body has touched it
 #: for this long (s): a basket still hanging on the bar loses contact for a step now and then.
@@ -66,12 +99,11 @@ _CARRIED = (Mode.LIFT, Mode.CARRY, Mode.HOLD)
 class Verdict:
     """What happened to the object. Lengths in metres, forces in newtons, times in seconds."""
 
-    outcome: str = INCOMPLETE
-    """success, not_lifted, dropped_during_lift, dropped_during_carry, no_reachable_grasp,
-    no_grasp or incomplete (the machine has not finished)."""
+    outcome: Outcome = Outcome.INCOMPLETE
+    """The :class:`Outcome` (``incomplete`` while the machine has not finished)."""
     success: bool = False
     reason: str = "the pick has not finished"
-    held_by: str = ""
+    held_by: HeldBy = HeldBy.NONE
     """``cage`` or ``pinch`` when the object was carried, else empty."""
     lifted_at: float = float("nan")
     """Time when the object's lowest point first reached ``lifted_height``."""
@@ -135,13 +167,15 @@ class CageMonitor(LeafSystem):
         - hook_gripper.state
         - hook_gripper.actuation
         - pick_status
+        - grasp_search (optional)
         output_ports:
         - verdict
 
     ``body_poses``, ``contact_results``: the plant's outputs. ``hook_gripper.state`` (6) and
     ``hook_gripper.actuation`` (3, N and N m): the gripper's measured state and its actuators'
-    efforts. ``pick_status``: the :class:`PickStatus` of the machine. ``verdict``: a
-    :class:`Verdict`.
+    efforts. ``pick_status``: the :class:`PickStatus` of the machine. ``grasp_search``: a
+    :class:`GraspSearch`, read only when the machine had no grasp to try (unconnected: the
+    outcome is ``no_grasp_found``). ``verdict``: a :class:`Verdict`.
     """
 
     def __init__(self, plant: MultibodyPlant, object_body_name: str, p_OV: np.ndarray,
@@ -156,11 +190,11 @@ class CageMonitor(LeafSystem):
         self._bar_max = bar_deployed_max
         body = plant.GetBodyByName(object_body_name)
         self._object = body.index()
-        gripper = plant.GetModelInstanceByName("hook_gripper")
+        gripper = plant.GetModelInstanceByName(GRIPPER)
         self._gripper_bodies = {plant.get_body(i).index(): plant.get_body(i).name()
                                 for i in plant.GetBodyIndices(gripper)}
         self._table_bodies = {plant.get_body(i).index()
-                              for i in plant.GetBodyIndices(plant.GetModelInstanceByName("table"))}
+                              for i in plant.GetBodyIndices(plant.GetModelInstanceByName(TABLE))}
         inspector_ids = {}
         for index in [self._object, *self._gripper_bodies, *self._table_bodies]:
             for gid in plant.GetCollisionGeometriesForBody(plant.get_body(index)):
@@ -174,6 +208,8 @@ class CageMonitor(LeafSystem):
         self._actuation = self.DeclareVectorInputPort("hook_gripper.actuation", 3)
         self._status = self.DeclareAbstractInputPort("pick_status",
                                                      AbstractValue.Make(PickStatus()))
+        self._search = self.DeclareAbstractInputPort("grasp_search",
+                                                     AbstractValue.Make(GraspSearch()))
         self._watch = self.DeclareAbstractState(AbstractValue.Make(_Watch()))
         self.DeclarePeriodicUnrestrictedUpdateEvent(self._config.period, 0.0, self._update)
         self.DeclareAbstractOutputPort("verdict", lambda: AbstractValue.Make(Verdict()),
@@ -221,11 +257,14 @@ class CageMonitor(LeafSystem):
         X_WO = self._poses.Eval(context)[int(self._object)]
         gripper, table = self.touching(self._contacts.Eval(context))
         squeeze = float(-np.mean(self._actuation.Eval(context)[:2]))
+        # (Read only now: evaluating it earlier would run the grasp pipeline before the scan.)
+        search = self._search.Eval(context) if mode == Mode.NO_GRASP and \
+            self._search.HasValue(context) else GraspSearch()
         w = observe(w, status, Observation(
             t=context.get_time(), p_WO=X_WO.translation().tolist(),
             low=self.lowest_point(X_WO), gripper=gripper, table=table,
             hand=np.asarray(self._hand.Eval(context)), squeeze=squeeze),
-            self._config, self._bar_max)
+            self._config, self._bar_max, search)
         state.get_mutable_abstract_state(self._watch).set_value(w)
 
 @dataclass
@@ -244,9 +283,10 @@ class Observation:
 
 
 def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
-            bar_deployed_max: float = 0.1) -> _Watch:
+            bar_deployed_max: float = 0.1, search: GraspSearch | None = None) -> _Watch:
     """The record after observation ``o`` in the machine's ``status`` (a new record; ``w`` is
-    not changed). Pure: the monitor's rules without a diagram.
+    not changed); ``search``: why there was no grasp, when the machine had none. Pure: the
+    monitor's rules without a diagram.
 
     A lifted object whose lowest point comes back below half of ``lifted_height`` has dropped if
     no gripper body touches it for ``DROP_CONFIRM``; if one does, it has come down onto the
@@ -295,40 +335,43 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     if mode == Mode.DONE:
         v.released_at = list(o.p_WO)
         v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
-    conclude(w, status, cfg)
+    conclude(w, status, cfg, search)
     w.last_phase = mode.value
     return w
 
 
-def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig) -> None:
-    """Outcome, held_by and reason from the record (final once the machine finished)."""
+def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
+             search: GraspSearch | None = None) -> None:
+    """Outcome, held_by and reason from the record (final once the machine finished); with no
+    grasp to try, ``search`` says why."""
     v = w.verdict
     mode = status.mode
     if mode == Mode.NO_GRASP:
-        v.outcome, v.reason = NO_GRASP, "no grasp to try"
+        search = search or GraspSearch()
+        v.outcome, v.reason = search.outcome, search.reason
         return
     if mode == Mode.NO_REACHABLE_GRASP:
         counts: dict[str, int] = {}
         for r in status.refusals:
             counts[r.key] = counts.get(r.key, 0) + 1
         why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
-        v.outcome = NO_REACHABLE_GRASP
+        v.outcome = Outcome.NO_REACHABLE_GRASP
         v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
         return
     order = [m.value for m in Mode]
     reached = order.index(mode.value)
     if reached <= order.index(Mode.HOLD.value):
-        v.outcome, v.success = INCOMPLETE, False
+        v.outcome, v.success = Outcome.INCOMPLETE, False
         v.reason = f"the pick is in its {mode.value} phase"
         return
     if w.dropped and v.dropped_phase in (Mode.LIFT.value, Mode.CARRY.value, Mode.HOLD.value):
-        v.outcome = DROPPED_DURING_LIFT if v.dropped_phase == Mode.LIFT.value else \
-            DROPPED_DURING_CARRY
-        v.success, v.held_by = False, ""
+        v.outcome = Outcome.DROPPED_DURING_LIFT if v.dropped_phase == Mode.LIFT.value else \
+            Outcome.DROPPED_DURING_CARRY
+        v.success, v.held_by = False, HeldBy.NONE
         v.reason = f"dropped during the {v.dropped_phase} at t = {v.dropped_at:.2f} s"
         return
     if not w.lifted or not (v.clearance_after_hold >= cfg.lifted_height):
-        v.outcome, v.success, v.held_by = NOT_LIFTED, False, ""
+        v.outcome, v.success, v.held_by = Outcome.NOT_LIFTED, False, HeldBy.NONE
         held = v.touching.get(Mode.HOLD.value)
         sank = (f"; it came back down onto the table during the {v.sank_phase} at "
                 f"t = {v.sank_at:.2f} s" if v.sank_phase else "")
@@ -343,12 +386,12 @@ def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig) -> None:
         else:
             v.reason = "the object was not lifted: the gripper came away without it"
         return
-    v.outcome, v.success = SUCCESS, True
+    v.outcome, v.success = Outcome.SUCCESS, True
     if mode == Mode.CAGE_TEST:
-        v.held_by, v.reason = "", "carried; the cage test is running"
+        v.held_by, v.reason = HeldBy.NONE, "carried; the cage test is running"
         return
     caged = v.cage_test_held and v.loop_closed
-    v.held_by = CAGE if caged else PINCH
+    v.held_by = HeldBy.CAGE if caged else HeldBy.PINCH
     if caged:
         v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
                    "the squeeze relaxed"

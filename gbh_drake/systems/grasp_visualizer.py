@@ -25,7 +25,7 @@ class GraspVisualizer(LeafSystem):
         name: GraspVisualizer
         input_ports:
         - scan
-        - hanging_structures
+        - hanging_structures (optional)
         - grasps
         - pick_status
     """
@@ -58,7 +58,9 @@ class GraspVisualizer(LeafSystem):
         scan = self._scan.Eval(context)
         if len(scan.mesh_W.faces):
             draw_object(self._meshcat, scan.mesh_W, self._prefix)
-        draw_structures(self._meshcat, self._structures.Eval(context).structures, self._prefix)
+        if self._structures.HasValue(context):  # (optional: a method without GbH has none)
+            draw_structures(self._meshcat, self._structures.Eval(context).structures,
+                            self._prefix)
         grasps = [g for g in self._grasps.Eval(context) if hasattr(g, "structure")]
         if grasps:
             draw_grasps(self._meshcat, grasps, self._prefix)

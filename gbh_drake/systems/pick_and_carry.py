@@ -33,12 +33,11 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
-from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
+from gbh_drake.core.results import GraspKind
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.pick import (
-    ANTIPODAL,
     PickPlan,
     PickSetup,
     Refusal,
@@ -274,7 +273,7 @@ class PickAndCarry(LeafSystem):
         g = HOOK_GRIPPER
         # Hooks: close to the loop's closure (q_closed), squeezing with the force whatever stops
         # the fingers first; pinches: until the rods touch (the material stops them first).
-        q_stop = g.q_closed if plan.kind != ANTIPODAL else 0.5 * g.rod_width
+        q_stop = g.q_closed if GraspKind(plan.kind).hooks else 0.5 * g.rod_width
         duration = (g.q_open - q_stop) / self._hand.speed
         s.command[:2] = [q_stop, self._hand.force]
         arm = linear_move(plan.q["grasp"], plan.q["closed"], t, duration)
@@ -363,7 +362,7 @@ class PickAndCarry(LeafSystem):
             if grasps and setup is None:
                 setup = self._setup(scan)
             for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
-                bar = BAR_RETRACTED if grasp.kind == ANTIPODAL else BAR_DEPLOYED
+                bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
                 start = time.perf_counter()
                 result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar)
                 s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]

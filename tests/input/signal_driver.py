@@ -59,8 +59,9 @@ def main() -> int:
         import gbh_drake.planning.model
         import gbh_drake.run
         import gbh_drake.systems.scanner
+        import gbh_drake.trial
 
-        targets = {"simulate": (gbh_drake.run, "simulate_trial", 0.0),
+        targets = {"simulate": (gbh_drake.trial, "simulate_trial", 0.0),
                    "scan": (gbh_drake.systems.scanner, "scan_object", 0.0),
                    "plan": (gbh_drake.planning.model.PlanningModel, "ik", 0.0),
                    "commit": (gbh_drake.outputs.RunOutputs, "commit", 2.0)}

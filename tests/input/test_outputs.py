@@ -11,7 +11,7 @@ from collections import namedtuple
 import pytest
 import yaml
 
-import gbh_drake.run as run_module
+import gbh_drake.trial as trial_module
 from gbh_drake import outputs
 from gbh_drake.cli import main
 from gbh_drake.outputs import LOCK_NAME, OutputError, RunOutputs
@@ -30,7 +30,7 @@ def _no_simulation(monkeypatch):
     """Any attempt to build the trial fails the test: the error must come before."""
     def forbidden(*args, **kwargs):
         raise AssertionError("the trial was built")
-    monkeypatch.setattr(run_module, "build_trial", forbidden)
+    monkeypatch.setattr(trial_module, "build_trial", forbidden)
 
 
 def _one_line(capsys, start: str) -> str:
@@ -138,7 +138,7 @@ def test_outputs_of_a_previous_run_are_removed_when_a_run_fails(tmp_path, monkey
 
     def boom(*args, **kwargs):
         raise RuntimeError("a bug deep inside")
-    monkeypatch.setattr(run_module, "build_trial", boom)
+    monkeypatch.setattr(trial_module, "build_trial", boom)
     with pytest.raises(RuntimeError, match="a bug deep inside"):  # a bug: not an input error
         main(["run", str(_scenario(tmp_path)), "--set", f"output_dir: {out}"])
     assert _left(out) == [LOCK_NAME]
@@ -309,7 +309,7 @@ def test_a_bug_is_not_reported_as_bad_input(tmp_path, monkeypatch, capsys):
     and exits 1), it is not turned into a one-line 'bad input'."""
     def bug(*args, **kwargs):
         raise ValueError("an internal bug")
-    monkeypatch.setattr(run_module, "build_trial", bug)
+    monkeypatch.setattr(trial_module, "build_trial", bug)
     with pytest.raises(ValueError, match="an internal bug"):
         main(["run", str(_scenario(tmp_path)), "--set", f"output_dir: {tmp_path}/o"])
     assert capsys.readouterr().err == ""

@@ -7,8 +7,7 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantVectorSource
 from station_helpers import make_station
 
-from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.modeling.gripper_sdf import BAR_DEPLOYED, BAR_RETRACTED
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
 
 
 def _close(scenario, q_target: float, force: float, bar: float, t_end: float):

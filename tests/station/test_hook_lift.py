@@ -45,7 +45,7 @@ def test_hook_lifts_the_rod_only_when_it_is_in_the_loop(scenario, staple_mesh, r
     assert record.grasp_rank == 0, record.reason
     if caged:
         assert record.success and record.held_by == "cage", record.reason
-        assert record.verdict["max_clearance"] > 0.04
+        assert record.verdict.max_clearance > 0.04
     else:
         assert not record.success and record.outcome == "not_lifted", record.reason
-        assert record.verdict["max_clearance"] < 0.01
+        assert record.verdict.max_clearance < 0.01

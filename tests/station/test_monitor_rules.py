@@ -6,16 +6,7 @@ import pytest
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.scenario.schema import MonitorConfig
-from gbh_drake.systems.cage_monitor import (
-    CAGE,
-    DROPPED_DURING_CARRY,
-    NOT_LIFTED,
-    PINCH,
-    SUCCESS,
-    Observation,
-    _Watch,
-    observe,
-)
+from gbh_drake.systems.cage_monitor import HeldBy, Observation, Outcome, _Watch, observe
 from gbh_drake.systems.pick_and_carry import Mode, PickStatus
 
 CFG = MonitorConfig()
@@ -51,7 +42,7 @@ def trial(carry_lows, *, carry_gripper=HOOK, hold_low=None, hold_table=False,
 
 def test_carried_on_the_closed_loop_is_a_caged_success():
     v = trial([0.06, 0.07, 0.06])
-    assert v.outcome == SUCCESS and v.held_by == CAGE and "cage" in v.reason
+    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.CAGE and "cage" in v.reason
     assert v.lifted_at > 0 and v.max_clearance == pytest.approx(0.07)
     assert v.released_on_table and v.touching["carry"] == ["bar", "l_finger"]
 
@@ -59,19 +50,19 @@ def test_carried_on_the_closed_loop_is_a_caged_success():
 def test_held_with_the_loop_open_is_a_pinch():
     open_hand = np.array([0.03, 0.03, 0, 0, 0, 0])
     v = trial([0.06], cage_hand=open_hand)
-    assert v.outcome == SUCCESS and v.held_by == PINCH and "did not close" in v.reason
+    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.PINCH and "did not close" in v.reason
 
 
 def test_falling_free_of_the_gripper_is_a_drop():
     v = trial([0.06] + [0.003] * 25, carry_gripper=(), hold_low=0.0, hold_table=True)
-    assert v.outcome == DROPPED_DURING_CARRY and v.dropped_phase == "carry"
+    assert v.outcome == Outcome.DROPPED_DURING_CARRY and v.dropped_phase == "carry"
     assert "dropped during the carry" in v.reason
 
 
 def test_coming_down_on_the_table_while_hooked_is_dragged_not_dropped():
     """A basket still on the bar whose bottom comes back to the table during the carry."""
     v = trial([0.06, 0.003, 0.0], hold_low=0.0, hold_table=True)
-    assert v.outcome == NOT_LIFTED and not v.dropped_phase and v.sank_phase == "carry"
+    assert v.outcome == Outcome.NOT_LIFTED and not v.dropped_phase and v.sank_phase == "carry"
     assert "still touching the table" in v.reason and "came back down" in v.reason
     # Contact lost for a few steps (under DROP_CONFIRM) while it hangs on the bar: no drop.
     lows = [0.06, 0.003, 0.0, 0.0]
@@ -91,7 +82,7 @@ def test_hanging_low_but_clear_of_the_table_is_not_called_touching():
     """A bucket hanging 1.6 cm above the table at the place: held, not lifted clear, not
     touching."""
     v = trial([0.05, 0.03, 0.016])
-    assert v.outcome == NOT_LIFTED and "hanging only 1.6 cm above the table" in v.reason
+    assert v.outcome == Outcome.NOT_LIFTED and "hanging only 1.6 cm above the table" in v.reason
     assert "touching" not in v.reason
 
 
@@ -100,4 +91,4 @@ def test_a_gripper_that_came_away_empty():
               (Mode.CARRY, 0.0, (), True, CLOSED), (Mode.HOLD, 0.0, (), True, CLOSED),
               (Mode.CAGE_TEST, 0.0, (), True, CLOSED), (Mode.DONE, 0.0, (), True, CLOSED)]
     v = run(script)
-    assert v.outcome == NOT_LIFTED and "came away without it" in v.reason
+    assert v.outcome == Outcome.NOT_LIFTED and "came away without it" in v.reason

@@ -44,16 +44,16 @@ def test_mug_hooked_by_its_handle_is_carried_released_and_caged(scenario):
     assert record.success, record.reason
     assert record.held_by == "cage", record.reason
     assert record.grasp_kind in ("parallel", "vertical")
-    assert record.verdict["loop_closed"] and record.verdict["cage_test_held"]
+    assert record.verdict.loop_closed and record.verdict.cage_test_held
     # The loop closed at the width command around the handle: the hook holds it without
     # squeezing it (the hand's 70 N go to whatever blocks the fingers, here nothing).
-    assert record.verdict["squeeze_force"] < 5.0
+    assert record.verdict.squeeze_force < 5.0
     text = RunSummary("s.yaml", "pick", record, "replay.html", 0.0).to_text()
     assert "verdict: SUCCESS [cage]" in text and "the loop closed on its stop" in text
     # Carried to the place position and lowered there (the object hangs with its CoM below
     # the hook and stands up when set down: within a body radius or so of the place).
     place = np.asarray(scenario.pick.place_position)
-    assert np.linalg.norm(np.asarray(record.verdict["released_at"][:2]) - place) < 0.15
+    assert np.linalg.norm(np.asarray(record.verdict.released_at[:2]) - place) < 0.15
     assert list(record.phases)[-4:] == [Mode.LOWER.value, Mode.RELEASE.value,
                                         Mode.RETREAT.value, Mode.DONE.value]
 
@@ -74,9 +74,9 @@ def test_a_grasp_of_the_mugs_wall_is_reported_as_a_pinch_or_a_drop(scenario):
     _, record = simulate_trial(trial)
     assert record.grasp_rank >= 0, record.reason
     assert record.held_by != "cage", record.reason
-    assert not record.verdict["loop_closed"]
+    assert not record.verdict.loop_closed
     # The wall blocks the closing before the loop closes: the hand squeezes it.
-    assert record.verdict["squeeze_force"] > 10.0
+    assert record.verdict.squeeze_force > 10.0
     if record.success:
         assert record.held_by == "pinch"
 

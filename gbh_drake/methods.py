@@ -1,0 +1,209 @@
+"""Grasp methods: each one object behind one signature, found by name in a registry.
+
+A method adds its systems to the trial's builder, fed by the scan, and says where its grasps
+come from (:class:`GraspSource`): the ports the pick-and-carry machine, the monitor and the
+visualiser read. :func:`gbh_drake.trial.build_trial` asks the scenario's method for them and
+never which method it has (as vgn's ``clutter_removal.run(grasp_plan_fn)`` runs VGN and GPD
+through one call)::
+
+    source = method_named(scenario.grasp_method).add_systems(builder, scenario=scenario,
+                                                             seeds=seeds, scan=scan_port)
+
+Shipped (``Scenario.grasp_method``):
+
+* ``gbh`` (:class:`Gbh`): the paper's three stages, the bar deployed;
+* ``antipodal`` (:class:`Antipodal`): the two-straight-rod baseline, the bar folded;
+* ``gbh_fallback`` (:class:`GbhFallback`): GbH, then an antipodal grasp with the bar folded
+  when GbH offers nothing reachable (the revolute joint the paper's Sec. 4 proposes).
+
+:class:`GivenGrasps` executes grasps of your own through another method's diagram.
+:func:`register_method` adds a method of your own to the registry.
+"""
+
+from __future__ import annotations
+
+import abc
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from pydrake.common.value import AbstractValue
+from pydrake.systems.framework import DiagramBuilder, OutputPort, System
+from pydrake.systems.primitives import ConstantValueSource
+
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED
+from gbh_drake.scenario import Scenario
+from gbh_drake.seeds import Seeds
+from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
+from gbh_drake.systems.grasp_scorer import GraspScorer
+from gbh_drake.systems.grasp_search import GraspSearchReport
+from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
+from gbh_drake.systems.hangability_detector import HangabilityDetector
+
+
+@dataclass
+class GraspSource:
+    """What a method added to the diagram: the output ports the rest of the trial reads.
+
+    ``grasps``: the grasps to try, best first (lists of objects with ``X_WG`` and ``kind``);
+    ``search``: why there are none (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`);
+    ``fallback``: grasps tried when none of ``grasps`` could be planned (None: no fallback);
+    ``hanging_structures`` and ``candidates``: GbH's detector and synthesizer outputs (None
+    for a method without GbH); ``systems``: the added systems by name."""
+
+    grasps: OutputPort
+    search: OutputPort
+    fallback: OutputPort | None = None
+    hanging_structures: OutputPort | None = None
+    candidates: OutputPort | None = None
+    systems: dict[str, System] = field(default_factory=dict)
+
+
+class GraspMethod(abc.ABC):
+    """A way of choosing grasps. ``name``: the scenario's ``grasp_method``; ``bar_angle``
+    (rad): the hook gripper's bar before a grasp is chosen (each executed grasp then sets it
+    by its kind)."""
+
+    name: str = ""
+    bar_angle: float = BAR_DEPLOYED
+
+    @abc.abstractmethod
+    def add_systems(self, builder: DiagramBuilder, *, scenario: Scenario, seeds: Seeds,
+                    scan: OutputPort) -> GraspSource:
+        """Adds the method's systems to ``builder``, fed by ``scan`` (the Scanner's
+        ``mesh_W``), and returns where its grasps come from."""
+
+
+def _add(builder: DiagramBuilder, systems: dict[str, System], name: str, system: System):
+    systems[name] = builder.AddNamedSystem(name, system)
+    return systems[name]
+
+
+def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+             systems: dict[str, System]) -> GraspScorer:
+    """The paper's three stages on ``scan``; returns the scorer (its ``ranked_grasps``)."""
+    detector = _add(builder, systems, "hangability_detector",
+                    HangabilityDetector(scenario.gbh, seed=seeds.sampling))
+    synthesizer = _add(builder, systems, "grasp_synthesizer", GraspSynthesizer(scenario.gbh))
+    scorer = _add(builder, systems, "grasp_scorer", GraspScorer(scenario.gbh))
+    builder.Connect(scan, detector.get_input_port())
+    builder.Connect(detector.get_output_port(), synthesizer.get_input_port())
+    builder.Connect(synthesizer.get_output_port(), scorer.get_input_port())
+    return scorer
+
+
+def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+                   systems: dict[str, System]) -> AntipodalGraspSampler:
+    """The antipodal sampler on ``scan``, keeping GbH's table clearance."""
+    sampler = _add(builder, systems, "antipodal_sampler", AntipodalGraspSampler(
+        scenario.antipodal, seed=seeds.grasps, ground_clearance=scenario.gbh.ground_clearance))
+    builder.Connect(scan, sampler.get_input_port())
+    return sampler
+
+
+def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
+                fallback: bool = False) -> GraspSearchReport:
+    report = _add(builder, systems, "grasp_search", GraspSearchReport(hook=hook,
+                                                                      fallback=fallback))
+    builder.Connect(scan, report.GetInputPort("scan"))
+    if hook:
+        builder.Connect(systems["hangability_detector"].get_output_port(),
+                        report.GetInputPort("hanging_structures"))
+        builder.Connect(systems["grasp_synthesizer"].get_output_port(),
+                        report.GetInputPort("grasp_candidates"))
+    return report
+
+
+def _gbh_source(systems: dict[str, System], report, **ports) -> GraspSource:
+    return GraspSource(
+        grasps=systems["grasp_scorer"].get_output_port(),
+        search=report.get_output_port(),
+        hanging_structures=systems["hangability_detector"].get_output_port(),
+        candidates=systems["grasp_synthesizer"].get_output_port(), systems=systems, **ports)
+
+
+class Gbh(GraspMethod):
+    """Grasping by Hanging (the paper): hanging structures, hook grasps, the ranked top 10."""
+
+    name = "gbh"
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        _add_gbh(builder, scenario, seeds, scan, systems)
+        return _gbh_source(systems, _add_search(builder, systems, scan, hook=True))
+
+
+class Antipodal(GraspMethod):
+    """The learning-free antipodal baseline: two straight rods (the bar folded)."""
+
+    name = "antipodal"
+    bar_angle = BAR_RETRACTED
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
+        report = _add_search(builder, systems, scan, hook=False)
+        return GraspSource(grasps=sampler.get_output_port(), search=report.get_output_port(),
+                           systems=systems)
+
+
+class GbhFallback(GraspMethod):
+    """GbH first; when it offers nothing reachable, the best antipodal grasp, bar folded."""
+
+    name = "gbh_fallback"
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        _add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
+        report = _add_search(builder, systems, scan, hook=True, fallback=True)
+        return _gbh_source(systems, report, fallback=sampler.get_output_port())
+
+
+class GivenGrasps(GraspMethod):
+    """Executes ``grasps`` (each with ``X_WG`` and ``kind``), through the diagram of ``method``
+    (default GbH: its scan analysis still runs and is recorded), instead of its own grasps: a
+    grasp of your own through the same planner, physics and judge."""
+
+    def __init__(self, grasps: Sequence, method: GraspMethod | None = None):
+        self.method = method or Gbh()
+        self.grasps = list(grasps)
+        self.name = self.method.name
+        self.bar_angle = self.method.bar_angle
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        source = self.method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
+        given = _add(builder, source.systems, "given_grasps",
+                     ConstantValueSource(AbstractValue.Make(self.grasps)))
+        source.grasps, source.fallback = given.get_output_port(), None
+        return source
+
+
+_REGISTRY: dict[str, GraspMethod] = {}
+
+
+def register_method(method: GraspMethod) -> GraspMethod:
+    """Adds ``method`` to the registry under its ``name`` (replacing one of the same name) and
+    returns it. (A scenario names a method the scenario's schema knows:
+    :data:`gbh_drake.scenario.GRASP_METHODS`.)"""
+    if not method.name:
+        raise ValueError(f"{type(method).__name__} has no name")
+    _REGISTRY[method.name] = method
+    return method
+
+
+def method_named(name: str) -> GraspMethod:
+    """The registered method called ``name``; ``KeyError`` naming the known ones."""
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise KeyError(f"no grasp method {name!r} (known: {', '.join(sorted(_REGISTRY))})") \
+            from None
+
+
+def method_names() -> tuple[str, ...]:
+    """The registered methods' names, in registration order."""
+    return tuple(_REGISTRY)
+
+
+for _method in (Gbh(), Antipodal(), GbhFallback()):
+    register_method(_method)

@@ -1,0 +1,82 @@
+"""The ``GraspSearchReport`` system: why a grasp method offered no grasp, for the monitor.
+
+A method's grasp source may come up empty for different reasons: the scan holds no object, GbH
+found nothing hangable, or no candidate passed the rules. The monitor decides the trial's outcome
+from what it is told here (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`); nothing
+re-judges it afterwards. :func:`explain_no_grasp` is the pure rule.
+"""
+
+from __future__ import annotations
+
+from pydrake.common.value import AbstractValue
+from pydrake.systems.framework import LeafSystem
+
+from gbh_drake.perception.scan import ScanResult
+from gbh_drake.systems.cage_monitor import GraspSearch, Outcome
+from gbh_drake.systems.hangability_detector import Hangability
+from gbh_drake.systems.scanner import no_scan
+
+
+def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
+                     n_candidates: int = 0, *, fallback: bool = False) -> GraspSearch:
+    """Why a method offered no grasp on ``scan``: ``hangability`` and ``n_candidates`` are GbH's
+    (None: the method is the antipodal sampler alone); ``fallback``: an antipodal fallback was
+    tried too and found nothing either."""
+    if scan.empty:
+        return GraspSearch(Outcome.EMPTY_SCAN, scan.message)
+    if hangability is None:
+        return GraspSearch(Outcome.NO_GRASP_FOUND, "the antipodal sampler found no grasp on the "
+                                                   "scan")
+    also = "; the antipodal fallback found no grasp either" if fallback else ""
+    if not hangability.structures:
+        return GraspSearch(Outcome.NO_HANGABLE_STRUCTURE,
+                           (hangability.message or "no hangable structure found") + also)
+    return GraspSearch(Outcome.NO_GRASP_FOUND,
+                       f"no collision-free grasp among {n_candidates} candidates on "
+                       f"{len(hangability.structures)} hanging structures{also}")
+
+
+class GraspSearchReport(LeafSystem):
+    """Says why a method has no grasp to offer (:func:`explain_no_grasp`).
+
+    .. pydrake_system::
+
+        name: GraspSearchReport
+        input_ports:
+        - scan
+        - hanging_structures (GbH methods)
+        - grasp_candidates (GbH methods)
+        output_ports:
+        - grasp_search
+
+    ``scan``: the :class:`~gbh_drake.perception.scan.ScanResult`; ``hanging_structures``: the
+    detector's :class:`~gbh_drake.systems.hangability_detector.Hangability`;
+    ``grasp_candidates``: the synthesizer's list. ``grasp_search``: a
+    :class:`~gbh_drake.systems.cage_monitor.GraspSearch` (evaluated by the monitor only when the
+    machine had no grasp to try). Cached; depends only on its inputs.
+    """
+
+    def __init__(self, *, hook: bool = True, fallback: bool = False):
+        """``hook``: the method runs GbH (declares the structure and candidate inputs);
+        ``fallback``: an antipodal fallback follows GbH."""
+        super().__init__()
+        self._fallback = bool(fallback)
+        self._scan = self.DeclareAbstractInputPort("scan", AbstractValue.Make(
+            no_scan("no input yet")))
+        inputs = [self._scan]
+        self._structures = self._candidates = None
+        if hook:
+            self._structures = self.DeclareAbstractInputPort(
+                "hanging_structures", AbstractValue.Make(Hangability()))
+            self._candidates = self.DeclareAbstractInputPort("grasp_candidates",
+                                                             AbstractValue.Make([]))
+            inputs += [self._structures, self._candidates]
+        self.DeclareAbstractOutputPort(
+            "grasp_search", lambda: AbstractValue.Make(GraspSearch()), self._calc,
+            prerequisites_of_calc={p.ticket() for p in inputs})
+
+    def _calc(self, context, output) -> None:
+        hangability = self._structures.Eval(context) if self._structures else None
+        n = len(self._candidates.Eval(context)) if self._candidates else 0
+        output.set_value(explain_no_grasp(self._scan.Eval(context), hangability, n,
+                                          fallback=self._fallback))
