@@ -37,6 +37,7 @@ from gbh_drake.station import Station, make_station
 from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
 from gbh_drake.systems.pick_and_carry import PickAndCarry, PickStatus
+from gbh_drake.systems.ports import build_checked
 from gbh_drake.systems.scanner import Scanner
 
 #: Simulated seconds after the machine has finished (the released object comes to rest).
@@ -179,7 +180,7 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
         builder.Connect(source.grasps, viz.GetInputPort("grasps"))
         builder.Connect(pick.GetOutputPort("status"), viz.GetInputPort("pick_status"))
 
-    diagram = builder.Build()
+    diagram = build_checked(builder)
     diagram.set_name("gbh_trial")
     return Trial(diagram, station, scanner, method, source, pick, monitor, seeds, scenario)
 

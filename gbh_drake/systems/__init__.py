@@ -5,15 +5,19 @@ Perception and grasps:
 * :class:`Scanner`: depth views fused by TSDF into the object's mesh (``mesh_W``);
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
   paper's three stages (hanging structures, hook grasps, the ranked top 10);
-* :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan.
+* :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
+* :class:`GraspSearchReport`: why a method offered no grasp (for the monitor).
 
 Execution and judging:
 
 * :class:`PickAndCarry`: the pick-and-place state machine (plans from the measured state);
-* :class:`CageMonitor`: the verdict as it evolves, cage or pinch;
+* :class:`CageMonitor`: the verdict as it evolves (an :class:`Outcome`), cage or pinch;
 * :class:`HandDriver` (force-limited fingers) and :class:`WristLoad` (the hand's load), used
   inside the :class:`~gbh_drake.station.Station`;
 * :class:`GraspVisualizer`: draws scan, structures and grasps in Meshcat.
+
+Python values travel on ``Value[object]`` ports, which Drake's ``Connect()`` does not check:
+:func:`build_checked` builds a diagram and refuses a wire whose model values do not match.
 """
 
 from gbh_drake.systems.scanner import Scanner, no_scan  # noqa: I001  (dependency order)
@@ -25,24 +29,33 @@ from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
 from gbh_drake.systems.pick_and_carry import Mode, PickAndCarry, PickStatus
-from gbh_drake.systems.cage_monitor import CageMonitor, Verdict
+from gbh_drake.systems.cage_monitor import CageMonitor, GraspSearch, HeldBy, Outcome, Verdict
+from gbh_drake.systems.grasp_search import GraspSearchReport, explain_no_grasp
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
+from gbh_drake.systems.ports import build_checked, check_connections
 
 __all__ = [
     "AbstractStage",
     "AntipodalGraspSampler",
     "CageMonitor",
     "GraspScorer",
+    "GraspSearch",
+    "GraspSearchReport",
     "GraspSynthesizer",
     "GraspVisualizer",
     "HandDriver",
     "Hangability",
     "HangabilityDetector",
+    "HeldBy",
     "Mode",
+    "Outcome",
     "PickAndCarry",
     "PickStatus",
     "Scanner",
     "Verdict",
     "WristLoad",
+    "build_checked",
+    "check_connections",
+    "explain_no_grasp",
     "no_scan",
 ]

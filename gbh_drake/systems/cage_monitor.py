@@ -7,7 +7,7 @@ bodies touched it, the fingers' squeeze force, whether the hook's loop was close
 the :class:`Verdict` as it stands; once the machine has finished it is final.
 
 The rules (paper Sec. 3.1: a trial succeeds only if the object is picked up and transported
-without falling), fixed in :class:`~gbh_drake.config.MonitorConfig` before any experiment:
+without falling), fixed in :class:`~gbh_drake.scenario.schema.MonitorConfig` before any experiment:
 
 * lifted: the object's lowest point is ``lifted_height`` above the table (z = 0 of W);
 * dropped: once lifted, its lowest point falls back below half of that (it lies on the table)

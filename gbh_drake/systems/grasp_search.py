@@ -18,15 +18,15 @@ from gbh_drake.systems.scanner import no_scan
 
 
 def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
-                     n_candidates: int = 0, *, fallback: bool = False) -> GraspSearch:
+                     n_candidates: int = 0, *, fallback: bool = False,
+                     sampler: str = "the antipodal sampler") -> GraspSearch:
     """Why a method offered no grasp on ``scan``: ``hangability`` and ``n_candidates`` are GbH's
-    (None: the method is the antipodal sampler alone); ``fallback``: an antipodal fallback was
-    tried too and found nothing either."""
+    (None: a method without GbH, whose grasps came from ``sampler``); ``fallback``: an antipodal
+    fallback was tried too and found nothing either."""
     if scan.empty:
         return GraspSearch(Outcome.EMPTY_SCAN, scan.message)
     if hangability is None:
-        return GraspSearch(Outcome.NO_GRASP_FOUND, "the antipodal sampler found no grasp on the "
-                                                   "scan")
+        return GraspSearch(Outcome.NO_GRASP_FOUND, f"{sampler} found no grasp on the scan")
     also = "; the antipodal fallback found no grasp either" if fallback else ""
     if not hangability.structures:
         return GraspSearch(Outcome.NO_HANGABLE_STRUCTURE,
@@ -56,11 +56,14 @@ class GraspSearchReport(LeafSystem):
     machine had no grasp to try). Cached; depends only on its inputs.
     """
 
-    def __init__(self, *, hook: bool = True, fallback: bool = False):
+    def __init__(self, *, hook: bool = True, fallback: bool = False,
+                 sampler: str = "the antipodal sampler"):
         """``hook``: the method runs GbH (declares the structure and candidate inputs);
-        ``fallback``: an antipodal fallback follows GbH."""
+        ``fallback``: an antipodal fallback follows GbH; ``sampler``: what offered the grasps
+        of a method without GbH (for the reason's words)."""
         super().__init__()
         self._fallback = bool(fallback)
+        self._sampler = sampler
         self._scan = self.DeclareAbstractInputPort("scan", AbstractValue.Make(
             no_scan("no input yet")))
         inputs = [self._scan]
@@ -79,4 +82,4 @@ class GraspSearchReport(LeafSystem):
         hangability = self._structures.Eval(context) if self._structures else None
         n = len(self._candidates.Eval(context)) if self._candidates else 0
         output.set_value(explain_no_grasp(self._scan.Eval(context), hangability, n,
-                                          fallback=self._fallback))
+                                          fallback=self._fallback, sampler=self._sampler))

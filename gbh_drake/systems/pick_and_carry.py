@@ -358,6 +358,7 @@ class PickAndCarry(LeafSystem):
             start = time.perf_counter()
             grasps = port.Eval(context)  # runs GbH (or the sampler) on the scan, once
             s.status.grasps_seconds += time.perf_counter() - start
+            _check_grasps(port.get_name(), grasps)
             s.status.n_grasps += len(grasps)
             if grasps and setup is None:
                 setup = self._setup(scan)
@@ -379,3 +380,22 @@ class PickAndCarry(LeafSystem):
             far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
         com = points.mean(axis=0) if len(points) else np.zeros(3)
         return PickSetup(self._near, far, points, com, self._config, self._seed)
+
+
+def _check_grasps(port: str, grasps) -> None:
+    """Refuses, naming the port, grasps the machine cannot execute: each needs ``X_WG`` (4, 4)
+    and a ``kind`` among :class:`~gbh_drake.core.results.GraspKind`."""
+    if not isinstance(grasps, list | tuple):
+        raise TypeError(f"PickAndCarry: input {port!r} expects a list of grasps, got "
+                        f"{type(grasps).__name__}")
+    for i, grasp in enumerate(grasps):
+        X_WG = getattr(grasp, "X_WG", None)
+        if X_WG is None or np.shape(X_WG) != (4, 4):
+            raise TypeError(f"PickAndCarry: input {port!r}: grasp {i} ({type(grasp).__name__}) "
+                            "has no X_WG (the open gripper's pose in W, 4x4)")
+        try:
+            GraspKind(getattr(grasp, "kind", None))
+        except ValueError:
+            raise TypeError(f"PickAndCarry: input {port!r}: grasp {i} has kind "
+                            f"{getattr(grasp, 'kind', None)!r}; one of "
+                            f"{', '.join(k.value for k in GraspKind)}") from None

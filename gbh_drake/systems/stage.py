@@ -23,6 +23,8 @@ class AbstractStage(LeafSystem):
         """``accepts``: the types the input may hold (default: the model's type)."""
         super().__init__()
         self._accepts = accepts or (type(input_model),)
+        self.input_types = {input_name: self._accepts}
+        """The types the input accepts (read by :func:`gbh_drake.systems.ports.check_connections`)."""
         self._input = self.DeclareAbstractInputPort(input_name, AbstractValue.Make(input_model))
         self.DeclareAbstractOutputPort(
             output_name, lambda: AbstractValue.Make(output_model), self._calc,
