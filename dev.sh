@@ -21,6 +21,12 @@ setup_system() {
     as_root apt-get update -qq
     as_root apt-get install -y -qq python3.11 python3.11-venv
   fi
+  # Graphviz draws the diagrams (gbh diagram; without it only the .dot files are written).
+  if ! command -v dot >/dev/null 2>&1; then
+    echo "dev.sh: installing Graphviz from Debian"
+    as_root apt-get update -qq
+    as_root apt-get install -y -qq graphviz
+  fi
 }
 
 setup_venv() {

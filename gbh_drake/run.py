@@ -18,7 +18,7 @@ from pydrake.geometry import Meshcat
 
 from gbh_drake.outputs import RunOutputs, plain
 from gbh_drake.scenario import Scenario, dump_resolved
-from gbh_drake.trial import TrialRecord, record_trial
+from gbh_drake.trial import TrialRecord, TrialRun, record_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
 #: Below this mean squeeze (N) a closed loop is said to hold what hangs in it without squeezing.
@@ -92,31 +92,34 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
     not writable, on a full disk or in use by another run raises
     :class:`~gbh_drake.outputs.OutputError`); the outputs appear all together at the end, and a
     run that fails or is interrupted leaves none (:class:`~gbh_drake.outputs.RunOutputs`)."""
+    # Check and lock the output folder before anything is built.
     with RunOutputs(scenario.output_path()) as outputs:
-        summary = _simulate(scenario, meshcat, outputs)
+        # Build the trial diagram, simulate it, record it (with its Meshcat replay).
+        done = record_trial(scenario, meshcat=meshcat or local_meshcat())
+        # What the run did, in words.
+        summary = RunSummary(scenario.source_path or "<in memory>", scenario.task, done.record,
+                             str(outputs.path("replay.html")), _drift(done))
+        # The outputs, all or nothing.
+        outputs.stage("replay.html", done.replay_html)
+        outputs.stage("scenario.yaml", dump_resolved(scenario))
+        outputs.stage("summary.yaml", yaml.safe_dump(
+            {"scenario": summary.scenario, "task": summary.task, "replay": summary.replay,
+             "settle_drift": summary.settle_drift, **plain(asdict(done.record))},
+            sort_keys=False))
         outputs.commit()
     return summary
 
 
-def _simulate(scenario: Scenario, meshcat: Meshcat | None, outputs: RunOutputs) -> RunSummary:
-    done = record_trial(scenario, meshcat=meshcat or local_meshcat())
-    trial, record = done.trial, done.record
-    replay = outputs.stage("replay.html", done.replay_html)
-
-    plant = trial.station.plant
-    plant_context = plant.GetMyContextFromRoot(done.simulator.get_context())
-    X_WO_0 = trial.station.X_WO_initial
-    drift = float(np.linalg.norm(
-        (plant.GetFreeBodyPose(plant_context, plant.GetBodyByName(trial.station.object_name))
-         .translation() - X_WO_0.translation())[:2])) if scenario.task == "settle" else \
-        _settle_drift(record)
-    summary = RunSummary(scenario.source_path or "<in memory>", scenario.task, record,
-                         str(replay), drift)
-    outputs.stage("scenario.yaml", dump_resolved(scenario))
-    outputs.stage("summary.yaml", yaml.safe_dump(
-        {"scenario": summary.scenario, "task": summary.task, "replay": summary.replay,
-         "settle_drift": drift, **plain(asdict(record))}, sort_keys=False))
-    return summary
+def _drift(done: TrialRun) -> float:
+    """How far (m, horizontally) the object moved while settling: to the end of a ``settle``
+    task, else until it was scanned."""
+    if done.trial.scenario.task != "settle":
+        return _settle_drift(done.record)
+    station = done.trial.station
+    plant = station.plant
+    context = plant.GetMyContextFromRoot(done.simulator.get_context())
+    p_WO = plant.GetFreeBodyPose(context, plant.GetBodyByName(station.object_name)).translation()
+    return float(np.linalg.norm((p_WO - station.X_WO_initial.translation())[:2]))
 
 
 def _settle_drift(record: TrialRecord) -> float:
