@@ -10,8 +10,10 @@ does the same for a mesh already in memory.
 
 from __future__ import annotations
 
+import copy
 import logging
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import trimesh
@@ -58,10 +60,32 @@ def load_mesh_object(
 ) -> MeshObject:
     """Load ``path`` (any supported mesh file; ``scale`` to metres) and prepare it; see
     :func:`prepare_mesh_object`. Raises :class:`~gbh_drake.objects.mesh_io.MeshImportError`
-    for a file that cannot be used."""
-    mesh = load_mesh_file(path, scale=scale)
-    return prepare_mesh_object(mesh, source=str(path), scale=scale, density=density, mass=mass,
-                               orientation=orientation, center=center)
+    for a file that cannot be used.
+
+    The last few results are kept per process (keyed by the file's path, size and modification
+    time and the arguments), so that checking a scenario and building its station import a
+    user's mesh once; each call gets its own copy."""
+    try:
+        stat = Path(path).stat()
+        key = (str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns, scale, density, mass,
+               orientation, center, str(path))
+    except (OSError, TypeError, ValueError):  # the import says what is wrong with the path
+        key = None
+    if key in _LOADED:
+        return copy.deepcopy(_LOADED[key])
+    loaded = prepare_mesh_object(load_mesh_file(path, scale=scale), source=str(path),
+                                 scale=scale, density=density, mass=mass,
+                                 orientation=orientation, center=center)
+    if key is not None:
+        while len(_LOADED) >= _LOADED_SIZE:
+            _LOADED.pop(next(iter(_LOADED)))
+        _LOADED[key] = copy.deepcopy(loaded)
+    return loaded
+
+
+#: Mesh objects already loaded in this process (see :func:`load_mesh_object`).
+_LOADED: dict[tuple, MeshObject] = {}
+_LOADED_SIZE = 4
 
 
 def prepare_mesh_object(
