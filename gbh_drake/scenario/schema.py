@@ -22,17 +22,7 @@ from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
 from gbh_drake.core.params import AntipodalParams, GbhParams
-from gbh_drake.core.ranges import (
-    FieldError,
-    Int,
-    Items,
-    NonNeg,
-    OneOf,
-    Pos,
-    Range,
-    ranged,
-    sibling,
-)
+from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
 from gbh_drake.modeling.names import TABLE
 from gbh_drake.perception.config import ScanConfig
 
