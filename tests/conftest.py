@@ -44,3 +44,10 @@ def scenario(tmp_path) -> Scenario:
     s = Scenario()
     s.output_dir = str(tmp_path / "out")
     return s
+
+
+def pytest_collection_modifyitems(items):
+    """A trial is a simulation too: ``-m "not sim"`` leaves out every ``trial`` test."""
+    for item in items:
+        if item.get_closest_marker("trial") and not item.get_closest_marker("sim"):
+            item.add_marker(pytest.mark.sim)

@@ -1,4 +1,4 @@
-"""Building blocks shared by the station and trial tests."""
+"""Building blocks shared by the station tests (tests/station/) and the hand driver's (tests/systems/)."""
 
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.scenario import Scenario

@@ -76,6 +76,7 @@ def _network_exposure() -> list[str]:
     return udp + listening
 
 
+@pytest.mark.sim
 def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     """A whole run (pick task) connects nowhere but the loopback, opens no UDP socket (Drake's
     default LCM bus would be UDP multicast) and listens on the loopback only (Meshcat)."""
@@ -88,6 +89,7 @@ def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     assert _network_exposure() == []
 
 
+@pytest.mark.sim
 def test_cameras_publish_nowhere(scenario):
     """Scenario cameras (CameraConfig) publish to the in-memory bus, not UDP multicast."""
     from pydrake.systems.sensors import CameraConfig

@@ -1,5 +1,7 @@
 """The gbh command: objects and diagram subcommands (run is covered by the scenario tests)."""
 
+import pytest
+
 from gbh_drake.cli import main
 
 
@@ -9,6 +11,7 @@ def test_objects_list(capsys):
     assert "mug_classic" in out and "none (control)" in out
 
 
+@pytest.mark.sim
 def test_diagram_writes_dot(tmp_path):
     assert main(["diagram", "--out", str(tmp_path)]) == 0
     station = (tmp_path / "station.dot").read_text()

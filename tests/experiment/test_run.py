@@ -22,6 +22,8 @@ from gbh_drake.experiment.rows import ROWS_FILE, RowStore, comparable, row_key
 from gbh_drake.experiment.runner import run_experiment
 from gbh_drake.scenario import load_scenario
 
+pytestmark = pytest.mark.sim
+
 SHORT = Path(__file__).parent / "short_experiment.yaml"
 OBJECTS, TRIALS = ["mug_classic", "clothes_hanger", "box"], 2
 METHODS = ["gbh-10", "gbh-1", "antipodal", "gbh+fallback"]

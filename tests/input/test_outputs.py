@@ -44,6 +44,7 @@ def _left(folder) -> list[str]:
     return sorted(p.name for p in folder.iterdir()) if folder.exists() else []
 
 
+@pytest.mark.sim
 def test_a_settle_run_writes_its_three_outputs(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["run", str(_scenario(tmp_path)), "--set", f"output_dir: {out}"]) == 0
@@ -110,6 +111,7 @@ def test_full_disk_before_the_run(tmp_path, capsys, monkeypatch):
                       "run needs 64 MB")
 
 
+@pytest.mark.sim
 def test_full_disk_during_the_run_leaves_nothing(tmp_path, capsys, monkeypatch):
     """The disk fills while the outputs are written: a clear error, no partial file, no
     output of the run, no temporary file."""
@@ -144,6 +146,7 @@ def test_outputs_of_a_previous_run_are_removed_when_a_run_fails(tmp_path, monkey
     assert _left(out) == [LOCK_NAME]
 
 
+@pytest.mark.sim
 def test_interrupted_run_leaves_nothing(tmp_path, capsys, monkeypatch):
     out = tmp_path / "o"
     real_stage = RunOutputs.stage

@@ -8,6 +8,8 @@ import yaml
 
 from gbh_drake.cli import main
 
+pytestmark = pytest.mark.sim
+
 #: Keys of summary.yaml that differ between two identical runs.
 VARYING = ("timings", "scenario", "replay")
 

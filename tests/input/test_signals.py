@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.sim
+
 DRIVER = Path(__file__).with_name("signal_driver.py")
 #: Seconds from the signal to the exit: the handler runs as soon as Python regains control
 #: (Drake calls back into Python at every simulator step).

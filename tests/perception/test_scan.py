@@ -11,6 +11,8 @@ from gbh_drake.perception.quality import check_through_hole, compare_scan
 from gbh_drake.perception.scan import ScanResult, scan_depth_images, scan_object
 from gbh_drake.perception.viewpoints import camera_poses
 
+pytestmark = pytest.mark.sim
+
 
 def quality(scene, result: ScanResult, config: ScanConfig):
     return (compare_scan(result.mesh_W, scene.mesh_W, z_min=config.crop_z_min),

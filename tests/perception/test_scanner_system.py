@@ -1,10 +1,12 @@
 """The Scanner LeafSystem on a scene graph: its ports, and a cached scan of the object."""
 
 import numpy as np
+import pytest
 
 from gbh_drake.perception.scan import ScanResult
 
 
+@pytest.mark.sim
 def test_scanner_outputs_the_scan(mug_scene):
     context = mug_scene.diagram.CreateDefaultContext()
     scanner = mug_scene.scanner

@@ -14,6 +14,8 @@ from gbh_drake.perception.quality import (
 )
 from gbh_drake.perception.scan import scan_object
 
+pytestmark = pytest.mark.sim
+
 #: The nominal scan target (the scenario's default): the object is expected near it.
 P_WT = np.array([0.55, 0.0, 0.06])
 

@@ -7,6 +7,8 @@ from pydrake.systems.analysis import Simulator
 from gbh_drake.objects import list_objects
 from gbh_drake.trial import build_trial
 
+pytestmark = pytest.mark.sim
+
 
 @pytest.mark.parametrize("name", list_objects())
 def test_object_rests_on_table(name, scenario):

@@ -29,6 +29,7 @@ class _Recorder(LeafSystem):
             [self.get_input_port().Eval(c)[6]]))
 
 
+@pytest.mark.sim
 def test_a_users_system_wires_to_exported_ports_only(scenario):
     station = make_station(scenario)
     names_in = {station.get_input_port(i).get_name() for i in range(station.num_input_ports())}
@@ -55,6 +56,7 @@ def test_a_users_system_wires_to_exported_ports_only(scenario):
     np.testing.assert_allclose(hand[:2], HOOK_GRIPPER.q_closed, atol=5e-4)
 
 
+@pytest.mark.sim
 def test_gains_are_set_by_actuator_name(scenario):
     scenario.robot.arm_kp = [100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0]
     station = make_station(scenario)
@@ -66,6 +68,7 @@ def test_gains_are_set_by_actuator_name(scenario):
     assert gains == {f"panda_joint{i + 1}": pytest.approx(100.0 * (i + 1)) for i in range(7)}
 
 
+@pytest.mark.sim
 def test_settle_keeps_object_and_writes_outputs(scenario, staple_mesh):
     scenario.settle_time = 0.3
     scenario.task = "settle"

@@ -9,6 +9,8 @@ from station_helpers import make_station
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
 
+pytestmark = pytest.mark.sim
+
 
 def _close(scenario, q_target: float, force: float, bar: float, t_end: float):
     station = make_station(scenario)

@@ -6,6 +6,8 @@ import pytest
 
 from gbh_drake import REPO_ROOT
 
+pytestmark = pytest.mark.sim
+
 
 def _readme_example() -> str:
     text = (REPO_ROOT / "README.md").read_text()

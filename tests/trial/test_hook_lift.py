@@ -12,6 +12,8 @@ from pydrake.math import RigidTransform, RotationMatrix
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.trial import build_trial, simulate_trial
 
+pytestmark = pytest.mark.sim
+
 ROD_HEIGHT = 0.06
 
 

@@ -47,6 +47,7 @@ def _named_file(tmp_path, name):
     return path
 
 
+@pytest.mark.sim
 @pytest.mark.parametrize("name", sorted(NAMED))
 def test_named_scenario_runs_from_the_command_line(name, tmp_path, capsys):
     path = _named_file(tmp_path, name)
@@ -57,6 +58,7 @@ def test_named_scenario_runs_from_the_command_line(name, tmp_path, capsys):
         assert (tmp_path / "out" / file).is_file()
 
 
+@pytest.mark.sim
 @pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
 def test_shipped_scenario_runs_from_the_command_line(path, tmp_path, capsys):
     assert main(["run", str(path), "--set", f"{SHORT}\noutput_dir: {tmp_path}"]) == 0

@@ -16,6 +16,8 @@ from gbh_drake.seeds import derive_seeds
 from gbh_drake.systems.pick_and_carry import Mode
 from gbh_drake.trial import build_trial, simulate_trial
 
+pytestmark = pytest.mark.sim
+
 REFUSAL_REASONS = {"ik", "collision", "planner", "approach"}
 
 
