@@ -67,12 +67,15 @@ def parallel_grasp_poses(
     points: np.ndarray | None = None,
     params: GbhParams | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Parallel grasps of one structure: poses X_WG (2K, 4, 4) and their contact points (2K, 3).
+    """Parallel grasps of one structure: poses X_WG (2RK, 4, 4) and contact points (2RK, 3).
 
-    Rows are the K hit points with the bar along +v, then the K with the bar along -v. c is put
-    on the bar's centre line midway between the rods, :func:`parallel_anchor_G` (module
-    docstring). With ``points`` (N, 3, the object's point cloud in W), each pose then slides
-    along the bar (the hole's axis) so that the caged material is centred between the rods:
+    Rows are the K hit points with the bar along +v, then the K with the bar along -v, each
+    group once per turn of ``params.approach_rotations_deg`` (R of them; the paper's pose is
+    the turn 0: approach along unit(c - h)): the approach turned about the bar, so the palm
+    swings round the hole and the bar stays in it. c is put on the bar's centre line midway
+    between the rods, :func:`parallel_anchor_G` (module docstring). With ``points`` (N, 3, the
+    object's point cloud in W), each pose then slides along the bar (the hole's axis) so that
+    the caged material is centred between the rods:
     Q = the points in the gripper's plane (|x_G| <= ``params.slice_half_width``) between the
     palm and the bar's inner face (0 <= z_G <= l_f - rod_width/2) and between the open rods
     (|y_G| <= q_open), plus h; G moves along y_G by the midpoint of Q's extent in y_G, at most
@@ -82,18 +85,20 @@ def parallel_grasp_poses(
     headphones' 24 mm band it is 3 mm off, and the 26 mm loop then closes on the band.)
     """
     c, H = structure.c, structure.H
+    params = GbhParams() if params is None else params
     p_GC = parallel_anchor_G(gripper)
     X, hs = [], []
     for s in _SIGNS:
         y = np.broadcast_to(s * structure.v, H.shape)
-        z = unit(c - H)
-        X_WG = poses_from_axes(y, z, np.zeros_like(H))
-        X_WG[:, :3, 3] = c - X_WG[:, :3, :3] @ p_GC  # (p2 + p3) / 2 at c
-        X.append(X_WG)
-        hs.append(H)
+        for angle in params.approach_rotations_deg:
+            turn = np.radians(angle)
+            z = rotated_about(unit(c - H), y, turn)
+            X_WG = poses_from_axes(y, z, np.zeros_like(H))
+            X_WG[:, :3, 3] = c - X_WG[:, :3, :3] @ p_GC  # (p2 + p3) / 2 at c
+            X.append(X_WG)
+            hs.append(c + rotated_about(H - c, y, turn))  # the material the turned loop cages
     X_WG = np.concatenate(X)
     if points is not None and len(points):
-        params = GbhParams() if params is None else params
         X_WG[:, :3, 3] += _centring_shift(X_WG, points, params, gripper)[:, None] * X_WG[:, :3, 1]
     return X_WG, np.concatenate(hs)
 
@@ -127,14 +132,30 @@ def vertical_tip_offset(params: GbhParams, gripper: HookGripperGeometry = HOOK_G
     return 0.5 * gripper.rod_width + params.cage_clearance + params.d2
 
 
-def finger_directions(v: np.ndarray, ground_normal: np.ndarray, p_theta: float) -> np.ndarray:
-    """(2, 3) straight-finger directions +z_G for a vertical grasp: +v and -v, each replaced by
-    +-ground_normal (same side) when |cos(theta)| > p_theta (paper's ground rule)."""
+def rotated_about(vectors: np.ndarray, axes: np.ndarray, angle: float) -> np.ndarray:
+    """``vectors`` (n, 3) turned by ``angle`` (rad, right-handed) about the unit ``axes`` (n, 3)
+    (Rodrigues' formula)."""
+    if angle == 0.0:
+        return np.array(vectors, dtype=float)
+    k = unit(np.broadcast_to(axes, np.shape(vectors)))
+    v = np.asarray(vectors, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    return v * c + np.cross(k, v) * s + k * np.sum(k * v, axis=1, keepdims=True) * (1.0 - c)
+
+
+def finger_directions(v: np.ndarray, ground_normal: np.ndarray, p_theta: float,
+                      snap_tilt_max_deg: float = 0.0) -> np.ndarray:
+    """(2 or more, 3) straight-finger directions +z_G for a vertical grasp: +v and -v, each
+    replaced by +-ground_normal (same side) when |cos(theta)| > p_theta (paper's ground rule);
+    a direction that is not replaced but lies within ``snap_tilt_max_deg`` of +-ground_normal
+    is kept and the ground normal (same side) added after it (beyond the paper: both tried)."""
     z = np.stack([s * v for s in _SIGNS])
     cos = z @ ground_normal
     snap = np.abs(cos) > p_theta
     z[snap] = np.sign(cos[snap])[:, None] * ground_normal
-    return z
+    also = ~snap & (np.abs(cos) > np.cos(np.radians(snap_tilt_max_deg))) & (snap_tilt_max_deg > 0)
+    extra = [np.sign(cos[i]) * ground_normal for i in np.flatnonzero(also)]
+    return np.concatenate([z, np.reshape(extra, (-1, 3))]) if extra else z
 
 
 def vertical_grasp_poses(
@@ -143,7 +164,10 @@ def vertical_grasp_poses(
     params: GbhParams,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Vertical grasps of one structure: poses X_WG (2K, 4, 4) and contact points (2K, 3).
+    """Vertical grasps of one structure: poses X_WG (FRK, 4, 4) and contact points (FRK, 3), for
+    the F finger directions of :func:`finger_directions` and the R turns of
+    ``params.approach_rotations_deg`` about the straight finger (the L rod and the bar swing
+    round the straight rod in the hole; turn 0 is the paper's pose, n2 along unit(c - h)).
 
     ``points`` (N, 3) is the object's point cloud in W. For each h (eqs. 1-3):
     q1 = h + d1 u; Q = the points in the gripper's plane (|x_G| <= slice_half_width) between the
@@ -162,9 +186,12 @@ def vertical_grasp_poses(
     q1 = H + params.d1 * u
     points32 = np.asarray(points, dtype=np.float32)
     X, hs = [], []
-    for z_dir in finger_directions(structure.v, g, params.p_theta):
+    directions = finger_directions(structure.v, g, params.p_theta, params.snap_tilt_max_deg)
+    for z_dir, angle in ((d, a) for d in directions for a in params.approach_rotations_deg):
         z = np.broadcast_to(z_dir, H.shape)
-        X_WG = poses_from_axes(u, z, q1)  # frame at q1, axes of the grasp
+        y_dir = u if angle == 0 else \
+            rotated_about(u - np.sum(u * z, axis=1, keepdims=True) * z, z, np.radians(angle))
+        X_WG = poses_from_axes(y_dir, z, q1)  # frame at q1, axes of the grasp
         # Points in the frame at q1 (float32: half the memory traffic, ~1e-7 relative error).
         x, y, zc = frame_coordinates(X_WG.astype(np.float32), points32)
         in_Q = np.abs(x) <= params.slice_half_width
@@ -174,7 +201,7 @@ def vertical_grasp_poses(
         q_m = q1 + (height + vertical_tip_offset(params, gripper))[:, None] * z
         X_WG[:, :3, 3] = q_m - X_WG[:, :3, :3] @ p_G2
         X.append(X_WG)
-        hs.append(H)
+        hs.append(q1 + rotated_about(H - q1, z, np.radians(angle)))  # what the turned L rod cages
     return np.concatenate(X), np.concatenate(hs)
 
 
@@ -197,6 +224,10 @@ def synthesize_grasps(
             batches.append((PARALLEL, *parallel_grasp_poses(s, gripper, points, params)))
         if params.vertical_grasps:
             batches.append((VERTICAL, *vertical_grasp_poses(s, points, params, gripper)))
+        # Rows are groups (bar sign or finger direction) x turns x the K contact points.
+        turns = np.repeat(np.asarray(params.approach_rotations_deg, dtype=float), len(s.H))
         for kind, X, hs in batches:
-            out.extend(GraspCandidate(X[j], kind, i, s, hs[j]) for j in range(len(X)))
+            turn = np.resize(turns, len(X))
+            out.extend(GraspCandidate(X[j], kind, i, s, hs[j], turn_deg=float(turn[j]))
+                       for j in range(len(X)))
     return out

@@ -12,6 +12,8 @@ frame the mesh is given in (called W in the docstrings).
 
 # No ``from __future__ import annotations`` here: yaml_load_typed reads the field types at run
 # time and needs real types, not strings.
+import copy
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,6 +23,7 @@ from gbh_drake.core.ranges import (
     Int,
     Items,
     NonNeg,
+    OneOf,
     Pos,
     Range,
     checker,
@@ -35,7 +38,16 @@ MAX_SEGMENT_SAMPLES = 50_000
 
 @dataclass
 class GbhParams:
-    """Parameters of hangability detection, grasp synthesis, collision checking and scoring."""
+    """Parameters of hangability detection, grasp synthesis, collision checking and scoring.
+
+    ``preset`` names where the defaults of the fields that go beyond the paper come from:
+    ``""`` (gbh_drake's, below) or ``"paper"`` (the paper's rules alone, :data:`PRESETS`); use
+    :meth:`with_preset` in code, ``gbh: {preset: paper}`` in a scenario (fields written beside
+    it still win)."""
+
+    preset: str = ranged("", OneOf(("", "paper"), "'paper': the paper's rules alone"))
+    """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them
+    (:data:`PRESETS`)."""
 
     # ---- sampling ---------------------------------------------------------------------------
     n_points: int = ranged(5000, Int(100, 50_000, "sampling and ray casting grow with it"))
@@ -94,6 +106,23 @@ class GbhParams:
     """Unit anti-gravity direction (ground normal) in W; normalised on use."""
     p_theta: float = ranged(0.95, Range(0.0, 1.0, lo_open=True))
     """*paper*: the straight finger snaps to the ground normal when cos(theta) > p_theta."""
+    snap_tilt_max_deg: float = ranged(45.0, Range(0.0, 90.0, hi_open=True, unit="deg"))
+    """Ours (beyond the paper), degrees: a vertical grasp whose hole axis is tilted from the
+    ground normal by more than the paper's snap (acos p_theta = 18 deg) but less than this is
+    tried both ways, the straight finger along the axis and along the ground normal; the
+    collision, sweep and table checks decide. From the gripper: a straight rod of width w
+    crossing material of thickness t at a tilt theta to a hole of clear width D needs
+    w / cos(theta) + t tan(theta) <= D; for the set's smallest caging hole (the 8 mm rod, 1 cm
+    of material, 2 cm clear) that holds up to 42 deg, and past 45 deg the finger is nearer the
+    hole's plane than its axis. docs/thresholds.md has the sweep. 0: the paper's rule only."""
+    approach_rotations_deg: list[float] = ranged(
+        lambda: [0.0, -20.0, 20.0, -40.0, 40.0],
+        Items(None, Range(-90.0, 90.0, unit="deg"), what="angles (deg)"))
+    """Ours (beyond the paper), degrees: every grasp is also tried turned by each of these angles
+    about the hole's axis v (parallel: the approach swings round the hole, the bar stays in it)
+    or about the straight finger (vertical: the L rod swings round the straight rod in the
+    hole), scored as the paper scores them; so a reachable approach exists when the paper's
+    single pose points away from the robot or into the table. [0]: the paper's poses only."""
     d1: float = ranged(0.01, NonNeg(0.1, "m"))
     """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
     d2: float = ranged(0.0, Range(-0.05, 0.05, unit="m"))
@@ -139,6 +168,13 @@ class GbhParams:
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
+    unknown_is_occupied: bool = True
+    """Ours: when the object comes with what the cameras saw free (a scan's
+    ``core.free_space.FreeSpace``), space no camera saw is possibly occupied: the through-hole
+    rays (+v, -v from c, out of the object's bounding box) must run in observed-free space, and
+    the unknown space the closing motion sweeps counts in N_sweep. A one-view scan lacks the
+    unseen material, so without this its "holes" are often only space the view never saw.
+    False: the paper's reading (the mesh alone); a plain mesh (no free space) is always so."""
 
     # ---- scoring -------------------------------------------------------------------------------
     gamma_alpha: float = ranged(0.04, Pos(100.0, "rad^2"))
@@ -155,6 +191,17 @@ class GbhParams:
 
     check = checker(GbhInputError)
 
+    def with_preset(self, name: str) -> "GbhParams":
+        """A copy with ``preset = name`` and the preset's values of :data:`PRESETS` fields
+        (``""``: gbh_drake's defaults of those fields)."""
+        if name not in PRESETS:
+            raise GbhInputError(f"GbhParams.preset: one of {', '.join(map(repr, PRESETS))}, got "
+                                f"{name!r}")
+        ours = GbhParams()
+        values = {k: PRESETS[name].get(k, getattr(ours, k)) for k in _PRESET_FIELDS
+                  if hasattr(self, k)}
+        return dataclasses.replace(self, preset=name, **copy.deepcopy(values))
+
     def check_relations(self, at: tuple = ()) -> None:
         """The rules between fields (``at``: where these parameters are, for the messages)."""
         _check_nonzero(self.ground_normal, at + ("ground_normal",))
@@ -164,6 +211,18 @@ class GbhParams:
             raise FieldError(at + ("n_segment_samples",), f"{sibling(at, 'max_contacts_per_cluster')} x "
                              f"n_segment_samples = {work}; at most {MAX_SEGMENT_SAMPLES} per cluster "
                              "(1000 x 1000 took two minutes on a mug)")
+
+
+#: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
+#: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
+#: approach per contact point, the design note's contact angle, unseen space taken as free).
+PRESETS: dict[str, dict] = {
+    "": {},
+    "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
+              "contact_angle_deg": 30.0, "unknown_is_occupied": False},
+}
+#: The fields a preset may set.
+_PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))
 
 
 @dataclass

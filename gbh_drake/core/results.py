@@ -80,7 +80,11 @@ class GraspCandidate:
     structure: HangingStructure
     """The hanging structure this grasp hooks."""
     h: np.ndarray
-    """(3,) the contact point h_i^j this grasp was generated from, metres in W."""
+    """(3,) the contact point h_i^j this grasp was generated from (turned with the grasp when
+    ``turn_deg`` is not 0: the material the turned loop cages), metres in W."""
+    turn_deg: float = 0.0
+    """Degrees the grasp is turned from the paper's pose about the hole's axis (parallel) or
+    the straight finger (vertical); 0: the paper's pose (``GbhParams.approach_rotations_deg``)."""
     n_collisions: int = -1
     """N_c (paper): object points inside the gripper's solid model (open) at X_WG; -1 if not
     counted."""

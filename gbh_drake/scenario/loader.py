@@ -22,6 +22,7 @@ from pathlib import Path
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
+from gbh_drake.core.params import PRESETS
 from gbh_drake.core.ranges import FieldError, format_path
 from gbh_drake.scenario.checks import check_scenario
 from gbh_drake.scenario.schema import ObjectConfig, Scenario
@@ -108,6 +109,11 @@ def _load_layer(text: str, origin: str, defaults: Scenario) -> tuple[Scenario, y
         raise ScenarioError(origin, format_path(e.path), e.line, e.problem) from None
     try:
         scenario = yaml_load_typed(schema=Scenario, data=text, defaults=defaults)
+        if scenario.gbh.preset != defaults.gbh.preset and \
+                scenario.gbh.preset in PRESETS:  # the preset's defaults, then this layer's fields
+            defaults = copy.deepcopy(defaults)
+            defaults.gbh = defaults.gbh.with_preset(scenario.gbh.preset)
+            scenario = yaml_load_typed(schema=Scenario, data=text, defaults=defaults)
     except Exception as e:  # noqa: BLE001  (Drake raises RuntimeError, ValueError, TypeError...)
         found = locate_load_error(root, Scenario, e)
         raise ScenarioError(origin, format_path(found.path), found.line, found.problem) from None

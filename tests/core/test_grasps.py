@@ -11,6 +11,7 @@ from gbh_shapes import CUP_RADIUS, RING_R, RING_r
 from scipy.spatial.transform import Rotation
 
 from gbh_drake.core.collision import count_points_in_gripper
+from gbh_drake.core.geometry import unit
 from gbh_drake.core.gripper import HOOK_GRIPPER, keypoints_W
 from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
@@ -97,8 +98,11 @@ def test_ring_grasps_link_the_ring_and_shifted_ones_do_not(ring_result, params):
 
 
 def test_parallel_and_vertical_pose_conventions(ring_result, params):
+    """The paper's poses (turn 0); the turned ones are tested below."""
     s = ring_result.structures[0]
     for g in ring_result.candidates:
+        if g.turn_deg != 0:
+            continue
         R = g.X_WG[:3, :3]
         np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-9)
         assert np.linalg.det(R) == pytest.approx(1.0)
@@ -147,18 +151,21 @@ def test_d2_adds_to_the_clearance(ring, params):
             np.testing.assert_allclose(a.X_WG, b.X_WG)
 
 
-def test_ground_rule_snaps_only_near_vertical_directions(ring, params):
-    for tilt_deg, snapped in ((10.0, True), (30.0, False)):
-        X = np.eye(4)
-        X[:3, :3] = Rotation.from_euler("x", tilt_deg, degrees=True).as_matrix()
-        result = plan_grasps(ring.copy().apply_transform(X), params)
-        vertical = [g for g in result.candidates if g.kind == VERTICAL]
-        assert vertical
-        cos = np.array([abs(g.X_WG[2, 2]) for g in vertical])
-        if snapped:
-            np.testing.assert_allclose(cos, 1.0)
-        else:
-            np.testing.assert_allclose(cos, np.cos(np.radians(tilt_deg)), atol=0.03)
+@pytest.mark.parametrize(("tilt_deg", "snap_tilt_max_deg", "finger_cosines"), [
+    (10.0, 45.0, {1.0}),           # the paper's rule: within 18 deg the finger is vertical
+    (30.0, 0.0, {0.866}),          # the paper's rule alone: along the tilted axis
+    (30.0, 45.0, {0.866, 1.0}),    # ours: both, the checks decide
+    (60.0, 45.0, {0.5}),           # past the bound: along the axis only
+])
+def test_ground_rule_snaps_near_vertical_and_tries_both_up_to_the_bound(
+        ring, params, tilt_deg, snap_tilt_max_deg, finger_cosines):
+    X = np.eye(4)
+    X[:3, :3] = Rotation.from_euler("x", tilt_deg, degrees=True).as_matrix()
+    result = plan_grasps(ring.copy().apply_transform(X),
+                         dataclasses.replace(params, snap_tilt_max_deg=snap_tilt_max_deg))
+    vertical = [g for g in result.candidates if g.kind == VERTICAL]
+    cosines = {round(float(abs(g.X_WG[2, 2])), 1) for g in vertical}
+    assert cosines == {round(c, 1) for c in finger_cosines}
 
 
 def test_every_kept_grasp_is_collision_free_by_an_independent_count(mug, mug_result, params):
@@ -350,3 +357,27 @@ def test_parallel_grasps_centre_the_caged_material_between_the_rods(params):
         mid = trimesh.transform_points(parallel_anchor_G()[None], a)[0]
         assert mid[2] == pytest.approx(0.0, abs=1e-3)
         np.testing.assert_allclose(np.cross(a[:3, 3] - b[:3, 3], a[:3, 1]), 0.0, atol=1e-12)
+
+
+def test_turned_grasps_are_the_papers_turned_about_the_hole_or_the_finger(ring_result, params):
+    """Beyond the paper: each grasp is also tried turned about the hole's axis through c
+    (parallel: the bar stays on the axis) or about the straight finger through q1 (vertical:
+    the straight rod stays in the hole); the caged point h turns with it."""
+    s = ring_result.structures[0]
+    turns = sorted({g.turn_deg for g in ring_result.candidates})
+    assert turns == sorted(params.approach_rotations_deg) and len(turns) > 1
+    by_key = {(g.kind, g.turn_deg, i % len(s.H)): g for i, g in enumerate(
+        g for g in ring_result.candidates if g.structure is s)}
+    for (kind, turn, j), g in by_key.items():
+        if turn == 0:
+            continue
+        paper = by_key[(kind, 0.0, j)]
+        R, R0 = g.X_WG[:3, :3], paper.X_WG[:3, :3]
+        axis = R[:, 1] if kind == PARALLEL else R[:, 2]  # the bar, or the straight finger
+        np.testing.assert_allclose(axis, R0[:, 1] if kind == PARALLEL else R0[:, 2], atol=1e-9)
+        cos = np.clip(R[:, 2 if kind == PARALLEL else 1] @ R0[:, 2 if kind == PARALLEL else 1],
+                      -1, 1)
+        assert np.degrees(np.arccos(cos)) == pytest.approx(abs(turn), abs=1e-6)
+        if kind == PARALLEL:  # h stays as far from c as the paper's, on the turned approach
+            assert np.linalg.norm(g.h - s.c) == pytest.approx(np.linalg.norm(paper.h - s.c))
+            np.testing.assert_allclose(unit(s.c - g.h), R[:, 2], atol=1e-9)

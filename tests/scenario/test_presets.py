@@ -1,0 +1,44 @@
+"""The paper's values stay available as a preset: gbh: {preset: paper}."""
+
+import dataclasses
+
+import pytest
+
+from gbh_drake.core.params import PRESETS, GbhInputError, GbhParams
+from gbh_drake.scenario import ScenarioError, load_scenario
+
+
+def _load(tmp_path, *overrides):
+    path = tmp_path / "s.yaml"
+    path.write_text("task: settle\n")
+    return load_scenario(path, overrides=list(overrides))
+
+
+def test_the_paper_preset_sets_the_papers_rules(tmp_path):
+    ours, paper = GbhParams(), _load(tmp_path, "gbh: {preset: paper}").gbh
+    assert paper.preset == "paper"
+    for name, value in PRESETS["paper"].items():
+        if hasattr(paper, name):
+            assert getattr(paper, name) == value
+    changed = {f.name for f in dataclasses.fields(GbhParams)
+               if getattr(paper, f.name) != getattr(ours, f.name)}
+    assert changed <= {"preset", *PRESETS["paper"]}
+    assert paper.p_theta == 0.95 and paper.approach_rotations_deg == [0.0]
+
+
+def test_fields_written_beside_the_preset_or_later_still_win(tmp_path):
+    gbh = _load(tmp_path, "gbh: {preset: paper, snap_tilt_max_deg: 10}", "gbh: {d2: 0.005}").gbh
+    assert (gbh.preset, gbh.snap_tilt_max_deg, gbh.d2) == ("paper", 10.0, 0.005)
+    assert gbh.approach_rotations_deg == [0.0]
+
+
+def test_back_to_ours(tmp_path):
+    gbh = _load(tmp_path, "gbh: {preset: paper}", "gbh: {preset: ''}").gbh
+    assert gbh == GbhParams()
+
+
+def test_an_unknown_preset_is_refused_in_yaml_and_code(tmp_path):
+    with pytest.raises(ScenarioError, match=r"gbh\.preset \(line 1\): must be one of '', paper"):
+        _load(tmp_path, "gbh: {preset: papr}")
+    with pytest.raises(GbhInputError, match="preset"):
+        GbhParams().with_preset("papr")
