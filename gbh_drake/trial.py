@@ -72,8 +72,6 @@ class TrialRecord:
     seed: int
     method: str
     num_views: int
-    gbh_preset: str
-    """Where GbH's beyond-the-paper defaults came from: ``""`` (gbh_drake's) or ``"paper"``."""
     pose: list[float]
     """The object's start pose: x, y, z (m), roll, pitch, yaw (rad) in W."""
     outcome: Outcome
@@ -300,7 +298,6 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         object=station.asset.name, source=station.asset.source,
         object_mass=float(station.asset.mass), seed=scenario.seed,
         method=scenario.grasp_method, num_views=scenario.scan.num_views,
-        gbh_preset=scenario.gbh.preset,
         pose=[*X.translation().tolist(), *RollPitchYaw(X.rotation()).vector().tolist()],
         outcome=verdict.outcome, success=verdict.success, reason=verdict.reason,
         held_by=verdict.held_by,

@@ -64,6 +64,31 @@ class ScanConfig:
     first_look_scale: int = ranged(4, Int(1, 64))
     """The first look's images are ``width`` / scale x ``height`` / scale pixels (same field of
     view); it is only for finding and framing the object."""
+    reframe_tries: int = ranged(3, Int(0, 10))
+    """How many times the views are re-framed when the object they segment reaches the edge of
+    the region the first look framed (the first look saw only part of it): the region is grown
+    to the sphere around all the object seen so far, the views re-aimed and backed off to fit it,
+    and the scan taken again. 0: never (the warning stays)."""
+
+    # --- When to scan (the Scanner with a scan time and the object's state connected) ---
+    still_speed: float = ranged(0.003, Pos(1.0, "m/s"))
+    """The object is still when the speed of its origin is below this (m/s) and its angular
+    speed below ``still_angular_speed_deg``. An object at rest on the table creeps at about
+    1e-5 m/s and 0.02 deg/s in the plant (SAP's regularised friction); a bottle rolling or
+    rocking moves at 10-150 mm/s and 10-200 deg/s: 3 mm/s is far above the one, far below the
+    other, and drifts under 1 cm in the few seconds before the hook arrives."""
+    still_angular_speed_deg: float = ranged(3.0, Pos(360.0, "deg/s"))
+    """Angular speed (deg/s) under which the object is still (3 deg/s: a 3 cm radius rolling at
+    1.6 mm/s)."""
+    still_dwell: float = ranged(0.2, NonNeg(10.0, "s"))
+    """How long (s) the object must stay still before it is scanned: longer than an object
+    rocking on its rim spends near a turning point, and 2-3 time constants sqrt(l / g) of an
+    object of 5-20 cm starting to tip (0.07-0.14 s), so one that is falling over shows it."""
+    still_max_wait: float = ranged(3.0, NonNeg(60.0, "s"))
+    """The scan is taken at the latest this long (s) after the scan time even if the object is
+    still moving (with a warning)."""
+    still_period: float = ranged(0.01, Pos(1.0, "s"))
+    """How often (s) the Scanner watches the object's speed."""
     elevation_deg: float = ranged(
         40.0, Range(0.0, 89.0, unit="deg",
                     note="90 would look straight down, where the view's up is undefined"))

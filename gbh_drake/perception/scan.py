@@ -93,6 +93,12 @@ class ScanResult:
     """Poses of the first look's cameras (not fused)."""
     cap: CapReport = field(default_factory=CapReport)
     """What capping the bottom did."""
+    taken_at: float = float("nan")
+    """Simulated time (s) at which the ``Scanner`` took the scan; nan for a scan taken outside a
+    simulation and for the Scanner's "not scanned yet" placeholder."""
+    reframes: int = 0
+    """How many times the views were re-framed because the object reached the edge of the
+    region framed by the first look (see ``ScanConfig.reframe_tries``)."""
 
     @staticmethod
     def empty_result(message: str) -> ScanResult:
@@ -144,6 +150,40 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     look = first_look(query_object, config, p_WT, noise_seed=noise_seed) if config.aim_views \
         else None
     look_s = time.perf_counter() - start
+    timing: dict[str, float] = {"first_look": look_s, "render": 0.0}
+    reframes = 0
+    while True:
+        result, aim, distance = _aimed_scan(query_object, config, p_WT, look, noise_seed, timing)
+        if not (look is not None and look.found and _reaches_frame(result)):
+            break
+        if reframes >= config.reframe_tries:
+            if reframes:
+                result.warnings = [w + f" (still after {reframes} re-framings)"
+                                   if w.startswith(FRAME_EDGE_WARNING) else w
+                                   for w in result.warnings]
+            break
+        # The views saw more of the object than the first look framed: frame all of it seen so
+        # far and look again.
+        look = _reframed(look, result.p_WQ, config)
+        reframes += 1
+    result.aim_W, result.view_distance = np.asarray(aim, dtype=float), float(distance)
+    result.reframes = reframes
+    if look is not None:
+        result.first_look_X_WCs = look.X_WCs
+        result.object_radius = look.radius
+    result.timing = timing
+    return result
+
+
+#: The start of the warning that the object reaches the edge of the region framed by the first
+#: look (``scan_object`` re-frames it, up to ``ScanConfig.reframe_tries`` times).
+FRAME_EDGE_WARNING = "the object reaches the edge of the region framed by the first look"
+
+
+def _aimed_scan(query_object: QueryObject, config: ScanConfig, p_WT: np.ndarray,
+                look: FirstLook | None, noise_seed: int, timing: dict[str, float]):
+    """The views aimed at what ``look`` found (or at T), rendered and fused: (result, aim,
+    distance); adds the stages' wall seconds to ``timing``."""
     aim, distance, warnings = p_WT, config.distance, []
     if look is not None and look.found:
         distance, limited = fit_view_distance(look.radius, config)
@@ -156,16 +196,31 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     X_WCs = camera_poses(config, aim, distance)
     start = time.perf_counter()
     depths = render_depth_images(query_object, make_depth_camera(config), X_WCs)
-    render_s = time.perf_counter() - start
+    timing["render"] += time.perf_counter() - start
     result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT,
                                first_look=look, noise_seed=noise_seed)
-    result.aim_W, result.view_distance = np.asarray(aim, dtype=float), float(distance)
     result.warnings = warnings + result.warnings
-    if look is not None:
-        result.first_look_X_WCs = look.X_WCs
-        result.object_radius = look.radius
-    result.timing = {"first_look": look_s, "render": render_s, **result.timing}
-    return result
+    for stage, seconds in result.timing.items():
+        timing[stage] = timing.get(stage, 0.0) + seconds
+    return result, aim, distance
+
+
+def _reaches_frame(result: ScanResult) -> bool:
+    """Whether the object the views segmented reaches the edge of the region framed by the
+    first look (and not only the workspace bound)."""
+    return not result.empty and any(w.startswith(FRAME_EDGE_WARNING) for w in result.warnings)
+
+
+def _reframed(look: FirstLook, p_W_seen: np.ndarray, config: ScanConfig) -> FirstLook:
+    """``look`` framing all of the object seen: its points and the views' ``p_W_seen`` (n, 3)
+    (one per ``cluster_cell``, in a deterministic order), and their bounding sphere."""
+    cells = np.floor(np.asarray(p_W_seen, dtype=float) / config.cluster_cell).astype(np.int64)
+    _, first = np.unique(cells, axis=0, return_index=True)
+    points = np.concatenate([look.p_W_object, np.asarray(p_W_seen)[np.sort(first)]]).astype(
+        look.p_W_object.dtype)
+    centre, radius = bounding_sphere(points, look.table)
+    return dataclasses.replace(look, p_W_object=points, centre_W=centre,
+                               radius=max(radius, look.radius), warnings=list(look.warnings))
 
 
 def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
@@ -322,7 +377,7 @@ def _edge_warnings(points, segmentation, intrinsics: CameraIntrinsics, box: Crop
                                                     region, config.cluster_cell)
                  if face not in segmentation.touches]
         if inner:
-            warnings.append(f"the object reaches the edge of the region framed by the first look "
+            warnings.append(f"{FRAME_EDGE_WARNING} "
                             f"({', '.join(inner)} of {_box_text(region)}): it may be larger than "
                             "the first look saw")
     return warnings

@@ -46,7 +46,7 @@ from gbh_drake.planning.pick import (
 )
 from gbh_drake.planning.trajectories import joint_path, linear_move, sample
 from gbh_drake.scenario.schema import HandConfig, PickConfig
-from gbh_drake.systems.scanner import no_scan
+from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
 
 #: Seconds the machine waits after a motion's trajectory ends before the next mode.
@@ -247,7 +247,8 @@ class PickAndCarry(LeafSystem):
 
     # Each _after_<mode> runs once the mode's time is up and chooses the next mode.
     def _after_settle(self, context, s: _State, t: float) -> None:
-        if t > self._settle_time:
+        # Plan once the scan is taken (a Scanner may wait for the object to be still).
+        if t > self._settle_time and not scan_pending(self._scan.Eval(context)):
             self._enter(s, Mode.PLAN, t)
 
     def _after_plan(self, context, s: _State, t: float) -> None:

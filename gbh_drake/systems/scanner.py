@@ -19,6 +19,7 @@ class Scanner(LeafSystem):
         name: Scanner
         input_ports:
         - query_object
+        - object.state (optional; only with scan_time)
         output_ports:
         - mesh_W
 
@@ -30,8 +31,14 @@ class Scanner(LeafSystem):
 
     Two ways to use it. Without ``scan_time`` the output is a function of the input, cached
     until the scene's poses change (evaluate it when you need a scan). With ``scan_time`` (s) the
-    Scanner takes one scan at that time, keeps it in its state and outputs it from then on (scan
-    first, then act); before that time the output is an empty result that says so.
+    Scanner takes one scan, keeps it in its state and outputs it from then on (scan first, then
+    act); until then the output is the "not scanned yet" placeholder (:func:`scan_pending`).
+    When is the scan taken? With ``object.state`` unconnected, at ``scan_time``. Connected (the
+    station's ``object.state``: [quaternion (4), p (3), w (3), v (3)] in W), the Scanner watches
+    the object every ``config.still_period`` and scans once it is at rest
+    (:func:`still_decision`): slower than ``still_speed`` and ``still_angular_speed_deg`` for
+    ``still_dwell`` s, not before ``scan_time``, and at ``scan_time + still_max_wait`` at the
+    latest (then with a warning in the scan's warnings). ``ScanResult.taken_at`` says when.
     """
 
     def __init__(self, config: ScanConfig, p_WT, *, scan_time: float | None = None,
@@ -46,13 +53,19 @@ class Scanner(LeafSystem):
         self._noise_seed = int(noise_seed)
         self._query = self.DeclareAbstractInputPort("query_object",
                                                     AbstractValue.Make(QueryObject()))
-        model = AbstractValue.Make(no_scan("not scanned yet"))
+        model = AbstractValue.Make(no_scan(NOT_SCANNED_YET))
+        self._scan_time = None if scan_time is None else float(scan_time)
         if scan_time is None:
             self.DeclareAbstractOutputPort("mesh_W", model.Clone, self._calc_scan,
                                            prerequisites_of_calc={self._query.ticket()})
         else:
+            self._object_state = self.DeclareVectorInputPort("object.state", 13)
             self._held = self.DeclareAbstractState(model)
-            self.DeclarePeriodicUnrestrictedUpdateEvent(1e9, float(scan_time), self._take_scan)
+            # When the object became still (s; nan: moving or not watched yet).
+            self._still_since = self.DeclareDiscreteState([np.nan])
+            # Unconnected object.state: one scan at scan_time, as before the watch existed.
+            self.DeclarePeriodicUnrestrictedUpdateEvent(1e9, self._scan_time, self._take_scan)
+            self.DeclarePeriodicUnrestrictedUpdateEvent(config.still_period, 0.0, self._watch)
             self.DeclareStateOutputPort("mesh_W", self._held)
 
     @property
@@ -69,10 +82,75 @@ class Scanner(LeafSystem):
                            noise_seed=self._noise_seed)
 
     def _calc_scan(self, context, output) -> None:
-        output.set_value(self.scan(context))
+        result = self.scan(context)
+        result.taken_at = context.get_time()
+        output.set_value(result)
+
+    def _taken(self, context) -> bool:
+        return not scan_pending(context.get_abstract_state(self._held).get_value())
+
+    def _latch(self, context, state, warnings: list[str]) -> None:
+        result = self.scan(context)
+        result.taken_at = context.get_time()
+        result.warnings = warnings + result.warnings
+        state.get_mutable_abstract_state(self._held).set_value(result)
 
     def _take_scan(self, context, state) -> None:
-        state.get_mutable_abstract_state(self._held).set_value(self.scan(context))
+        if not self._object_state.HasValue(context) and not self._taken(context):
+            self._latch(context, state, [])
+
+    def _watch(self, context, state) -> None:
+        if not self._object_state.HasValue(context) or self._taken(context):
+            return
+        x = self._object_state.Eval(context)
+        t = context.get_time()
+        still_since = float(context.get_discrete_state(self._still_since).GetAtIndex(0))
+        scan, still_since, warning = still_decision(
+            t, x[10:13], x[7:10], still_since, scan_time=self._scan_time, config=self._config)
+        state.get_mutable_discrete_state(self._still_since).SetAtIndex(0, still_since)
+        if scan:
+            self._latch(context, state, [warning] if warning else [])
+
+
+#: The message of the Scanner's placeholder output until its scan is taken.
+NOT_SCANNED_YET = "not scanned yet"
+
+
+def scan_pending(scan) -> bool:
+    """Whether ``scan`` is the Scanner's placeholder: its scan is not taken yet (a PickAndCarry
+    waits for it). Any other scan, empty or not, is taken."""
+    return (isinstance(scan, ScanResult) and scan.empty and scan.message == NOT_SCANNED_YET
+            and np.isnan(scan.taken_at))
+
+
+def still_decision(t: float, v_W, w_W, still_since: float, *, scan_time: float,
+                   config: ScanConfig) -> tuple[bool, float, str]:
+    """The stillness rule, at time ``t`` (s), for an object moving at v_W (3,) m/s and w_W (3,)
+    rad/s; ``still_since`` (s): when it became still (nan: it was moving). Returns (scan now,
+    the new ``still_since``, a warning for the scan or "").
+
+    The object is still when ``|v| < still_speed`` and ``|w| < still_angular_speed_deg``; the
+    scan is taken once it has been still for ``still_dwell`` s (stillness before ``scan_time``
+    counts) and ``t >= scan_time``; at ``scan_time + still_max_wait`` it is taken anyway, with a
+    warning."""
+    eps = 1e-9  # periodic event times are sums of floats
+    speed, spin = float(np.linalg.norm(v_W)), float(np.linalg.norm(w_W))
+    still = speed < config.still_speed and spin < np.deg2rad(config.still_angular_speed_deg)
+    if not still:
+        still_since = np.nan
+    elif np.isnan(still_since):
+        still_since = t
+    if t < scan_time - eps:
+        return False, still_since, ""
+    if still and t - still_since >= config.still_dwell - eps:
+        return True, still_since, ""
+    if t >= scan_time + config.still_max_wait - eps:
+        return True, still_since, (
+            f"the object was still moving when scanned at t = {t:.2f} s ({speed * 1e3:.1f} mm/s, "
+            f"{np.rad2deg(spin):.1f} deg/s; still means under {config.still_speed * 1e3:g} mm/s "
+            f"and {config.still_angular_speed_deg:g} deg/s for {config.still_dwell:g} s): the "
+            "scan may not be where the object comes to rest")
+    return False, still_since, ""
 
 
 def no_scan(message: str) -> ScanResult:
