@@ -72,6 +72,8 @@ class TrialRecord:
     seed: int
     method: str
     num_views: int
+    gbh_preset: str
+    """Where GbH's beyond-the-paper defaults came from: ``""`` (gbh_drake's) or ``"paper"``."""
     pose: list[float]
     """The object's start pose: x, y, z (m), roll, pitch, yaw (rad) in W."""
     outcome: Outcome
@@ -145,6 +147,7 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
         scenario.scan, scenario.scan_target, scan_time=scenario.settle_time,
         noise_seed=seeds.noise))
     builder.Connect(station.GetOutputPort("query_object"), scanner.GetInputPort("query_object"))
+    builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
     builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
     scan = scanner.GetOutputPort("mesh_W")
     source = method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
@@ -298,6 +301,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         object=station.asset.name, source=station.asset.source,
         object_mass=float(station.asset.mass), seed=scenario.seed,
         method=scenario.grasp_method, num_views=scenario.scan.num_views,
+        gbh_preset=scenario.gbh.preset,
         pose=[*X.translation().tolist(), *RollPitchYaw(X.rotation()).vector().tolist()],
         outcome=verdict.outcome, success=verdict.success, reason=verdict.reason,
         held_by=verdict.held_by,
