@@ -148,7 +148,6 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
         noise_seed=seeds.noise))
     builder.Connect(station.GetOutputPort("query_object"), scanner.GetInputPort("query_object"))
     builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
-    builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
     scan = scanner.GetOutputPort("mesh_W")
     source = method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
 
