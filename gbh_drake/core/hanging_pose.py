@@ -8,9 +8,13 @@ centroid), not the object's true mesh.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from gbh_drake.core.collision import closed_loop_interior_G
 from gbh_drake.core.geometry import unit
+from gbh_drake.core.gripper import HOOK_GRIPPER
 
 
 def hanging_rotation(com_W: np.ndarray, hook_W: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -68,3 +72,96 @@ def lift_for_clearance(points_W: np.ndarray, com_W: np.ndarray, hook_W: np.ndarr
     else:
         low = hanging_lowest_height(p, com_W, hook_W, up, swings=swings)
     return float(ground_height + clearance - low)
+
+
+#: Half thickness (m, along the loop's normal x_G) of the slab around the closed loop whose scan
+#: points count as the caged material: the rods are 8 mm thick, a scan's vertices are sparser.
+CAGED_SLAB = 0.01
+#: Fewer caged points than this within the rods' thickness: the slab is used instead.
+MIN_CAGED_POINTS = 3
+#: Below this share of ``up`` in the loop's plane the loop lies flat: the material does not come
+#: to rest on one of its sides by sliding down in the plane (it hangs from the hook point).
+MIN_IN_PLANE = 0.3
+
+
+@dataclass(frozen=True)
+class LoopRest:
+    """Where the hooked material comes to rest on the closed loop once the gripper lifts, and how
+    the whole object then hangs, all with the gripper at its closed pose (before the lift)."""
+
+    contact_W: np.ndarray
+    """The point (W, m) the object hangs from: the first caged material point to meet the loop's
+    inner face, moved there (the hook point when nothing is caged)."""
+    drop: float
+    """How far (m, along -up) the object sinks relative to the gripper until it rests there."""
+    support: str
+    """The loop's side it rests on: ``bar``, ``palm``, ``straight_rod``, ``l_rod``, or ``""``
+    (no caged material, or the loop lies flat: the hook point)."""
+    caged: int
+    """How many scan points were taken as caged material (within the rods' thickness of the
+    loop's plane, or within :data:`CAGED_SLAB` where a sparse scan has fewer than
+    :data:`MIN_CAGED_POINTS` there)."""
+    lowest: float
+    """Height (m, along up) of the lowest point of the object hanging from ``contact_W`` with
+    its centre of mass below it (:func:`hanging_rotation`)."""
+    lowest_any_turn: float
+    """A bound on that lowest point for any way the object turns about ``contact_W`` (the
+    farthest scanned point from it straight below it)."""
+
+
+def rest_on_loop(points_W: np.ndarray, com_W: np.ndarray, X_WG: np.ndarray, kind: str,
+                 up=(0.0, 0.0, 1.0), *, hook_W: np.ndarray | None = None,
+                 slab: float = CAGED_SLAB) -> LoopRest:
+    """How the object of scan points ``points_W`` (n, 3) and centre of mass ``com_W`` comes to
+    rest on the closed loop of a grasp of ``kind`` at ``X_WG`` (4, 4: the open gripper's grasp
+    pose; the loop is where it is once closed, :func:`~gbh_drake.core.collision.closed_loop_interior_G`).
+
+    When the gripper rises, the material caged in the loop's hole (the points within ``slab``
+    of the loop's plane inside its inner faces) sinks along -``up`` relative to the gripper
+    until the first of it meets an inner face: for a top-down hook the bar's upper face. The
+    object then hangs from that contact with its CoM below it. Without caged material, or with
+    the loop lying flat, it hangs from ``hook_W`` (default: the middle of the bar)."""
+    up = unit(np.asarray(up, dtype=float))
+    X = np.asarray(X_WG, dtype=float)
+    R, t = X[:3, :3], X[:3, 3]
+    p = np.asarray(points_W, dtype=float).reshape(-1, 3)
+    com = np.asarray(com_W, dtype=float)
+    box = closed_loop_interior_G(kind)
+    c, h = np.asarray(box.center, dtype=float), np.asarray(box.half_extents, dtype=float)
+    if hook_W is None:
+        hook_W = R @ np.array([0.0, c[1], HOOK_GRIPPER.finger_length]) + t
+    hook_W = np.asarray(hook_W, dtype=float)
+
+    p_G = (p - t) @ R
+    in_plane = (np.abs(p_G[:, 1] - c[1]) <= h[1]) & (np.abs(p_G[:, 2] - c[2]) <= h[2])
+    # The material over the loop's sides (as thick as the rods); a sparse scan may have too few
+    # points there: then those within ``slab`` of the loop's plane.
+    inside = in_plane & (np.abs(p_G[:, 0] - c[0]) <= h[0])
+    if inside.sum() < MIN_CAGED_POINTS:
+        inside = in_plane & (np.abs(p_G[:, 0] - c[0]) <= max(slab, h[0]))
+    u = R.T @ up  # up in G; the material moves along -u relative to the gripper
+    u_plane = np.array([0.0, u[1], u[2]])
+    drop, contact, support = 0.0, hook_W, ""
+    if inside.any() and np.linalg.norm(u_plane) >= MIN_IN_PLANE:
+        q = p_G[inside]
+        # Distance along -up until each point leaves the hole through a side (y or z face).
+        sides = []
+        for axis, low_name, high_name in ((1, "l_rod", "straight_rod"), (2, "palm", "bar")):
+            v = -u[axis]
+            if abs(v) < 1e-9:
+                sides.append((np.full(len(q), np.inf), ""))
+                continue
+            face = c[axis] + (h[axis] if v > 0 else -h[axis])
+            sides.append(((face - q[:, axis]) / v, high_name if v > 0 else low_name))
+        s = np.minimum(sides[0][0], sides[1][0])
+        i = int(np.argmin(s))
+        drop = float(max(s[i], 0.0))
+        support = sides[0][1] if sides[0][0][i] <= sides[1][0][i] else sides[1][1]
+        contact = p[inside][i] - drop * up
+    moved = p - drop * up
+    if len(moved) == 0:
+        return LoopRest(contact, drop, support, int(inside.sum()), 0.0, 0.0)
+    lowest = hanging_lowest_height(moved, com - drop * up, contact, up)
+    reach = float(np.linalg.norm(moved - contact, axis=1).max())
+    return LoopRest(np.asarray(contact, dtype=float), drop, support, int(inside.sum()),
+                    lowest, float(contact @ up) - reach)

@@ -10,8 +10,17 @@ which segment collides, the planner gave up).
 Closing: parallel grasps close symmetrically about G (p_M, where the bar's tip meets the
 straight rod, stays at the hole's centre); vertical grasps close about the straight rod (the arm
 moves G along +y_G by each finger's travel, so the rod placed in the hole is not pushed into the
-material). The lift comes from the scan: the object, hanging from the hook point with its CoM
-below it, must clear the table by ``lift_clearance``.
+material). The lift comes from the scan: once lifted, the caged material sinks onto the loop's
+lower side (the bar's upper face for a top-down hook, :func:`~gbh_drake.core.hanging_pose.rest_on_loop`)
+and the object hangs from there with its CoM below it; its lowest point must clear the table
+by ``lift_clearance``. The lift aims at the bound for any way the object turns, and goes no
+lower than the prediction with the CoM below the contact; where the arm cannot reach that, the
+plan says so (:attr:`PickPlan.notes`, :attr:`PickPlan.lift_short`).
+
+The carry from the lift to the place keeps the hook point at the lift height: the straight
+joint-space move is checked by forward kinematics, and where it dips the carry goes through
+Cartesian waypoints at the lift height (IK, :func:`carry_path`); :attr:`PickPlan.carry_low`
+records how low the hook point goes along it.
 """
 
 from __future__ import annotations
@@ -19,10 +28,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from pydrake.common.eigen_geometry import Quaternion
 from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance
+from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance, rest_on_loop
 from gbh_drake.core.results import PARALLEL, VERTICAL, GraspKind
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
@@ -32,6 +42,18 @@ from gbh_drake.scenario.schema import PickConfig
 APPROACH_STEP = 0.05
 #: Turns (rad) of the hand about the vertical tried for the carry, in order.
 CARRY_YAWS = np.radians([0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 180.0])
+#: The carry may let the hook point sink this far (m) below the lift height before it is planned
+#: through Cartesian waypoints (about the IK's tolerance and a joint-space move's sag).
+CARRY_TOLERANCE = 0.005
+#: Spacing (m) of the carry's Cartesian waypoints, horizontally, where the joint move dips.
+CARRY_STEP = 0.05
+#: IK restarts for a carry waypoint (a restart may change the arm's branch: the segments to it
+#: are height-checked and split like any other).
+CARRY_IK_RESTARTS = 2
+#: How much higher (m) a carry waypoint may go where the arm does not reach it at the lift height.
+CARRY_RISES = (0.03, 0.06, 0.10)
+#: Joint-space spacing (rad, max-norm) of the configurations whose hook height is checked.
+CARRY_CHECK_STEP = 0.02
 
 
 @dataclass
@@ -43,11 +65,14 @@ class Refusal:
     kind: str
     reason: str
     where: str = ""
+    detail: str = ""
+    """More on why, e.g. how high the lift had to be."""
 
     def text(self) -> str:
         what = {"ik": "no IK solution at", "collision": "collision in",
                 "planner": "RRT-Connect gave up on", "approach": "no clear approach for"}
-        return f"grasp #{self.rank + 1} ({self.kind}): {what[self.reason]} {self.where}".strip()
+        text = f"grasp #{self.rank + 1} ({self.kind}): {what[self.reason]} {self.where}".strip()
+        return f"{text} ({self.detail})" if self.detail else text
 
     @property
     def key(self) -> str:
@@ -75,6 +100,31 @@ class PickPlan:
     place_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """Where (W, m) the hook point is when the object is released."""
     keep_straight_rod: bool = False
+    carry: list[np.ndarray] = field(default_factory=list)
+    """The carry's waypoints (rad, 7 each), ``lift`` to ``carry``: the two ends, or Cartesian
+    waypoints at the lift height where the straight joint move would dip (:func:`carry_path`)."""
+    carry_low: float = float("nan")
+    """The lowest height (W z, m) of the hook point along the carry (checked by forward
+    kinematics every :data:`CARRY_CHECK_STEP` rad); the lift height is ``hook_W[2] + lift``."""
+    lift_needed: float = float("nan")
+    """The lift (m) the hanging object needs by the prediction (CoM below its rest on the loop)."""
+    drop: float = 0.0
+    """How far (m) the object is predicted to sink onto the loop once lifted."""
+    support: str = ""
+    """The loop's side the object is predicted to rest on (``bar``, ...; "": the hook point)."""
+    notes: list[str] = field(default_factory=list)
+    """What the plan could not do as it should: a lift short of the need, a carry that dips."""
+
+    @property
+    def lift_short(self) -> float:
+        """How far (m) the lift falls short of :attr:`lift_needed` (0 when it does not)."""
+        return float(max(0.0, self.lift_needed - self.lift)) if np.isfinite(self.lift_needed) \
+            else 0.0
+
+    @property
+    def carry_dip(self) -> float:
+        """How far (m) the hook point sinks below the lift height along the carry."""
+        return float(self.hook_W[2] + self.lift - self.carry_low)
 
 
 @dataclass
@@ -109,8 +159,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     shift = (g.q_open - g.q_closed) if keep_straight_rod else 0.0
     X_closed = RigidTransform(R, X_WG.translation() + shift * closing_W)
 
-    def refuse(reason: str, where: str = "") -> Refusal:
-        return Refusal(rank, kind, reason, where)
+    def refuse(reason: str, where: str = "", detail: str = "") -> Refusal:
+        return Refusal(rank, kind, reason, where, detail)
 
     def ik(X: RigidTransform, seed, hand: HandPose, restarts: int = 0):
         # Waypoints after the grasp follow from the previous one (no restarts: a restart could
@@ -126,19 +176,35 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return refuse("ik", "closed")
 
     # Lift until the hanging object clears the table (from the scan), as far as the arm reaches.
-    # The object hangs on the bar's middle (hooks) or is held between the rods' pads.
+    # Hooks: the caged material sinks onto the loop and the object hangs from there; pinches
+    # hold it between the rods' pads as it is.
     hook_W = X_closed.translation() + g.finger_length * approach_W
-    need = lift_for_clearance(setup.points_W, setup.com_W, hook_W, cfg.lift_clearance,
-                              swings=hook)
-    lift = float(np.clip(need, cfg.min_lift, cfg.max_lift))
-    q["lift"] = None
-    for dz in np.linspace(lift, max(cfg.min_lift, 0.5 * lift), 4):
+    notes: list[str] = []
+    rest = rest_on_loop(setup.points_W, setup.com_W, X_WG.GetAsMatrix4(), kind, hook_W=hook_W) \
+        if hook else None
+    if rest is not None:
+        need_any = cfg.lift_clearance - rest.lowest_any_turn
+        need = cfg.lift_clearance - rest.lowest
+    else:
+        need_any = need = lift_for_clearance(setup.points_W, setup.com_W, hook_W,
+                                             cfg.lift_clearance, swings=False)
+    top = float(np.clip(need_any, cfg.min_lift, cfg.max_lift))
+    floor = float(np.clip(need, cfg.min_lift, top))
+    # From the bound for any turn down to the prediction; below it only with a note.
+    tries = list(np.linspace(top, floor, 4))
+    tries += [dz for dz in np.linspace(floor, max(cfg.min_lift, 0.5 * top), 3)[1:] if dz < floor]
+    q["lift"], lift = None, top
+    for dz in tries:
         q["lift"] = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
         if q["lift"] is not None:
             lift = float(dz)
             break
     if q["lift"] is None:
-        return refuse("ik", "lift")
+        return refuse("ik", "lift", f"the hanging object needs a {need:.2f} m lift, the arm "
+                      f"reaches none down to {tries[-1]:.2f} m")
+    if need > lift + 1e-6:
+        notes.append(f"lift {lift:.3f} m, short of the {need:.3f} m the hanging object needs "
+                     f"({'the most lift allowed' if need > cfg.max_lift else 'the arm reaches no higher'})")
 
     # Carry: the hanging object's CoM (or, held rigidly, its hook offset) over the place. Where
     # the arm cannot reach that with the grasp's orientation, the hand also turns about the
@@ -156,8 +222,17 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
             break
     if q["carry"] is None:
         return refuse("ik", "carry")
+    hook_G = X_closed.inverse().multiply(hook_W)
+    carry, carry_low = carry_path(setup.near, q["lift"], q["carry"], closed_hand, hook_G,
+                                  hook_W[2] + lift - CARRY_TOLERANCE,
+                                  check_edges=cfg.plan_paths)
+    if carry_low < hook_W[2] + lift - CARRY_TOLERANCE:
+        notes.append(f"the carry dips {hook_W[2] + lift - carry_low:.3f} m below the lift height "
+                     "(no IK at the lift height along the way)")
     # Lower: at most until the object's estimated lowest point is place_depth under the table
     # (the machine stops once the hand's load drops), less where the hand would meet the table.
+    # (The higher of the estimates hanging at the hook point and sunk onto the loop: lowering
+    # stops once the object stands, so going too deep costs nothing.)
     low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
     q["place"] = None
     for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
@@ -174,7 +249,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         segments = (("descend", q["grasp"], q["closed"], open_hand),
                     ("close", q["closed"], q["closed"], closed_hand),
                     ("lift", q["closed"], q["lift"], closed_hand),
-                    ("carry", q["lift"], q["carry"], closed_hand))
+                    *(("carry", a, b, closed_hand) for a, b in zip(carry[:-1], carry[1:],
+                                                                    strict=True)))
         for name, a, b, hand in segments:
             if not setup.near.edge_free(a, b, hand):
                 return refuse("collision", name)
@@ -206,7 +282,118 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
         X_closed.inverse().multiply(hook_W))  # the hook point at the release
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
-                    keep_straight_rod)
+                    keep_straight_rod, carry=carry, carry_low=carry_low, lift_needed=need,
+                    drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
+                    notes=notes)
+
+
+def hook_heights(model: PlanningModel, q_a, q_b, hand: HandPose, hook_G,
+                 step: float = CARRY_CHECK_STEP) -> np.ndarray:
+    """Heights (W z, m) of the point ``hook_G`` (3,, in G) along the straight joint move from
+    ``q_a`` to ``q_b`` (both ends included), every ``step`` rad (max-norm) at most."""
+    q_a, q_b = np.asarray(q_a, dtype=float), np.asarray(q_b, dtype=float)
+    n = max(2, int(np.ceil(np.abs(q_b - q_a).max() / step)) + 1)
+    return np.array([model.X_WG(q_a + s * (q_b - q_a), hand).multiply(hook_G)[2]
+                     for s in np.linspace(0.0, 1.0, n)])
+
+
+def carry_path(model: PlanningModel, q_lift, q_carry, hand: HandPose, hook_G,
+               min_height: float, *, check_edges: bool = True, depth: int = 2
+               ) -> tuple[list[np.ndarray], float]:
+    """Waypoints (rad, 7 each) from ``q_lift`` to ``q_carry`` along which the hook point
+    ``hook_G`` (in G) stays at ``min_height`` (W z, m) or above, and the lowest height it
+    reaches along them (forward kinematics, :func:`hook_heights`).
+
+    The straight joint move when it stays high enough; otherwise Cartesian waypoints every
+    :data:`CARRY_STEP` of the hook point's horizontal travel, at the height of the ends (the
+    lower one, at least ``min_height``; higher where the arm reaches no lower), the hand
+    turning from the one orientation to the other (slerp), each solved by IK from the one
+    before; a segment between them that still dips is split again (``depth`` times at most).
+    Where IK fails (or, with ``check_edges``, an edge collides), the straight move is kept: the
+    caller sees how low it goes."""
+    q_lift, q_carry = np.asarray(q_lift, dtype=float), np.asarray(q_carry, dtype=float)
+    straight = [q_lift, q_carry]
+    low = float(hook_heights(model, q_lift, q_carry, hand, hook_G).min())
+    if low >= min_height:
+        return straight, low
+    X_a, X_b = model.X_WG(q_lift, hand), model.X_WG(q_carry, hand)
+    path = _cartesian_carry(model, q_lift, q_carry, X_a, X_b, hand, hook_G, min_height, depth)
+    if path is None or (check_edges and not all(
+            model.edge_free(a, b, hand) for a, b in zip(path[:-1], path[1:], strict=True))):
+        return straight, low
+    return path, float(min(hook_heights(model, a, b, hand, hook_G).min()
+                           for a, b in zip(path[:-1], path[1:], strict=True)))
+
+
+def _cartesian_carry(model: PlanningModel, q_a, q_b, X_a: RigidTransform, X_b: RigidTransform,
+                     hand: HandPose, hook_G, min_height: float, depth: int
+                     ) -> list[np.ndarray] | None:
+    """Waypoints from ``q_a`` (G at ``X_a``) to ``q_b`` (``X_b``) with the hook point moving
+    straight between its two positions, kept at or above ``min_height`` (see :func:`carry_path`)."""
+    h_a, h_b = X_a.multiply(hook_G), X_b.multiply(hook_G)
+    height = max(min(h_a[2], h_b[2]), min_height)
+    quat_a, quat_b = X_a.rotation().ToQuaternion(), X_b.rotation().ToQuaternion()
+    n = max(2, int(np.ceil(np.linalg.norm((h_b - h_a)[:2]) / CARRY_STEP)))
+    path = [np.asarray(q_a, dtype=float)]
+    poses = [X_a]
+    for s in np.linspace(0.0, 1.0, n + 1)[1:-1]:
+        R = RotationMatrix(Quaternion(quat_a.slerp(s, quat_b).wxyz()))
+        hook = h_a + s * (h_b - h_a)
+        hook[2] = height
+        q, X = _ik_at_or_above(model, R, hook, hook_G, path[-1], hand)
+        if q is None:
+            return None
+        path.append(q)
+        poses.append(X)
+    path.append(np.asarray(q_b, dtype=float))
+    poses.append(X_b)
+    if depth <= 0:
+        return path
+    out = [path[0]]
+    for (qa, qb), (Xa, Xb) in zip(zip(path[:-1], path[1:], strict=True),
+                                  zip(poses[:-1], poses[1:], strict=True), strict=True):
+        if hook_heights(model, qa, qb, hand, hook_G).min() < min_height - 1e-9 and \
+                np.linalg.norm((Xb.multiply(hook_G) - Xa.multiply(hook_G))[:2]) > 0.2 * CARRY_STEP:
+            sub = _split(model, qa, qb, Xa, Xb, hand, hook_G, min_height, depth - 1)
+            if sub is None:
+                return None
+            out.extend(sub[1:])
+        else:
+            out.append(qb)
+    return out
+
+
+def _ik_at_or_above(model, R: RotationMatrix, hook_W, hook_G, q_seed, hand: HandPose):
+    """IK for the hand at orientation ``R`` with the hook point at ``hook_W``, or higher by up
+    to :data:`CARRY_RISES` where the arm does not reach it: (q, X_WG), or (None, None)."""
+    for rise in (0.0, *CARRY_RISES):
+        X = RigidTransform(R, np.asarray(hook_W) + [0.0, 0.0, rise] - R.multiply(hook_G))
+        q = model.ik(X, q_seed, hand, restarts=CARRY_IK_RESTARTS)
+        if q is not None:
+            return q, X
+    return None, None
+
+
+def _split(model, q_a, q_b, X_a, X_b, hand, hook_G, min_height, depth):
+    """One segment's midpoint waypoint (at the segment's height), recursively."""
+    h_a, h_b = X_a.multiply(hook_G), X_b.multiply(hook_G)
+    R = RotationMatrix(Quaternion(X_a.rotation().ToQuaternion().slerp(
+        0.5, X_b.rotation().ToQuaternion()).wxyz()))
+    hook = 0.5 * (h_a + h_b)
+    hook[2] = max(min(h_a[2], h_b[2]), min_height)
+    q_m, X_m = _ik_at_or_above(model, R, hook, hook_G, q_a, hand)
+    if q_m is None:
+        return None
+    out = [np.asarray(q_a, dtype=float)]
+    for qa, qb, Xa, Xb in ((q_a, q_m, X_a, X_m), (q_m, q_b, X_m, X_b)):
+        if depth > 0 and hook_heights(model, qa, qb, hand, hook_G).min() < min_height - 1e-9:
+            sub = _split(model, qa, qb, Xa, Xb, hand, hook_G, min_height, depth - 1)
+            if sub is None:
+                return None
+            out.extend(sub[1:])
+        else:
+            out.append(np.asarray(qb, dtype=float))
+    return out
 
 
 def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: PickConfig,

@@ -57,3 +57,30 @@ def sample(trajectory: PiecewisePolynomial, t: float,
         return q, np.zeros_like(q)
     v = (derivative.value(tc) if derivative is not None else trajectory.EvalDerivative(tc, 1))
     return q, v.ravel()
+
+
+def polyline_path(waypoints: Sequence[np.ndarray], t0: float, *,
+                  velocity_scale: float = VELOCITY_SCALE, min_duration: float = 0.5,
+                  dt: float = 0.02) -> PiecewisePolynomial:
+    """Through ``waypoints`` (rad, 7 each) along the straight joint segments between them,
+    without stopping at each: one smooth time scaling (zero velocity at the two ends only, as
+    :func:`joint_path`'s cubic) over the whole path, sampled every ``dt`` s (the segments'
+    corners are cut by at most a sample's chord). The path's geometry is the one a planner
+    checked segment by segment; two waypoints give :func:`joint_path`."""
+    q = np.stack([np.asarray(w, dtype=float) for w in waypoints])
+    if len(q) <= 2:
+        return joint_path(list(q), t0, velocity_scale=velocity_scale, min_duration=min_duration)
+    steps = np.abs(np.diff(q, axis=0))
+    duration = segment_duration(np.zeros(7), steps.sum(axis=0), velocity_scale=velocity_scale,
+                                min_duration=min_duration)
+    # Arc parameter: each segment weighted by the time its slowest joint needs.
+    length = np.concatenate([[0.0], np.cumsum((steps / FRANKA_V_MAX).max(axis=1))])
+    length = length / max(length[-1], 1e-12)
+    n = max(3, int(np.ceil(duration / dt)) + 1)
+    tau = np.linspace(0.0, 1.0, n)
+    sigma = tau * tau * (3.0 - 2.0 * tau)
+    samples = np.stack([np.interp(sigma, length, q[:, j]) for j in range(q.shape[1])])
+    times = t0 + duration * tau
+    velocities = np.gradient(samples, times, axis=1)
+    velocities[:, 0] = velocities[:, -1] = 0.0
+    return PiecewisePolynomial.CubicHermite(times, samples, velocities)

@@ -44,7 +44,7 @@ from gbh_drake.planning.pick import (
     plan_pick,
     release_path,
 )
-from gbh_drake.planning.trajectories import joint_path, linear_move, sample
+from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
 from gbh_drake.scenario.schema import HandConfig, PickConfig
 from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
@@ -291,7 +291,8 @@ class PickAndCarry(LeafSystem):
 
     def _after_lift(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
-        self._move(s, Mode.CARRY, t, [plan.q["lift"], plan.q["carry"]], velocity_scale=0.25)
+        carry = plan.carry or [plan.q["lift"], plan.q["carry"]]  # waypoints at the lift height
+        self._enter(s, Mode.CARRY, t, arm=polyline_path(carry, t, velocity_scale=0.25))
 
     def _after_carry(self, context, s: _State, t: float) -> None:
         self._enter(s, Mode.HOLD, t, until=t + self._config.hold_time)

@@ -5,11 +5,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.hanging_pose import (
     hanging_lowest_height,
     hanging_rotation,
     lift_for_clearance,
+    rest_on_loop,
 )
+from gbh_drake.core.results import PARALLEL
 
 UP = np.array([0.0, 0.0, 1.0])
 vectors = st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3).map(np.array)
@@ -47,3 +50,96 @@ def test_the_lift_bounds_any_way_the_object_turns():
     lift = lift_for_clearance(points, points.mean(axis=0), hook, 0.05)
     for com in rng.uniform([-0.1, -0.1, 0.0], [0.1, 0.1, 0.2], (50, 3)):
         assert hanging_lowest_height(points, com, hook) + lift >= 0.05 - 1e-9
+
+
+# ---- where the hooked material rests on the loop ---------------------------------------------
+G = HOOK_GRIPPER
+R_DOWN = np.diag([1.0, -1.0, -1.0])  # a top-down grasp: z_G = -z_W, the bar at the bottom
+BAR_HALF = 0.5 * G.rod_width
+
+
+def _top_down(p_bar_W) -> np.ndarray:
+    """The open grasp pose (parallel, top-down, loop in the y-z plane of W) whose bar's middle is
+    at ``p_bar_W``."""
+    X = np.eye(4)
+    X[:3, :3] = R_DOWN
+    X[:3, 3] = np.asarray(p_bar_W, dtype=float) - R_DOWN @ [0.0, 0.0, G.finger_length]
+    return X
+
+
+def _ring(centre, clear_radius, tube=0.006, n=72, m=8):
+    """A torus with its axis along y_W, in the x-z plane (the top-down loop, in the y-z plane,
+    links it), as surface points."""
+    a, b = np.meshgrid(np.linspace(0, 2 * np.pi, n, endpoint=False),
+                       np.linspace(0, 2 * np.pi, m, endpoint=False))
+    R = clear_radius + tube
+    y = tube * np.sin(b)
+    x = (R + tube * np.cos(b)) * np.cos(a)
+    z = (R + tube * np.cos(b)) * np.sin(a)
+    return np.column_stack([x.ravel(), y.ravel(), z.ravel()]) + centre
+
+
+def test_a_ring_hooked_at_its_centre_drops_by_its_clear_radius_less_the_bar():
+    """A ring of 6 cm clear diameter with the bar through its centre: lifted, it sinks until its
+    inner top rests on the bar's upper face, 3 cm - 4 mm, and hangs straight below."""
+    centre = np.array([0.5, 0.0, 0.2])
+    ring = _ring(centre, 0.03)
+    rest = rest_on_loop(ring, centre, _top_down(centre), PARALLEL, hook_W=centre)
+    assert rest.support == "bar"
+    assert rest.caged > 0
+    assert rest.drop == pytest.approx(0.03 - BAR_HALF, abs=1.5e-3)
+    np.testing.assert_allclose(rest.contact_W, centre + [0.0, 0.0, BAR_HALF], atol=BAR_HALF)
+    # The ring hangs from the contact: its bottom is its outer diameter (7.2 cm) below it.
+    assert rest.lowest == pytest.approx(rest.contact_W[2] - 0.072, abs=1e-3)
+    assert rest.lowest_any_turn <= rest.lowest + 1e-9
+    # The old estimate, hanging at the centre, was too high by the drop.
+    assert hanging_lowest_height(ring, centre, centre) - rest.lowest == pytest.approx(rest.drop,
+                                                                                      abs=1e-3)
+
+
+def test_a_mug_handle_on_the_bar_barely_drops():
+    """A mug's handle whose inner face is 2 mm above the bar's upper face sinks 2 mm."""
+    body = np.random.default_rng(0).uniform([-0.04, -0.04, 0.0], [0.04, 0.04, 0.095], (400, 3))
+    bar = np.array([0.0, 0.06, 0.07])  # the bar's middle, inside the handle
+    handle_inner = bar + [0.0, 0.0, BAR_HALF + 0.002]
+    handle = np.array([handle_inner + [dx, dy, 0.0] for dx in (-0.004, 0.0, 0.004)
+                       for dy in (-0.005, 0.0, 0.005)])
+    points = np.vstack([body, handle])
+    rest = rest_on_loop(points, body.mean(axis=0), _top_down(bar), PARALLEL, hook_W=bar)
+    assert rest.support == "bar"
+    assert rest.drop == pytest.approx(0.002, abs=1e-9)
+    assert rest.contact_W[2] == pytest.approx(bar[2] + BAR_HALF)
+
+
+def test_no_caged_material_hangs_from_the_hook_point():
+    points = np.random.default_rng(1).uniform([-0.05, -0.05, 0.0], [0.05, 0.05, 0.1], (300, 3))
+    hook = np.array([0.3, 0.3, 0.3])  # the loop far from the object
+    rest = rest_on_loop(points, points.mean(axis=0), _top_down(hook), PARALLEL, hook_W=hook)
+    assert rest.caged == 0 and rest.drop == 0.0 and rest.support == ""
+    np.testing.assert_allclose(rest.contact_W, hook)
+    assert rest.lowest == pytest.approx(hanging_lowest_height(points, points.mean(axis=0), hook))
+
+
+def test_a_loop_lying_flat_does_not_predict_a_drop():
+    """Approach horizontal and loop plane horizontal (up along x_G): material in the hole has no
+    side below it; it hangs from the hook point."""
+    centre = np.array([0.5, 0.0, 0.2])
+    ring = _ring(np.zeros(3), 0.03) @ np.array([[1, 0, 0], [0, 0, 1], [0, 1, 0]]).T + centre
+    X = np.eye(4)
+    X[:3, :3] = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # x_G = -z_W
+    X[:3, 3] = centre - X[:3, :3] @ [0.0, 0.0, G.finger_length]
+    rest = rest_on_loop(ring, centre, X, PARALLEL, hook_W=centre)
+    assert rest.drop == 0.0 and rest.support == ""
+
+
+def test_a_sideways_loop_rests_the_material_on_the_lower_rod():
+    """A horizontal approach with y_G = -z_W: the straight rod is below the hole."""
+    centre = np.array([0.5, 0.0, 0.2])
+    X = np.eye(4)
+    X[:3, :3] = np.column_stack([[0.0, 1.0, 0.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]])
+    X[:3, 3] = centre - X[:3, :3] @ [0.0, 0.0, 0.5 * G.finger_length]
+    material = centre + np.array([[dx, 0.0, 0.0] for dx in (-0.005, 0.0, 0.005)])
+    rest = rest_on_loop(material, centre, X, PARALLEL)
+    assert rest.support == "straight_rod"
+    straight_inner = (G.q_closed - BAR_HALF)
+    assert rest.drop == pytest.approx(straight_inner, abs=1e-9)

@@ -1,0 +1,82 @@
+"""The carry keeps the hooked object up: the hook point's height along the move from the lift
+to the place, checked by forward kinematics, and Cartesian waypoints where a joint move dips."""
+
+import numpy as np
+import pytest
+from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
+
+from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.planning.model import HandPose, PlanningModel
+from gbh_drake.planning.pick import CARRY_TOLERANCE, PickPlan, Refusal, carry_path, hook_heights
+from gbh_drake.planning.trajectories import joint_path, polyline_path, sample
+from gbh_drake.scenario import Scenario
+
+CLOSED = HandPose(HOOK_GRIPPER.q_closed)
+HOOK_G = np.array([0.0, 0.0, HOOK_GRIPPER.finger_length])
+DOWN = RotationMatrix(np.diag([1.0, -1.0, -1.0]))
+
+
+@pytest.fixture(scope="module")
+def model():
+    return PlanningModel(Scenario().directives)
+
+
+def _at(model, hook_W, seed, R=DOWN):
+    X = RigidTransform(R, np.asarray(hook_W) - R.multiply(HOOK_G))
+    q = model.ik(X, seed, CLOSED, restarts=3)
+    assert q is not None
+    return q
+
+
+def test_a_carry_that_dips_goes_through_waypoints_at_the_lift_height(model):
+    """A hand on its side (a vertical grasp's pose) carried to the place, turning 1 rad about
+    the vertical: the straight joint move sinks the hook point by about 10 cm; the planned
+    carry keeps it within the tolerance of the lift height."""
+    q_home = np.asarray(Scenario().robot.q_home)
+    height = 0.32
+    R = RotationMatrix(RollPitchYaw([1.6207, 0.0802, 2.6962]))
+    q_a = _at(model, [0.461, 0.123, height], q_home, R)
+    q_b = _at(model, [0.40, 0.30, height], q_a, RotationMatrix.MakeZRotation(-1.0).multiply(R))
+    assert hook_heights(model, q_a, q_b, CLOSED, HOOK_G).min() < height - 0.05
+    path, low = carry_path(model, q_a, q_b, CLOSED, HOOK_G, height - CARRY_TOLERANCE)
+    assert len(path) > 2
+    assert low >= height - CARRY_TOLERANCE - 1e-9
+    np.testing.assert_array_equal(path[0], q_a)
+    np.testing.assert_array_equal(path[-1], q_b)
+    assert all(model.edge_free(a, b, CLOSED) for a, b in zip(path[:-1], path[1:], strict=True))
+
+
+def test_a_carry_that_stays_up_is_the_straight_move(model):
+    q_home = np.asarray(Scenario().robot.q_home)
+    q_a = _at(model, [0.50, 0.0, 0.30], q_home)
+    q_b = _at(model, [0.50, 0.05, 0.30], q_a)
+    path, low = carry_path(model, q_a, q_b, CLOSED, HOOK_G, 0.30 - CARRY_TOLERANCE)
+    assert len(path) == 2
+    assert low == pytest.approx(0.30, abs=CARRY_TOLERANCE)
+
+
+def test_the_polyline_path_follows_its_segments_and_stops_only_at_its_ends():
+    rng = np.random.default_rng(0)
+    waypoints = [np.zeros(7), rng.uniform(-0.3, 0.3, 7), rng.uniform(-0.6, 0.6, 7)]
+    traj = polyline_path(waypoints, 1.0)
+    q0, v0 = sample(traj, 1.0)
+    q1, v1 = sample(traj, traj.end_time())
+    np.testing.assert_allclose(q0, waypoints[0])
+    np.testing.assert_allclose(q1, waypoints[-1], atol=1e-9)
+    np.testing.assert_allclose(v0, 0.0)
+    # It does not stop at the middle waypoint (joint_path does).
+    speeds = [np.linalg.norm(sample(traj, t)[1]) for t in np.linspace(1.05, traj.end_time() - 0.05, 40)]
+    assert min(speeds) > 1e-3
+    # Two waypoints: joint_path's cubic.
+    a, b = polyline_path(waypoints[:2], 0.0), joint_path(waypoints[:2], 0.0)
+    assert a.end_time() == pytest.approx(b.end_time())
+    np.testing.assert_allclose(a.value(0.3 * a.end_time()), b.value(0.3 * b.end_time()))
+
+
+def test_the_plan_reports_a_short_lift_and_the_carry_dip():
+    plan = PickPlan(0, "parallel", 0.0, [], lift=0.10, hook_W=np.array([0.5, 0.0, 0.2]),
+                    carry_low=0.27, lift_needed=0.13)
+    assert plan.lift_short == pytest.approx(0.03)
+    assert plan.carry_dip == pytest.approx(0.03)
+    text = Refusal(1, "vertical", "ik", "lift", "the hanging object needs a 0.45 m lift").text()
+    assert text.endswith("(the hanging object needs a 0.45 m lift)")
