@@ -102,6 +102,9 @@ class TrialRecord:
     """0-based rank of the executed grasp in its list; -1 if none."""
     grasp_kind: str = ""
     grasp_score: float = float("nan")
+    best_score: float = float("nan")
+    """The best offered grasp's score (rank 0 of the list the executed grasp came from): a
+    grasp executed far below it is counted in the report."""
     fallback: bool = False
     refusals: dict[str, int] = field(default_factory=dict)
     """How many tried grasps were refused for each reason (``ik:lift``, ``planner:transfer``)."""
@@ -313,7 +316,9 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         grasped_true_part=None if not station.asset.hangable_parts or executed is None else
         on_part(executed.structure.c),
         grasp_rank=plan.rank if plan else -1, grasp_kind=plan.kind if plan else "",
-        grasp_score=status.score, fallback=status.fallback, refusals=refusals,
+        grasp_score=status.score, best_score=_best_score(
+            _port_value(source.fallback, context) if status.fallback else offered),
+        fallback=status.fallback, refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),
         place=plan.place_W.tolist() if plan else [],
@@ -327,6 +332,10 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
                  "simulate": wall},
         warnings=list(station.asset.warnings),
     )
+
+
+def _best_score(grasps) -> float:
+    return float(getattr(grasps[0], "score", float("nan"))) if grasps else float("nan")
 
 
 def _on_true_part(asset: ObjectAsset, X_WO):

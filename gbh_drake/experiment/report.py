@@ -257,6 +257,8 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines.append("A refused grasp is one the planner could not execute (no IK solution or no "
                  "collision-free path for a stage); the next ranked grasp is then tried.")
 
+    lines += ["", "## Executed grasps by rank", ""] + by_rank(data)
+
     lines += ["", "## Failed trials (objects with hangable parts)", ""]
     rows = [[r["object"], r["method"], r["trial"], r["seed"], r["outcome"], r["reason"],
              f"[replay]({r['replay']})" if r.get("replay") else "-"] for r in failed]
@@ -292,6 +294,40 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
 #: Resting-pose classes by the tilt of the object's z axis from the world's (deg): the start pose
 #: as drawn from the object's stable resting poses, relative to its mesh as modelled (z up).
 RESTING_POSES = (("upright", 0.0, 30.0), ("on its side", 30.0, 150.0), ("upside down", 150.0, 180.1))
+
+
+#: A grasp executed with a score below this fraction of its list's best is of low value.
+LOW_VALUE = 0.1
+
+
+def by_rank(data: ReportInput) -> list[str]:
+    """Per method: the executed grasps by rank in their list (the first, 2-3, 4-10, a fallback)
+    and those of low value (score below LOW_VALUE x the list's best), each as successes/total:
+    how often the planner had to go down the list, and whether that paid."""
+    buckets = (("#1", lambda r: r["grasp_rank"] == 0), ("#2-3", lambda r: 1 <= r["grasp_rank"] <= 2),
+               ("#4+", lambda r: r["grasp_rank"] >= 3))
+    rows = []
+    for method in data.methods:
+        done = [r for r in data.rows if r["method"] == method and r.get("grasp_rank", -1) >= 0]
+        primary = [r for r in done if not r.get("fallback")]
+        cells = []
+        for _, test in buckets:
+            mine = [r for r in primary if test(r)]
+            cells.append(f"{sum(bool(r['success']) for r in mine)}/{len(mine)}")
+        fallback = [r for r in done if r.get("fallback")]
+        cells.append(f"{sum(bool(r['success']) for r in fallback)}/{len(fallback)}")
+        low = [r for r in done if _low_value(r)]
+        cells.append(f"{sum(bool(r['success']) for r in low)}/{len(low)}")
+        rows.append([method, *cells])
+    return _table(["Method", *(b[0] for b in buckets), "Fallback",
+                   f"Score < {LOW_VALUE:g} x best"], rows) + [
+        "", "Successes / executed grasps, by the executed grasp's rank in its ranked list."]
+
+
+def _low_value(row: dict) -> bool:
+    record = row.get("record") or {}
+    score, best = row.get("grasp_score"), record.get("best_score")
+    return score is not None and best is not None and best > 0 and score < LOW_VALUE * best
 
 
 def resting_pose(pose: list[float]) -> str:

@@ -170,3 +170,20 @@ def test_resting_pose_classes_and_their_table(made_up):
     assert "| gbh-10 | 2/2 (100.0 %) | 1/2 (50.0 %) | - |" in table
     assert "| antipodal | 0/2 (0.0 %) | 1/2 (50.0 %) | - |" in table
     assert "## By resting pose" in summary_markdown(read_input(folder))
+
+
+def test_executed_grasps_are_counted_by_rank_and_value(tmp_path):
+    """How often the planner went down the ranked list, a fallback was executed, or a grasp far
+    below the best: each as successes / executed."""
+    from gbh_drake.experiment.report import ReportInput, by_rank
+
+    rows = [make_row("mug_classic", "gbh-10", 0), make_row("mug_classic", "gbh-10", 1),
+            make_row("kettle", "gbh-10", 0, "not_lifted"), make_row("kettle", "gbh-10", 1)]
+    rows[1].update(grasp_rank=4, grasp_score=0.002)
+    rows[1]["record"]["best_score"] = 0.9
+    rows[2].update(grasp_rank=1)
+    rows[3].update(fallback=True, grasp_rank=0)
+    data = ReportInput(name="x", objects=["mug_classic", "kettle"], methods=["gbh-10"],
+                       trials=2, paper={}, rows=rows)
+    table = "\n".join(by_rank(data))
+    assert "| gbh-10 | 1/1 | 0/1 | 1/1 | 1/1 | 1/1 |" in table

@@ -1,0 +1,193 @@
+"""Sensitivity of GbH's thresholds over the whole object set, on the experiment's own trials.
+
+Every trial of an experiment (its objects x trials, at the same seeds and poses as
+``gbh experiment``) is scanned once, for each GbH method of the experiment (10 views, 1 view):
+the trial's diagram is built and simulated until the scan is taken. Then GbH's three stages run
+on each scan once per value of each swept parameter (the others at the scenario's values), and
+per value the script counts, over all trials:
+
+* ``part found``: trials with a hanging structure on a true hangable part (the object set's
+  ground truth: c within half the part's clear diameter + 2 cm of its centre);
+* ``grasp on part``: trials with a ranked (collision-free, table-clear) grasp on a true part,
+  ``top on part``: whose best grasp is on one: what the planner would try first;
+* ``false structures``: structures not on a true part, ``controls hit``: control trials with any
+  structure (a control hooked by a false structure is the worst error);
+* ``seconds``: the GbH core's median time per scan.
+
+It does not simulate the pick (the experiment does that with the chosen values): these are the
+pre-execution counts, the stage a threshold decides. Usage::
+
+    python tools/sweep_thresholds.py scenarios/experiment.yaml --out docs/thresholds \\
+        --sweep contact_angle_deg=25,30,35,40,45 --sweep snap_tilt_max_deg=0,30,45,60 \\
+        --sweep "approach_rotations_deg=[0];[0,-20,20];[0,-20,20,-40,40]"
+
+writes ``<out>/scans.pkl`` (the scans, reused by later runs), ``<out>/rows.jsonl`` and prints the
+Markdown tables (``<out>/README.md``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import json
+import os
+import pickle
+import statistics
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+def _scan_task(args):
+    """(key, scan record) of one trial: the scanned mesh, the ground and the truth (parts in W)."""
+    key, scenario_yaml, source_path = args
+    import logging
+
+    import numpy as np
+    from pydrake.common.yaml import yaml_load_typed
+    from pydrake.systems.analysis import Simulator
+
+    from gbh_drake.scenario import Scenario
+    from gbh_drake.trial import build_trial
+
+    logging.getLogger("drake").setLevel(logging.WARNING)
+    scenario = yaml_load_typed(schema=Scenario, data=scenario_yaml)
+    scenario.source_path = source_path
+    trial = build_trial(scenario)
+    simulator = Simulator(trial.diagram)
+    simulator.Initialize()
+    port = trial.scanner.GetOutputPort("mesh_W")
+    t = scenario.settle_time
+    while True:  # until the scan is taken (once the object is still)
+        simulator.AdvanceTo(t)
+        scan = port.Eval(trial.scanner.GetMyContextFromRoot(simulator.get_context()))
+        if getattr(scan, "taken_at", t) == getattr(scan, "taken_at", t) or t > 10.0:  # not nan
+            break
+        t += 0.05
+    X = trial.station.X_WO_initial
+    parts = [(np.asarray(X.multiply(p.center_O)), 0.5 * p.clear_diameter + 0.02)
+             for p in trial.station.asset.hangable_parts]
+    return key, {"vertices": np.asarray(scan.mesh_W.vertices), "faces": np.asarray(
+        scan.mesh_W.faces), "empty": bool(scan.empty), "ground": scan.table.as_ground()
+        if scan.table is not None else None, "parts": parts, "seed": trial.seeds.sampling,
+        "gbh": scenario.gbh}
+
+
+def _gbh_task(args):
+    """Counts of one scan under one parameter value."""
+    key, record, name, value = args
+    import numpy as np
+    import trimesh
+
+    from gbh_drake.core.pipeline import plan_grasps
+    from gbh_drake.core.results import GbhInputError
+
+    params = copy.deepcopy(record["gbh"])  # the trial's own, as the trial's GbH systems use it
+    setattr(params, name, value)
+    out = {"key": list(key), "param": name, "value": value, "structures": 0, "false": 0,
+           "part_found": False, "grasp_on_part": False, "top_on_part": False, "ranked": 0,
+           "seconds": 0.0}
+    if record["empty"] or not len(record["faces"]):
+        return out
+    mesh = trimesh.Trimesh(record["vertices"], record["faces"], process=False)
+
+    def on_part(c) -> bool:
+        return any(np.linalg.norm(np.asarray(c) - center) <= r for center, r in record["parts"])
+
+    start = time.perf_counter()
+    try:
+        result = plan_grasps(mesh, params, seed=record["seed"])
+    except GbhInputError:
+        return out
+    out["seconds"] = time.perf_counter() - start
+    found = [on_part(s.c) for s in result.structures]
+    ranked = [on_part(g.structure.c) for g in result.ranked]
+    out.update(structures=len(found), false=len(found) - sum(found), part_found=any(found),
+               grasp_on_part=any(ranked), top_on_part=bool(ranked and ranked[0]),
+               ranked=len(ranked))
+    return out
+
+
+def _parse_sweep(text: str):
+    name, values = text.split("=", 1)
+    if values.startswith("["):
+        return name, [json.loads(v) for v in values.split(";")]
+    return name, [float(v) for v in values.split(",")]
+
+
+def _table(rows: list[dict], controls: set[str]) -> list[str]:
+    lines = []
+    by = {}
+    for r in rows:
+        by.setdefault((r["param"], json.dumps(r["value"]), r["key"][1]), []).append(r)
+    for param in dict.fromkeys(r["param"] for r in rows):
+        lines += ["", f"### `{param}`", "",
+                  "| value | method | part found | grasp on part | top on part | false "
+                  "structures | controls hit | median s |", "|---|---|---|---|---|---|---|---|"]
+        for (p, value, method), group in by.items():
+            if p != param:
+                continue
+            parts = [r for r in group if r["key"][0] not in controls]
+            ctrl = [r for r in group if r["key"][0] in controls]
+            lines.append(
+                f"| {value} | {method} | {sum(r['part_found'] for r in parts)}/{len(parts)} | "
+                f"{sum(r['grasp_on_part'] for r in parts)}/{len(parts)} | "
+                f"{sum(r['top_on_part'] for r in parts)}/{len(parts)} | "
+                f"{sum(r['false'] for r in group)} | "
+                f"{sum(r['structures'] > 0 for r in ctrl)}/{len(ctrl)} | "
+                f"{statistics.median(r['seconds'] for r in group):.2f} |")
+    return lines
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("experiment")
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--sweep", action="append", default=[], metavar="NAME=V1,V2")
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--methods", default="gbh-10,gbh-1")
+    args = parser.parse_args(argv)
+
+    from gbh_drake.experiment.config import load_experiment, make_tasks
+    from gbh_drake.objects import make_object
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    experiment = load_experiment(args.experiment)
+    methods = args.methods.split(",")
+    experiment.methods = [m for m in experiment.methods if m.name in methods]
+    tasks = make_tasks(experiment)
+    controls = {n for n in experiment.objects if make_object(n).is_control}
+    cache = out / "scans.pkl"
+    scans = pickle.loads(cache.read_bytes()) if cache.is_file() else {}
+    todo = [((t.object, t.method, t.trial), t.scenario_yaml, t.source_path) for t in tasks
+            if (t.object, t.method, t.trial) not in scans]
+    start = time.perf_counter()
+    with ProcessPoolExecutor(args.workers) as pool:
+        for i, (key, record) in enumerate(pool.map(_scan_task, todo, chunksize=2)):
+            scans[key] = record
+            if (i + 1) % 20 == 0:
+                print(f"scanned {i + 1}/{len(todo)} ({time.perf_counter() - start:.0f} s)",
+                      file=sys.stderr)
+    cache.write_bytes(pickle.dumps(scans))
+    sweeps = [_parse_sweep(s) for s in args.sweep]
+    jobs = [(key, scans[key], name, value) for name, values in sweeps for value in values
+            for key in sorted(scans)]
+    with ProcessPoolExecutor(args.workers) as pool:
+        rows = list(pool.map(_gbh_task, jobs, chunksize=4))
+    with open(out / "rows.jsonl", "w") as f:
+        for r in rows:
+            f.write(json.dumps(r) + "\n")
+    text = "\n".join(_table(rows, controls))
+    (out / "README.md").write_text(text + "\n")
+    print(text)
+    print(f"{len(scans)} scans, {len(rows)} GbH runs in {time.perf_counter() - start:.0f} s",
+          file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
