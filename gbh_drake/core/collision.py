@@ -9,6 +9,12 @@
   (a pinch) instead of closing its loop around it (a cage), so the closing motion is checked
   as well. The caged material, inside the closed loop's hole (:func:`closed_loop_interior_G`),
   is outside every swept box; it counts only if it comes within the margin of a moving part.
+* unknown space in the sweep (ours, with a scan's free space, ``GbhParams.unknown_is_occupied``):
+  a one-view scan lacks the material the camera did not see, so the closing motion can "meet
+  nothing" in a place no camera saw. :func:`count_unknown_in_sweep` counts the points of a grid
+  filling the moving parts' swept volume (outside the open model, as N_sweep) that no camera
+  saw free, that lie above the supporting surface and away from the scanned surface (whose own
+  noise band is not free either and is N_sweep's business); they are added to N_sweep.
 * ground distance (ours): the height of the lowest point of the solid model above the supporting
   plane, over the open pose, the closing sweep and the closed pose.
 
@@ -35,6 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import frame_coordinates
 from gbh_drake.core.gripper import HOOK_GRIPPER, Box, HookGripperGeometry
 from gbh_drake.core.results import PARALLEL, VERTICAL
@@ -207,6 +214,59 @@ def count_open_and_sweep(points_W: np.ndarray, X_WG: np.ndarray, kind: str, marg
             n_open[sl] = inside_open.sum(axis=1)
             n_sweep[sl] = (swept & ~inside_open).sum(axis=1)
     return n_open, n_sweep
+
+
+# ---- unknown space ---------------------------------------------------------------------------
+def box_grid(boxes: list[Box], spacing: float, margin: float = 0.0) -> np.ndarray:
+    """(n, 3) points filling each box (grown by ``margin``) on a grid of at most ``spacing``
+    (m) per axis, its faces included (a box thinner than ``spacing`` still gets two layers)."""
+    parts = []
+    for b in boxes:
+        c = np.asarray(b.center, dtype=float)
+        h = np.asarray(b.half_extents, dtype=float) + margin
+        axes = [np.linspace(c[k] - h[k], c[k] + h[k], max(2, int(np.ceil(2 * h[k] / spacing)) + 1))
+                for k in range(3)]
+        parts.append(np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3))
+    return np.concatenate(parts) if parts else np.zeros((0, 3))
+
+
+def sweep_grid_G(kind: str, spacing: float, margin: float = 0.0, sweep_margin: float = 0.0,
+                 gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(n, 3) grid points (G, m) of the volume the moving parts sweep while closing
+    (:func:`moving_swept_boxes_G` grown by ``margin + sweep_margin``) outside the open solid
+    model (grown by ``margin``): where N_sweep counts object points."""
+    grid = box_grid(moving_swept_boxes_G(kind, gripper), spacing, margin + sweep_margin)
+    x, y, z = (grid[:, k] for k in range(3))
+    inside_open, = _box_union_masks(x, y, z, [closing_boxes_G(kind, gripper.q_open, gripper)],
+                                    [margin])
+    return grid[~inside_open]
+
+
+def count_unknown_in_sweep(free: FreeSpace, X_WG: np.ndarray, grid_G: np.ndarray,
+                           ground_normal: np.ndarray, ground_height: float,
+                           surface_distance=None, surface_band: float = 0.0) -> np.ndarray:
+    """(M,) int: for each pose X_WG (M, 4, 4), how many of the points ``grid_G`` (n, 3, in G)
+    lie in space no camera saw free (``free.observed_free`` at its margin), more than
+    ``free.margin`` above the supporting plane (``ground_normal . p = ground_height``, W: the
+    table's own noise band is not free) and, when ``surface_distance`` (a function of (k, 3)
+    points in W giving their distance to the scanned surface, m) is given, farther than
+    ``surface_band`` from the scanned surface."""
+    X = np.asarray(X_WG, dtype=float).reshape(-1, 4, 4)
+    counts = np.zeros(len(X), dtype=int)
+    if len(X) == 0 or len(grid_G) == 0:
+        return counts
+    n = np.asarray(ground_normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    p = (np.einsum("mij,nj->mni", X[:, :3, :3], grid_G) + X[:, None, :3, 3]).reshape(-1, 3)
+    pose = np.repeat(np.arange(len(X)), len(grid_G))
+    keep = p @ n > ground_height + free.margin
+    p, pose = p[keep], pose[keep]
+    unknown = ~free.observed_free(p)
+    p, pose = p[unknown], pose[unknown]
+    if surface_distance is not None and len(p):
+        far = surface_distance(p) > surface_band
+        pose = pose[far]
+    return np.bincount(pose, minlength=len(X))
 
 
 # ---- the supporting surface -----------------------------------------------------------------

@@ -13,7 +13,11 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
    (coarse Fibonacci sphere, then cones of shrinking size around the best). Ties (e.g. a ring
    seen from slightly tilted planes: all rays still hit) go to the plane with the smallest mean
    hit distance, which is the plane that cuts the material most squarely;
-5. through-hole test: rays from c along +v and -v must both miss.
+5. through-hole test: rays from c along +v and -v must both miss. When the object comes with
+   what the cameras saw free (``ObjectModel.free_space``, a scan's) and
+   ``GbhParams.unknown_is_occupied`` is set, the rays must also run in observed-free space
+   until they leave the object's bounding box: a ray that "misses" because the material it
+   would meet was never seen proves no hole (:func:`observed_through`).
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal_basis, unit
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
@@ -33,17 +38,22 @@ from gbh_drake.core.results import HangingStructure
 _REFINE_SHRINK = 4.0
 #: Refinement levels after the coarse sphere search.
 _REFINE_LEVELS = 2
+#: The through-hole rays are checked in the free space this far (in sample spacings) beyond
+#: the object's bounding box, at steps of half a sample spacing.
+_RAY_BEYOND_BOX_SPACINGS = 2.0
 
 
 def detect_hangable_structures(
-    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
+    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0,
+    free_space: FreeSpace | None = None,
 ) -> list[HangingStructure]:
     """Hangable structures of ``mesh`` (vertices in W, metres), best (largest m) first;
-    ``seed``: the surface sampler's (when ``mesh`` is not prepared yet).
+    ``seed``: the surface sampler's (when ``mesh`` is not prepared yet); ``free_space``: what
+    the cameras saw free (else the prepared model's, if any; see the module docstring, 5.).
 
     An object with nothing hangable gives an empty list. Raises GbhInputError for unusable input.
     """
-    obj = prepare_object(mesh, params, seed)
+    obj = prepare_object(mesh, params, seed, free_space)
     idx = contact_candidates(obj, params)
     labels = cluster_points(obj.points[idx], params.cluster_radius * obj.spacing,
                             params.min_cluster_size)
@@ -53,6 +63,9 @@ def detect_hangable_structures(
         return []
     v, t, dirs = hanging_directions(obj, c, params)
     through = through_hole(obj, c, v)
+    free = active_free_space(obj, params)
+    if free is not None:
+        through &= observed_through(obj, free, c, v, params.ground_normal, params.ground_height)
     structures = [
         _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
         for i in np.flatnonzero(through)
@@ -200,6 +213,40 @@ def through_hole(obj: ObjectModel, c: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Mask (P,): the rays from c along +v and along -v both miss the mesh."""
     t = obj.cast(np.concatenate([c, c]), np.concatenate([v, -v]))
     return ~np.isfinite(t).reshape(2, -1).any(axis=0)
+
+
+def active_free_space(obj: ObjectModel, params: GbhParams) -> FreeSpace | None:
+    """The model's free space when ``params.unknown_is_occupied`` asks for it, else None."""
+    return obj.free_space if params.unknown_is_occupied else None
+
+
+def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
+                     ground_normal=(0.0, 0.0, 1.0), ground_height: float = 0.0) -> np.ndarray:
+    """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in observed-free space
+    (``free.observed_free`` at its margin) from c until they are ``_RAY_BEYOND_BOX_SPACINGS``
+    sample spacings out of the mesh's bounding box, sampled every half spacing. All samples
+    must be free: one unseen stretch may be the material the view did not see. Samples less
+    than the margin above the supporting plane (``ground_normal . p = ground_height``) are not
+    asked: the table is not the object (the scan cut it away), and no camera sees into it."""
+    if len(c) == 0:
+        return np.zeros(0, dtype=bool)
+    origins = np.concatenate([c, c])
+    dirs = np.concatenate([v, -v])
+    lo, hi = np.asarray(obj.mesh.bounds, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exit_t = np.where(dirs > 0, (hi - origins) / dirs,
+                          np.where(dirs < 0, (lo - origins) / dirs, np.inf)).min(axis=1)
+    length = np.maximum(exit_t, 0.0) + _RAY_BEYOND_BOX_SPACINGS * obj.spacing
+    step = 0.5 * obj.spacing
+    n = int(np.ceil(length.max() / step)) + 1
+    t = np.arange(n) * step  # (n,)
+    used = t[None, :] <= length[:, None]  # (2P, n)
+    samples = origins[:, None] + t[None, :, None] * dirs[:, None]
+    n_g = np.asarray(ground_normal, dtype=float)
+    used &= samples @ (n_g / np.linalg.norm(n_g)) > ground_height + free.margin
+    free_mask = np.ones(used.shape, dtype=bool)
+    free_mask[used] = free.observed_free(samples[used])
+    return free_mask.all(axis=1).reshape(2, -1).all(axis=0)
 
 
 def _structure(

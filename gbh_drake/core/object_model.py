@@ -9,6 +9,7 @@ are the faces' as wound (set ``GbhParams.require_watertight`` to reject such mes
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,6 +18,7 @@ import trimesh
 from scipy.sparse import csr_array
 from scipy.spatial import cKDTree
 
+from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError
 
@@ -47,6 +49,10 @@ class ObjectModel:
     """KD-tree of ``points`` (fast approximate distances to the surface)."""
     sampling: tuple = ()
     """(seed, n_points, oversampling, require_watertight) the model was prepared with."""
+    free_space: FreeSpace | None = None
+    """What the cameras saw free around the object (a scan's; None for a plain mesh): with
+    ``GbhParams.unknown_is_occupied``, the through-hole rays must run in it and the closing
+    sweep counts the space outside it as possibly occupied."""
 
     def __deepcopy__(self, memo) -> ObjectModel:
         """Shared, not copied: the model is never modified after :func:`prepare_object`, and its
@@ -78,11 +84,13 @@ class ObjectModel:
 
 
 def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
-                   seed: int = 0) -> ObjectModel:
+                   seed: int = 0, free_space: FreeSpace | None = None) -> ObjectModel:
     """Validate ``mesh`` (vertices in W, metres), compute its CoM, sample it (``seed``: the
     surface sampler's; same mesh, params and seed: identical samples), build a ray scene.
+    ``free_space``: what the cameras saw free (a scan's), kept on the model.
 
-    An :class:`ObjectModel` is returned unchanged, so every stage accepts either; it must have
+    An :class:`ObjectModel` is returned unchanged (a shallow copy holding ``free_space`` when
+    one is given and differs from its own), so every stage accepts either; it must have
     been prepared with the same sampling parameters and seed (else GbhInputError: its samples
     would not be the ones asked for). Raises :class:`GbhInputError` with a message for unusable
     input.
@@ -93,6 +101,8 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
                 f"the ObjectModel was prepared with sampling {mesh.sampling}, not "
                 f"{_sampling_key(params, seed)}: prepare it again with these params"
             )
+        if free_space is not None and free_space is not mesh.free_space:
+            return dataclasses.replace(mesh, free_space=free_space)
         return mesh
     params.check()
     clean = _clean_mesh(mesh)
@@ -110,7 +120,7 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
     points, normals, spacing = poisson_disk_samples(clean, params.n_points, params.oversampling,
                                                     seed)
     return ObjectModel(clean, points, normals, com, spacing, watertight, raycasting_scene(clean),
-                       cKDTree(points), _sampling_key(params, seed))
+                       cKDTree(points), _sampling_key(params, seed), free_space)
 
 
 def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:

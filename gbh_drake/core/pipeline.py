@@ -2,33 +2,46 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
 import trimesh
 
-from gbh_drake.core.collision import count_open_and_sweep, ground_distance
+from gbh_drake.core.collision import (
+    count_open_and_sweep,
+    count_unknown_in_sweep,
+    ground_distance,
+    sweep_grid_G,
+)
+from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.grasp_synthesis import synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
-from gbh_drake.core.hangability import detect_hangable_structures
+from gbh_drake.core.hangability import active_free_space, detect_hangable_structures
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
 
 
-def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
-           ) -> tuple[ObjectModel, list[HangingStructure]]:
-    """Stage 1 (paper Sec. 2.2): the prepared object (samples from ``seed``, CoM, ray scene) and
-    its hanging structures. Raises GbhInputError for unusable input."""
-    obj = prepare_object(mesh, params, seed)
+def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0,
+           free_space: FreeSpace | None = None) -> tuple[ObjectModel, list[HangingStructure]]:
+    """Stage 1 (paper Sec. 2.2): the prepared object (samples from ``seed``, CoM, ray scene,
+    ``free_space``: what the cameras saw free, if known) and its hanging structures. Raises
+    GbhInputError for unusable input."""
+    obj = prepare_object(mesh, params, seed, free_space)
     return obj, detect_hangable_structures(obj, params, seed)
 
 
 def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,
-               gripper: HookGripperGeometry = HOOK_GRIPPER) -> list[GraspCandidate]:
+               gripper: HookGripperGeometry = HOOK_GRIPPER, free_space: FreeSpace | None = None
+               ) -> list[GraspCandidate]:
     """Stage 2 (Sec. 2.3): parallel and vertical grasps with N_c (open gripper at X_WG), N_sweep
-    (closing motion) and the ground distance computed on the object's points."""
+    (closing motion) and the ground distance computed on the object's points (and N_sweep on
+    the unknown space too, see :func:`count_collisions`). ``free_space``: what the cameras saw
+    free, when ``obj`` does not hold it already."""
+    if free_space is not None and free_space is not obj.free_space:
+        obj = dataclasses.replace(obj, free_space=free_space)
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     count_collisions(obj, candidates, params, gripper)
     return candidates
@@ -38,7 +51,16 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
                      gripper: HookGripperGeometry = HOOK_GRIPPER) -> None:
     """Sets ``n_collisions`` (N_c: object points inside the open gripper), ``n_sweep_collisions``
     (points the closing motion meets) and ``ground_distance`` (how far above the supporting
-    surface the gripper stays, open, closing and closed) of every candidate."""
+    surface the gripper stays, open, closing and closed) of every candidate.
+
+    With the object's free space (``obj.free_space``) and ``params.unknown_is_occupied``, the
+    unknown points of the closing sweep (``collision.count_unknown_in_sweep``: a grid of the
+    swept volume at the larger of the sample spacing and the free space's margin, at most half
+    a rod width so every rod's cross-section holds grid points) are added to N_sweep, for the
+    candidates that pass every other check (the others are rejected already; their N_sweep
+    counts object points only). Grid points within the free space's margin of the scanned
+    surface are not counted: that band is the surface's own (no camera sees it free, the
+    object's samples stand for it)."""
     if not candidates:
         return
     X = np.stack([g.X_WG for g in candidates])
@@ -52,8 +74,31 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
             sweep_margin=params.sweep_margin_spacings * obj.spacing)
     height = ground_distance(X, kinds, np.asarray(params.ground_normal), params.ground_height,
                              gripper)
+    free = active_free_space(obj, params)
+    if free is not None:
+        n_s += _unknown_in_sweep(obj, free, X, kinds, n_c, n_s, height, params, gripper)
     for g, n, s, d in zip(candidates, n_c, n_s, height, strict=True):
         g.n_collisions, g.n_sweep_collisions, g.ground_distance = int(n), int(s), float(d)
+
+
+def _unknown_in_sweep(obj: ObjectModel, free: FreeSpace, X: np.ndarray, kinds: list[str],
+                      n_c: np.ndarray, n_s: np.ndarray, height: np.ndarray, params: GbhParams,
+                      gripper: HookGripperGeometry) -> np.ndarray:
+    """(M,) unknown points in the closing sweep of the candidates that pass the other checks."""
+    out = np.zeros(len(X), dtype=int)
+    passing = (n_c < params.p_c) & (n_s < params.p_sweep)
+    if params.ground_clearance >= 0:
+        passing &= height >= params.ground_clearance
+    spacing = min(max(obj.spacing, free.margin), 0.5 * gripper.rod_width)
+    for kind in dict.fromkeys(kinds):
+        sel = np.flatnonzero(passing & np.array([k == kind for k in kinds]))
+        if len(sel) == 0:
+            continue
+        grid = sweep_grid_G(kind, spacing, params.collision_margin,
+                            params.sweep_margin_spacings * obj.spacing, gripper)
+        out[sel] = count_unknown_in_sweep(free, X[sel], grid, np.asarray(params.ground_normal),
+                                          params.ground_height, obj.distance, free.margin)
+    return out
 
 
 def score(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
@@ -67,15 +112,18 @@ def plan_grasps(
     params: GbhParams | None = None,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
     seed: int = 0,
+    free_space: FreeSpace | None = None,
 ) -> GbhResult:
     """Run hangability detection, grasp synthesis, collision counting and scoring on ``mesh``
     (vertices in W, metres; ``seed``: the surface sampler's). Grasps are X_WG of the open
     gripper; ``result.ranked`` holds the collision-free top-k (open, closing and closed;
     scoring.rank_grasps). Raises GbhInputError for unusable input; nothing hangable gives empty
-    lists. ``result.timings`` has the seconds of each stage."""
+    lists. ``result.timings`` has the seconds of each stage. ``free_space``: what the cameras
+    saw free (a scan's ``ScanResult.free_space``); with ``params.unknown_is_occupied`` unseen
+    space is possibly occupied (through-hole rays, closing sweep)."""
     params = GbhParams() if params is None else params
     clock = _StageClock()
-    obj = prepare_object(mesh, params, seed)
+    obj = prepare_object(mesh, params, seed, free_space)
     clock.lap("sampling")
     structures = detect_hangable_structures(obj, params, seed)
     clock.lap("hangability")

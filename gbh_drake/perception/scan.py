@@ -34,6 +34,7 @@ import trimesh
 from pydrake.geometry import QueryObject
 from pydrake.math import RigidTransform
 
+from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.perception.camera import CameraIntrinsics, make_depth_camera, render_depth_images
 from gbh_drake.perception.cap import CapReport, cap_bottom, cut_at_height
 from gbh_drake.perception.cleanup import keep_large_components
@@ -93,6 +94,10 @@ class ScanResult:
     """Poses of the first look's cameras (not fused)."""
     cap: CapReport = field(default_factory=CapReport)
     """What capping the bottom did."""
+    free_space: FreeSpace | None = None
+    """What the views saw free (their depth images as measured, noise included, with the
+    intrinsics and poses; :func:`free_space_margin`): the GbH core treats the rest as possibly
+    occupied (``GbhParams.unknown_is_occupied``). None for an empty scan."""
     taken_at: float = float("nan")
     """Simulated time (s) at which the ``Scanner`` took the scan; nan for a scan taken outside a
     simulation and for the Scanner's "not scanned yet" placeholder."""
@@ -198,7 +203,7 @@ def _aimed_scan(query_object: QueryObject, config: ScanConfig, p_WT: np.ndarray,
     depths = render_depth_images(query_object, make_depth_camera(config), X_WCs)
     timing["render"] += time.perf_counter() - start
     result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT,
-                               first_look=look, noise_seed=noise_seed)
+                               first_look=look, noise_seed=noise_seed, view_distance=distance)
     result.warnings = warnings + result.warnings
     for stage, seconds in result.timing.items():
         timing[stage] = timing.get(stage, 0.0) + seconds
@@ -274,16 +279,50 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
     return look
 
 
+def free_space_margin(config: ScanConfig, depth: float) -> float:
+    """Margin (m) by which a point must be nearer than a pixel's measured depth to count as
+    seen free (``FreeSpace.observed_free``), for views at about ``depth`` (m).
+
+    One TSDF voxel (``voxel_size``): the fused surface, hence the object's samples, lies up to
+    about a voxel from the measured depth (trilinear SDF, marching cubes), so without it the
+    scan's own surface points would be "seen free" by the view that measured them. With
+    ``config.noise``, plus three standard deviations of the axial noise at ``depth`` and one
+    disparity step (a measured depth can lie that far behind the true surface). Noise-free at
+    2.5 mm voxels: 2.5 mm; with noise at 0.6 m: about 7 mm."""
+    margin = config.voxel_size
+    if config.noise:
+        z = max(float(depth), config.depth_min)
+        margin += 3.0 * (config.noise_sigma + config.noise_sigma_quadratic * (z - 0.4) ** 2)
+        margin += config.noise_depth_step * z * z
+    return float(margin)
+
+
+def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
+                    X_WCs: Sequence[RigidTransform], config: ScanConfig, depth: float, *,
+                    far_is_free: bool = True) -> FreeSpace:
+    """The views' observed-free space (``core.free_space``) at :func:`free_space_margin`.
+    ``far_is_free``: an ``inf`` pixel means nothing was hit up to ``config.depth_max`` (Drake's
+    renderer); False for a sensor whose "no return" may hide a surface."""
+    return FreeSpace.from_depth_images(
+        depths, intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
+        [X_WC.inverse().GetAsMatrix4() for X_WC in X_WCs], free_space_margin(config, depth),
+        config.depth_max if far_is_free else None)
+
+
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                       X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT, *,
-                      first_look: FirstLook | None = None, noise_seed: int = 0) -> ScanResult:
+                      first_look: FirstLook | None = None, noise_seed: int = 0,
+                      view_distance: float | None = None, far_is_free: bool = True
+                      ) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
     mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``
     (seeded by ``noise_seed``).
 
     The table plane is fitted to the images' points and the object is the cluster nearest p_WT
     (see ``segment.segment_points``), unless ``first_look`` (from :func:`first_look`) already
-    found them."""
+    found them. The images (noisy) are kept as ``free_space`` (:func:`make_free_space`, its
+    margin for views at ``view_distance``, default ``config.distance``; ``far_is_free``: an
+    inf pixel saw nothing up to ``config.depth_max``, true of Drake's renderer)."""
     start = time.perf_counter()
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     timing: dict[str, float] = {}
@@ -332,6 +371,9 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
             mesh, result.cap = cap_bottom(mesh, table, config, points.p_WQ[near])
         timing["cap"] = time.perf_counter() - t
         result.mesh_W = mesh
+        distance = config.distance if view_distance is None else view_distance
+        result.free_space = make_free_space(depths, intrinsics, X_WCs, config, distance,
+                                            far_is_free=far_is_free)
         if len(mesh.faces) == 0:
             message = (f"empty scan: {len(result.p_WQ)} points of the object but fusion gave "
                        f"no surface (voxel {config.voxel_size} m)")

@@ -22,7 +22,8 @@ class GraspSynthesizer(AbstractStage):
 
     ``hanging_structures``: a :class:`~gbh_drake.systems.hangability_detector.Hangability`.
     ``grasp_candidates``: ``list[GraspCandidate]`` (X_WG of the open gripper, ``n_collisions``
-    set, not yet scored).
+    set, not yet scored). The unknown space of a scan (``Hangability.object.free_space``)
+    counts in N_sweep when ``GbhParams.unknown_is_occupied``.
     """
 
     def __init__(self, params: GbhParams | None = None,

@@ -17,8 +17,9 @@ from gbh_drake.systems.stage import AbstractStage
 
 @dataclass
 class Hangability:
-    """The detector's output: the prepared object (samples, CoM; None when the input was
-    unusable), its hanging structures (in W) and a message when there are none."""
+    """The detector's output: the prepared object (samples, CoM, and the scan's free space when
+    the input was a scan; None when the input was unusable), its hanging structures (in W) and
+    a message when there are none."""
 
     object: ObjectModel | None = None
     structures: list[HangingStructure] = field(default_factory=list)
@@ -39,7 +40,8 @@ class HangabilityDetector(AbstractStage):
     ``mesh_W``: the Scanner's :class:`~gbh_drake.perception.scan.ScanResult`, or any
     ``trimesh.Trimesh`` in W. ``hanging_structures``: a :class:`Hangability`. "Nothing
     hangable", an empty scan or an unusable mesh are results (empty ``structures`` and a
-    ``message``), not exceptions.
+    ``message``), not exceptions. A scan's ``free_space`` (what the views saw free) goes with
+    the prepared object (``Hangability.object.free_space``), so the GraspSynthesizer has it too.
     """
 
     def __init__(self, params: GbhParams | None = None, *, seed: int = 0):
@@ -53,8 +55,9 @@ class HangabilityDetector(AbstractStage):
         if isinstance(value, ScanResult) and value.empty:
             return Hangability(None, [], value.message or "empty scan")
         mesh = value.mesh_W if isinstance(value, ScanResult) else value
+        free_space = value.free_space if isinstance(value, ScanResult) else None
         try:
-            obj, structures = detect(mesh, self.params, self.seed)
+            obj, structures = detect(mesh, self.params, self.seed, free_space)
         except GbhInputError as e:
             return Hangability(None, [], f"unusable mesh: {e}")
         return Hangability(obj, structures, "" if structures else "no hangable structure found")

@@ -1,0 +1,120 @@
+"""Unknown space is not free space: ``core.free_space`` on hand-built depth images, and the GbH
+core's through-hole test and closing sweep with a synthetic one-view scan."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from gbh_drake.core.free_space import FreeSpace
+from gbh_drake.core.hangability import detect_hangable_structures
+from gbh_drake.core.params import GbhParams
+
+W, H, F = 64, 48, 60.0
+CX, CY = W / 2 - 0.5, H / 2 - 0.5
+
+
+def camera_X_CW(eye, target, up=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """X_CW (4, 4) of a camera at ``eye`` looking at ``target`` (+z_C forward, +y_C down)."""
+    eye, target = np.asarray(eye, float), np.asarray(target, float)
+    z = target - eye
+    z /= np.linalg.norm(z)
+    x = np.cross(z, up)
+    if np.linalg.norm(x) < 1e-9:
+        x = np.cross(z, (0.0, 1.0, 0.0))
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    R_WC = np.stack([x, y, z], axis=1)
+    X = np.eye(4)
+    X[:3, :3] = R_WC.T
+    X[:3, 3] = -R_WC.T @ eye
+    return X
+
+
+def rendered_depth(mesh: trimesh.Trimesh, X_CW: np.ndarray, w: int = W, h: int = H,
+                   f: float = F) -> np.ndarray:
+    """Depth image (h, w) of ``mesh`` (inf where nothing is hit), Drake's pixel convention."""
+    v, u = np.mgrid[0:h, 0:w]
+    cx, cy = w / 2 - 0.5, h / 2 - 0.5
+    d_C = np.stack([(u + 0.5 - cx) / f, (v + 0.5 - cy) / f, np.ones_like(u, float)], -1)
+    X_WC = np.linalg.inv(X_CW)
+    d_W = d_C.reshape(-1, 3) @ X_WC[:3, :3].T
+    o_W = np.broadcast_to(X_WC[:3, 3], d_W.shape)
+    loc, ray, _ = mesh.ray.intersects_location(o_W, d_W / np.linalg.norm(d_W, axis=1)[:, None],
+                                               multiple_hits=False)
+    depth = np.full(len(d_W), np.inf, np.float32)
+    z = ((loc - X_WC[:3, 3]) @ X_WC[:3, :3])[:, 2]
+    np.minimum.at(depth, ray, z.astype(np.float32))
+    return depth.reshape(h, w)
+
+
+def test_observed_free_on_a_hand_built_image():
+    """One camera at the origin looking along +z_W (X_CW = identity): a wall at 1 m over the
+    left half of the image, no return (inf) on the right half, a dropout (0) pixel."""
+    depth = np.full((H, W), np.inf, np.float32)
+    depth[:, : W // 2] = 1.0
+    depth[10, 5] = 0.0
+    fs = FreeSpace.from_depth_images([depth], F, F, CX, CY, [np.eye(4)], margin=0.01,
+                                     depth_max=2.0)
+    left = np.array([-0.1, 0.0, 0.0])  # pixel column ~26 at z = 1 of the left half
+    pts = np.array([left + (0, 0, 0.5), left + (0, 0, 0.985), left + (0, 0, 0.995),
+                    left + (0, 0, 1.2),  # behind the wall: unknown
+                    (0.1, 0.0, 1.5), (0.1, 0.0, 2.5),  # right half: free up to depth_max only
+                    (0.0, 0.0, -0.5),  # behind the camera
+                    (10.0, 0.0, 1.0)])  # outside the image
+    assert fs.observed_free(pts).tolist() == [True, True, False, False, True, False, False,
+                                              False]
+    assert fs.observed_free(pts[:3], margin=0.001).tolist() == [True, True, True]
+    # No depth_max: a pixel with no return proves nothing; a dropout pixel neither.
+    blind = FreeSpace.from_depth_images([depth], F, F, CX, CY, [np.eye(4)], margin=0.01)
+    assert not blind.observed_free(pts[4:5]).any()
+    u, v = 5, 10
+    p_drop = np.array([(u + 0.5 - CX) / F, (v + 0.5 - CY) / F, 1.0]) * 0.5
+    assert not fs.observed_free(p_drop[None]).any()
+
+
+def test_a_second_view_frees_what_the_first_did_not_see():
+    box = trimesh.creation.box((0.1, 0.1, 0.1))
+    X1 = camera_X_CW((0.0, -0.6, 0.0), (0.0, 0.0, 0.0))
+    X2 = camera_X_CW((0.0, 0.6, 0.0), (0.0, 0.0, 0.0))
+    behind = np.array([[0.0, 0.1, 0.0]])  # behind the box from camera 1, in front for 2
+    one = FreeSpace.from_depth_images([rendered_depth(box, X1)], F, F, CX, CY, [X1], 0.005, 3.0)
+    two = FreeSpace.from_depth_images([rendered_depth(box, X) for X in (X1, X2)], F, F, CX, CY,
+                                      [X1, X2], 0.005, 3.0)
+    assert not one.observed_free(behind).any()
+    assert two.observed_free(behind).all()
+    assert not two.observed_free(np.zeros((1, 3))).any()  # inside the box
+
+
+def front_of(mesh: trimesh.Trimesh, X_CW: np.ndarray) -> trimesh.Trimesh:
+    """The faces of ``mesh`` the camera sees (a one-view scan without its hidden side)."""
+    X_WC = np.linalg.inv(X_CW)
+    eye = X_WC[:3, 3]
+    centers = mesh.triangles_center
+    dirs = centers - eye
+    dist = np.linalg.norm(dirs, axis=1)
+    dirs /= dist[:, None]
+    tri, ray = mesh.ray.intersects_id(np.broadcast_to(eye, dirs.shape), dirs,
+                                      multiple_hits=False, return_locations=False)
+    seen = np.zeros(len(mesh.faces), bool)
+    seen[tri[tri == np.arange(len(mesh.faces))[ray]]] = True
+    facing = np.einsum("ij,ij->i", mesh.face_normals, -dirs) > 0
+    out = mesh.submesh([np.flatnonzero(seen & facing)], append=True)
+    return out
+
+
+@pytest.fixture(scope="module")
+def params() -> GbhParams:
+    return GbhParams(ground_clearance=-1.0)
+
+
+def test_a_torus_seen_through_its_hole_keeps_its_structure(params):
+    ring = trimesh.creation.torus(0.03, 0.008, major_sections=64, minor_sections=24)
+    X = camera_X_CW((0.02, 0.0, 0.6), (0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0))
+    fs = FreeSpace.from_depth_images([rendered_depth(ring, X, 160, 120, 150.0)], 150.0, 150.0,
+                                     79.5, 59.5, [X], 0.0025, 3.0)
+    scan = front_of(ring, X)
+    found = detect_hangable_structures(scan, params, free_space=fs)
+    assert found and abs(found[0].v[2]) > 0.9
+    assert np.linalg.norm(found[0].c[:2]) < 0.01
