@@ -1,0 +1,75 @@
+"""Every trial whose result changed between two experiment runs (same seeds, same poses).
+
+    python tools/compare_rows.py BEFORE/trials.jsonl AFTER/trials.jsonl [--out changes.md]
+
+A trial is (object, method, trial index); its result is the outcome and, for a success, whether a
+cage or a pinch held it. Prints, as Markdown, the successes per method before and after, then one
+line per changed trial with both reasons, gained successes first.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections import Counter
+from pathlib import Path
+
+
+def load(path: Path) -> dict[tuple, dict]:
+    rows = {}
+    for line in path.read_text().splitlines():
+        if line.strip():
+            row = json.loads(line)
+            rows[(row["object"], row["method"], int(row["trial"]))] = row
+    return rows
+
+
+def result(row: dict) -> str:
+    return f"{row['outcome']} [{row['held_by']}]" if row.get("held_by") else row["outcome"]
+
+
+def compare(before: dict[tuple, dict], after: dict[tuple, dict]) -> list[str]:
+    methods = list(dict.fromkeys(k[1] for k in before))
+    lines = ["| method | trials | successes before | after | gained | lost | cage/pinch after |",
+             "|---|---|---|---|---|---|---|"]
+    common = sorted(set(before) & set(after))
+    for m in methods:
+        keys = [k for k in common if k[1] == m]
+        b = sum(bool(before[k]["success"]) for k in keys)
+        a = sum(bool(after[k]["success"]) for k in keys)
+        gained = sum(bool(after[k]["success"]) and not before[k]["success"] for k in keys)
+        lost = sum(bool(before[k]["success"]) and not after[k]["success"] for k in keys)
+        held = Counter(after[k].get("held_by") for k in keys if after[k]["success"])
+        lines.append(f"| {m} | {len(keys)} | {b} | {a} | {gained} | {lost} | "
+                     f"{held.get('cage', 0)}/{held.get('pinch', 0)} |")
+    changed = [k for k in common if result(before[k]) != result(after[k])]
+    changed.sort(key=lambda k: (not after[k]["success"] or before[k]["success"],
+                                bool(after[k]["success"]) or not before[k]["success"], k))
+    lines += ["", f"{len(changed)} of {len(common)} trials changed:", "",
+              "| object | method | trial | before | after | reason after |", "|---|---|---|---|---|---|"]
+    for k in changed:
+        reason = after[k]["reason"].replace("|", "/")
+        lines.append(f"| {k[0]} | {k[1]} | {k[2]} | {result(before[k])} | {result(after[k])} | "
+                     f"{reason} |")
+    missing = sorted(set(before) ^ set(after))
+    if missing:
+        lines += ["", f"{len(missing)} trials are in only one of the runs."]
+    return lines
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("before", type=Path)
+    parser.add_argument("after", type=Path)
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args(argv)
+    text = "\n".join(compare(load(args.before), load(args.after))) + "\n"
+    if args.out:
+        args.out.write_text(text)
+    sys.stdout.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
