@@ -65,7 +65,8 @@ def detect_hangable_structures(
     through = through_hole(obj, c, v)
     free = active_free_space(obj, params)
     if free is not None:
-        through &= observed_through(obj, free, c, v, params.ground_normal, params.ground_height)
+        through &= observed_through(obj, free, c, v, params.ground_normal,
+                                    unknown_floor(obj, free, params))
     structures = [
         _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
         for i in np.flatnonzero(through)
@@ -220,14 +221,26 @@ def active_free_space(obj: ObjectModel, params: GbhParams) -> FreeSpace | None:
     return obj.free_space if params.unknown_is_occupied else None
 
 
+def unknown_floor(obj: ObjectModel, free: FreeSpace, params: GbhParams) -> float:
+    """Height (m, along ``params.ground_normal``, as ``ground_height``) below which unseen space
+    is not held against a hole or a sweep: two free-space margins above the lowest point of the
+    mesh, and at least one above the supporting plane. A scan cuts the object a little above
+    the table (nothing lower is in the mesh) and the table's own depth band is no camera's free
+    space; under an overhang (a pan's handle) the table is in the object's shadow as well."""
+    n = np.asarray(params.ground_normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    lowest = float((np.asarray(obj.mesh.vertices) @ n).min())
+    return max(params.ground_height + free.margin, lowest + 2.0 * free.margin)
+
+
 def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
-                     ground_normal=(0.0, 0.0, 1.0), ground_height: float = 0.0) -> np.ndarray:
+                     ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf) -> np.ndarray:
     """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in observed-free space
     (``free.observed_free`` at its margin) from c until they are ``_RAY_BEYOND_BOX_SPACINGS``
     sample spacings out of the mesh's bounding box, sampled every half spacing. All samples
-    must be free: one unseen stretch may be the material the view did not see. Samples less
-    than the margin above the supporting plane (``ground_normal . p = ground_height``) are not
-    asked: the table is not the object (the scan cut it away), and no camera sees into it."""
+    must be free: one unseen stretch may be the material the view did not see. Samples lower
+    than ``floor`` along ``ground_normal`` (:func:`unknown_floor`) are not asked: the table is
+    not the object (the scan cut it away), and no camera sees into it."""
     if len(c) == 0:
         return np.zeros(0, dtype=bool)
     origins = np.concatenate([c, c])
@@ -243,7 +256,7 @@ def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.nda
     used = t[None, :] <= length[:, None]  # (2P, n)
     samples = origins[:, None] + t[None, :, None] * dirs[:, None]
     n_g = np.asarray(ground_normal, dtype=float)
-    used &= samples @ (n_g / np.linalg.norm(n_g)) > ground_height + free.margin
+    used &= samples @ (n_g / np.linalg.norm(n_g)) > floor
     free_mask = np.ones(used.shape, dtype=bool)
     free_mask[used] = free.observed_free(samples[used])
     return free_mask.all(axis=1).reshape(2, -1).all(axis=0)

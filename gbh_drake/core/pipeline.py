@@ -17,7 +17,11 @@ from gbh_drake.core.collision import (
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.grasp_synthesis import synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
-from gbh_drake.core.hangability import active_free_space, detect_hangable_structures
+from gbh_drake.core.hangability import (
+    active_free_space,
+    detect_hangable_structures,
+    unknown_floor,
+)
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
@@ -58,9 +62,9 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
     swept volume at the larger of the sample spacing and the free space's margin, at most half
     a rod width so every rod's cross-section holds grid points) are added to N_sweep, for the
     candidates that pass every other check (the others are rejected already; their N_sweep
-    counts object points only). Grid points within the free space's margin of the scanned
-    surface are not counted: that band is the surface's own (no camera sees it free, the
-    object's samples stand for it)."""
+    counts object points only). Grid points below ``hangability.unknown_floor`` or within the
+    free space's margin of the scanned surface are not counted: that band is the surface's own
+    (no camera sees it free, the object's samples stand for it)."""
     if not candidates:
         return
     X = np.stack([g.X_WG for g in candidates])
@@ -97,7 +101,8 @@ def _unknown_in_sweep(obj: ObjectModel, free: FreeSpace, X: np.ndarray, kinds: l
         grid = sweep_grid_G(kind, spacing, params.collision_margin,
                             params.sweep_margin_spacings * obj.spacing, gripper)
         out[sel] = count_unknown_in_sweep(free, X[sel], grid, np.asarray(params.ground_normal),
-                                          params.ground_height, obj.distance, free.margin)
+                                          unknown_floor(obj, free, params) - free.margin,
+                                          obj.distance, free.margin)
     return out
 
 
