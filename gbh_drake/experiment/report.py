@@ -1,13 +1,23 @@
-"""The experiment's reports, rebuilt from its rows alone: ``summary.md`` and ``success.png``.
+"""The experiment's reports, rebuilt from its rows alone.
 
 ``summary.md`` holds: the Table-1-style table (objects with hangable parts; Method, Viewpoints,
-Total, Success, Fail, Rate, held by cage or pinch) with the paper's real-robot figures beside
-it, success by resting pose (upright, on its side, upside down), the controls (objects with
-nothing to hang) apart, a table per object, the failures by outcome
-and the grasps refused by reason, a list of the failed trials with their replays and how to rerun
-one, and timings. ``success.png``: the success rate per object and method. Rows are ordered by
-object, method and trial as the experiment lists them, never by when they finished, so the same
-rows give the same report.
+Total, Success, Fail, Rate and its Wilson 95 % interval, held by cage or pinch) with the paper's
+real-robot figures beside it, and under it every pair of methods compared on the same (object,
+trial) poses (McNemar's exact test, the difference in rate with a paired-bootstrap 95 %
+interval, Holm-adjusted p-values: :mod:`gbh_drake.experiment.stats`); success by resting pose
+(upright, on its side, upside down), the controls (objects with nothing to hang) apart, a table
+per object (each rate with its interval), the failures by outcome and by cause
+(:func:`gbh_drake.experiment.taxonomy.cause_of`), the grasps refused by reason, the executed
+grasps by rank, a list of the failed trials with their replays and how to rerun one, and
+timings. A rate of zero trials is printed "-".
+
+Beside it, for a researcher to load: ``trials.csv`` (one row per trial: the row's flat fields,
+its cause, resting pose, stage times and a few record fields; see :func:`trials_frame`) and
+``table1.csv`` (per method: trials, successes, rate, Wilson lo/hi, cage, pinch); the plots
+``success.png``/``.svg`` (success per method with Wilson error bars: the totals, then one panel
+per object) and ``causes.png``/``.svg`` (the failure causes per method, stacked). Rows are
+ordered by object, method and trial as the experiment lists them, never by when they finished,
+so the same rows give the same report.
 """
 
 from __future__ import annotations
@@ -19,15 +29,21 @@ from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
+import pandas as pd
 import yaml
 
 from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key
+from gbh_drake.experiment.stats import holm, mcnemar, wilson
+from gbh_drake.experiment.taxonomy import CAUSES, RESERVED, cause_of
 from gbh_drake.outputs import write_atomically
 
 #: Files of an experiment folder besides the rows.
 EXPERIMENT_FILE = "experiment.yaml"
 SUMMARY_FILE = "summary.md"
 PLOT_FILE = "success.png"
+CAUSES_PLOT_FILE = "causes.png"
+TRIALS_CSV = "trials.csv"
+TABLE1_CSV = "table1.csv"
 RUNS_FILE = "runs.jsonl"
 
 #: The stage times of a row shown in the report (wall seconds).
@@ -72,6 +88,13 @@ class Tally:
     def rate(self) -> str:
         return f"{100.0 * self.success / self.total:.1f} %" if self.total else "-"
 
+    def interval(self, digits: int = 1) -> str:
+        """The Wilson 95 % interval of the rate, ``[lo, hi] %``; ``-`` without trials."""
+        if not self.total:
+            return "-"
+        lo, hi = wilson(self.success, self.total)
+        return f"[{100.0 * lo:.{digits}f}, {100.0 * hi:.{digits}f}] %"
+
     @classmethod
     def of(cls, rows) -> Tally:
         tally = cls()
@@ -112,13 +135,18 @@ def read_input(folder: Path) -> ReportInput:
 
 
 def write_report(folder: Path) -> tuple[Path, Path]:
-    """Writes ``summary.md`` and ``success.png`` into ``folder`` from its rows; returns them."""
+    """Writes ``summary.md``, ``trials.csv``, ``table1.csv`` and the plots (``success`` and
+    ``causes``, PNG and SVG) into ``folder`` from its rows; returns the summary and
+    ``success.png``."""
     folder = Path(folder)
     data = read_input(folder)
     summary = folder / SUMMARY_FILE
     write_atomically(summary, summary_markdown(data, runs=read_runs(folder)))
+    write_atomically(folder / TRIALS_CSV, trials_frame(data).to_csv(index=False))
+    write_atomically(folder / TABLE1_CSV, table1_frame(data).to_csv(index=False))
     plot = folder / PLOT_FILE
     plot_success(data, plot)
+    plot_causes(data, folder / CAUSES_PLOT_FILE)
     return summary, plot
 
 
@@ -143,9 +171,14 @@ def _md(text) -> str:
 
 
 def _table(header: list[str], rows: list[list]) -> list[str]:
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(_md(c) for c in row) + " |" for row in rows]
-    return lines
+    """A Markdown table (pandas' ``to_markdown``: columns padded to their width)."""
+    return _markdown(pd.DataFrame([[_md(c) for c in row] for row in rows],
+                                  columns=[_md(h) for h in header]))
+
+
+def _markdown(frame: pd.DataFrame) -> list[str]:
+    """The lines of ``frame`` as a Markdown table, its cells as written (no number parsing)."""
+    return frame.astype(str).to_markdown(index=False, disable_numparse=True).splitlines()
 
 
 def table1(data: ReportInput) -> list[str]:
@@ -162,11 +195,13 @@ def table1(data: ReportInput) -> list[str]:
             _, total, success = PAPER_TABLE1[paper]
             paper = f"{paper}: {success}/{total} = {100.0 * success / total:.1f} %"
         out.append([method, ", ".join(map(str, views)) or "-", tally.total, tally.success,
-                    tally.fail, tally.rate(), tally.cage, tally.pinch, paper or "-"])
-    lines = _table(["Method", "Viewpoints", "Total", "Success", "Fail", "Rate", "Cage",
-                    "Pinch", "Paper (real robot, 15 objects x 5 trials)"], out)
+                    tally.fail, tally.rate(), tally.interval(), tally.cage, tally.pinch,
+                    paper or "-"])
+    lines = _table(["Method", "Viewpoints", "Total", "Success", "Fail", "Rate", "95 % CI",
+                    "Cage", "Pinch", "Paper (real robot, 15 objects x 5 trials)"], out)
     lines.append("")
-    lines.append(f"Objects with hangable parts only ({n_objects}); Cage and Pinch: how the "
+    lines.append(f"Objects with hangable parts only ({n_objects}); 95 % CI: the rate's Wilson "
+                 "score interval; Cage and Pinch: how the "
                  "successes were held (the cage test after the carry). The paper's baseline is "
                  "GraspNet (learned); ours is a learning-free antipodal sampler with the same "
                  "two straight fingers.")
@@ -179,7 +214,41 @@ def table1(data: ReportInput) -> list[str]:
     lines.append("")
     lines.append("Released on the table after the carry (not part of success, as in the paper): "
                  + ", ".join(released) + ".")
-    return lines
+    return lines + ["", "### Paired comparison on the same poses", ""] + paired(data)
+
+
+def paired(data: ReportInput) -> list[str]:
+    """Every pair of methods on the (object, trial) poses both ran (objects with hangable
+    parts): McNemar's exact test and the difference in rate with its paired-bootstrap 95 %
+    interval (:func:`gbh_drake.experiment.stats.mcnemar`), p-values also Holm-adjusted over the
+    pairs."""
+    outcome = {(r["object"], r["method"], int(r["trial"])): bool(r["success"])
+               for r in _hangable(data)}
+    poses = sorted({(o, t) for o, _, t in outcome})
+    tests = []
+    for i, a in enumerate(data.methods):
+        for b in data.methods[i + 1:]:
+            both = [p for p in poses if (p[0], a, p[1]) in outcome and (p[0], b, p[1]) in outcome]
+            if both:
+                tests.append((a, b, mcnemar([outcome[(o, a, t)] for o, t in both],
+                                            [outcome[(o, b, t)] for o, t in both])))
+    if not tests:
+        return ["No two methods ran on the same poses."]
+    adjusted = holm([t.p_value for _, _, t in tests])
+    rows = [[f"{a} vs {b}", t.pairs, t.both, t.n10, t.n01, t.neither,
+             f"{100.0 * t.diff:+.1f}", f"[{100.0 * t.diff_lo:+.1f}, {100.0 * t.diff_hi:+.1f}]",
+             _p(t.p_value), _p(q)] for (a, b, t), q in zip(tests, adjusted, strict=True)]
+    return _table(["A vs B", "Pairs", "Both", "A only (n10)", "B only (n01)", "Neither",
+                   "Rate A - B (pp)", "95 % CI (pp)", "p (McNemar exact)", "p (Holm)"], rows) + [
+        "", "Pairs: the (object, trial) poses both methods ran; n10 and n01, the discordant "
+        "pairs, decide McNemar's exact test (two-sided binomial of n10 in n10 + n01 at 1/2). "
+        "The difference in rate (percentage points) has a paired-bootstrap 95 % interval (the "
+        "pairs resampled, 10000 draws, fixed seed); p (Holm): adjusted over the "
+        f"{len(tests)} pairs."]
+
+
+def _p(p: float) -> str:
+    return f"{p:.3f}" if p >= 0.001 else f"{p:.1e}"
 
 
 def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> str:
@@ -227,10 +296,14 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
         cells = []
         for method in data.methods:
             tally = Tally.of(r for r in mine if r["method"] == method)
-            cells.append(f"{tally.success}/{tally.total}" if tally.total else "-")
+            cells.append(f"{tally.success}/{tally.total} {tally.interval(0)}" if tally.total
+                         else "-")
         control = any(r.get("is_control") for r in mine)
         rows.append([obj + (" (control)" if control else ""), *cells])
     lines += _table(["Object", *data.methods], rows)
+    lines.append("")
+    lines.append("Successes / trials and the rate's Wilson 95 % interval (with 5 trials an "
+                 "interval spans some 50 points: tell objects apart with care).")
 
     lines += per_object_detail(data)
 
@@ -241,6 +314,8 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
                   for m in data.methods)]
             for o, _ in sorted(outcomes.items(), key=lambda kv: (-kv[1], kv[0]))]
     lines += _table(["Outcome", *data.methods], rows) if rows else ["No failures."]
+
+    lines += ["", "## Failures by cause (objects with hangable parts)", ""] + by_cause(data)
 
     lines += ["", "## Grasps refused by reason (objects with hangable parts)", ""]
     refusals: Counter = Counter()
@@ -350,10 +425,12 @@ def by_resting_pose(data: ReportInput) -> list[str]:
             mine = [r for r in hangable if r["method"] == method and r.get("pose")
                     and resting_pose(r["pose"]) == name]
             tally = Tally.of(mine)
-            cells.append(f"{tally.success}/{tally.total} ({tally.rate()})" if tally.total else "-")
+            cells.append(f"{tally.success}/{tally.total} ({tally.rate()}, {tally.interval()})"
+                         if tally.total else "-")
         rows.append([method, *cells])
     return _table(["Method", *(name for name, _, _ in RESTING_POSES)], rows) + [
-        "", "The start pose's tilt from the mesh as modelled (z up): upright below 30 deg, "
+        "", "Successes / trials (rate, Wilson 95 % interval). "
+        "The start pose's tilt from the mesh as modelled (z up): upright below 30 deg, "
         "upside down above 150 deg, on its side between. The poses are the random stable "
         "resting poses the experiment fixes (by their probability); this only shows where the "
         "failures lie (a mug on its side rests on its handle; a flat object has no room for the "
@@ -407,37 +484,182 @@ def _count(n: int, noun: str) -> str:
     return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
-def plot_success(data: ReportInput, path: Path) -> None:
-    """Grouped bars: the success rate of each method on each object (PNG, matplotlib's Agg)."""
+def cause_counts(data: ReportInput) -> pd.DataFrame:
+    """Failed trials of the objects with hangable parts by cause (rows: every class of
+    :data:`~gbh_drake.experiment.taxonomy.CAUSES`, zeros included) and method (columns)."""
+    failed = [r for r in _hangable(data) if not r["success"]]
+    frame = pd.DataFrame({"cause": [cause_of(r) for r in failed],
+                          "method": [r["method"] for r in failed]})
+    return (pd.crosstab(frame["cause"], frame["method"])
+            .reindex(index=list(CAUSES), columns=data.methods, fill_value=0))
+
+
+def by_cause(data: ReportInput) -> list[str]:
+    """The table of :func:`cause_counts`, with what each class means."""
+    counts = cause_counts(data)
+    table = counts.reset_index().rename(columns={"cause": "Cause"})
+    table["Total"] = counts.sum(axis=1).to_numpy()
+    total = counts.to_numpy().sum()
+    return _markdown(table) + [
+        "", f"Each of the {total} failed trials in exactly one class, derived from its row "
+        "(gbh_drake/experiment/taxonomy.py): *no structure*, GbH found nothing to hang by; *no "
+        "grasp found*, no candidate passed the method's checks (the rows do not say which check "
+        "rejected them, so *table clearance*, *collision N_c* and *closing sweep* stay 0 and are "
+        "counted here); *IK* / *planner*, every offered grasp refused, mostly by IK / by the "
+        "path (RRT-Connect, a collision on a segment, no clear approach); *lift too low*, held "
+        "but not lifted clear; *slipped during carry*, dropped after the lift began; *scan "
+        "cut/partial*, an empty scan, or a failure decided on a scan warned to reach the edge of "
+        f"the framed region or the image. Reserved (not derivable yet, always 0): "
+        f"{', '.join(c for c in RESERVED)}. Plot: {CAUSES_PLOT_FILE}."]
+
+
+#: Record fields copied into trials.csv.
+RECORD_FIELDS = ("n_structures", "n_candidates", "n_ranked", "true_parts", "true_part_found",
+                 "grasped_true_part", "best_score", "lift", "sim_time")
+
+
+def trials_frame(data: ReportInput) -> pd.DataFrame:
+    """One row per trial (controls included): the row's flat fields (the pose as pose_x ..
+    pose_yaw, refusals as ``key xN``), its ``cause`` (empty for a success), ``resting_pose``,
+    :data:`RECORD_FIELDS` from the record, whether it was released on the table, and the stage
+    times as ``time_<stage>`` (wall s)."""
+    out = []
+    for r in data.rows:
+        record = r.get("record") or {}
+        pose = list(r.get("pose") or [])
+        flat = {k: v for k, v in r.items()
+                if not isinstance(v, dict | list) and k not in ("traceback",)}
+        flat["refusals"] = _counts(Counter(r.get("refusals") or {}))
+        flat["cause"] = cause_of(r)
+        flat["resting_pose"] = resting_pose(pose) if len(pose) == 6 else ""
+        flat.update({f"pose_{k}": v for k, v in zip(("x", "y", "z", "roll", "pitch", "yaw"),
+                                                     pose, strict=False)})
+        flat.update({k: record.get(k) for k in RECORD_FIELDS})
+        flat["released_on_table"] = (record.get("verdict") or {}).get("released_on_table")
+        flat.update({f"time_{k}": (r.get("stage_times") or {}).get(k) for k in STAGES})
+        out.append(flat)
+    first = ["object", "is_control", "method", "trial", "seed", "outcome", "success", "held_by",
+             "cause", "grasp_kind", "grasp_rank", "grasp_score", "resting_pose"]
+    frame = pd.DataFrame(out)
+    return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]
+
+
+def table1_frame(data: ReportInput) -> pd.DataFrame:
+    """Table 1 as numbers (objects with hangable parts): per method its trials, successes, rate
+    and Wilson 95 % interval (fractions; empty without trials), cage, pinch."""
+    out = []
+    for method in data.methods:
+        rows = [r for r in _hangable(data) if r["method"] == method]
+        tally = Tally.of(rows)
+        lo, hi = wilson(tally.success, tally.total) if tally.total else (None, None)
+        out.append({"method": method,
+                    "viewpoints": ",".join(str(v) for v in sorted({r["viewpoints"] for r in rows
+                                                                    if r.get("viewpoints")})),
+                    "trials": tally.total, "successes": tally.success,
+                    "rate": tally.success / tally.total if tally.total else None,
+                    "wilson_lo": lo, "wilson_hi": hi, "cage": tally.cage, "pinch": tally.pinch})
+    return pd.DataFrame(out, columns=["method", "viewpoints", "trials", "successes", "rate",
+                                      "wilson_lo", "wilson_hi", "cage", "pinch"])
+
+
+def _rate_bars(ax, rows_by_method: list[tuple[str, list[dict]]], colours, *, labels: bool):
+    """One bar per method: the success rate with its Wilson 95 % interval; a method with a zero
+    rate gets a marker at 0 (so that it is seen to have run), one without trials nothing."""
+    for j, (method, rows) in enumerate(rows_by_method):
+        if not rows:
+            continue
+        tally = Tally.of(rows)
+        rate = tally.success / tally.total
+        lo, hi = wilson(tally.success, tally.total)
+        ax.bar(j, rate, width=0.8, color=colours[j], label=method if labels else None)
+        ax.errorbar(j, rate, yerr=[[rate - lo], [hi - rate]], color="black", capsize=2,
+                    linewidth=0.8)
+        if tally.success == 0:
+            ax.plot(j, 0.0, marker="_", markersize=16, markeredgewidth=4, color=colours[j],
+                    clip_on=False, zorder=3)
+    ax.set_xticks([])
+    ax.set_xlim(-0.6, len(rows_by_method) - 0.4)
+    ax.set_ylim(0.0, 1.05)
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.grid(axis="y", alpha=0.3)
+
+
+def _save(fig, path: Path) -> None:
+    """``path`` (PNG) and the same with .svg, each written whole or not at all."""
+    for target in (path, path.with_suffix(".svg")):
+        tmp = target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
+        fig.savefig(tmp, metadata={"Date": None} if target.suffix == ".svg" else None)
+        os.replace(tmp, target)
+
+
+def _figure(width: float, height: float):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    n_obj, n_met = len(data.objects), max(1, len(data.methods))
-    fig = Figure(figsize=(max(6.0, 0.55 * n_obj * max(1.0, n_met / 3) + 2.0), 4.2), dpi=100)
+    fig = Figure(figsize=(width, height), dpi=100)
     FigureCanvasAgg(fig)
-    ax = fig.add_subplot(1, 1, 1)
-    width = 0.8 / n_met
+    return fig
+
+
+def plot_success(data: ReportInput, path: Path) -> None:
+    """Success per method with Wilson 95 % error bars: a first panel of the methods' totals over
+    the objects with hangable parts, then one panel per object (PNG and SVG)."""
+    import matplotlib
+
+    colours = [matplotlib.colormaps["tab10"](j % 10) for j in range(len(data.methods))]
     controls = {r["object"] for r in _controls(data)}
-    for j, method in enumerate(data.methods):
-        rates, xs = [], []
-        for i, obj in enumerate(data.objects):
-            mine = [r for r in data.rows if r["object"] == obj and r["method"] == method]
-            if mine:
-                xs.append(i - 0.4 + width * (j + 0.5))
-                rates.append(sum(bool(r["success"]) for r in mine) / len(mine))
-        ax.bar(xs, rates, width=width, label=method)
-    ax.set_xticks(range(n_obj))
-    ax.set_xticklabels([o + (" *" if o in controls else "") for o in data.objects],
-                       rotation=45, ha="right", fontsize=8)
-    ax.set_xlim(-0.6, n_obj - 0.4)
-    ax.set_ylim(0.0, 1.22)  # the legend sits above 1
-    ax.set_yticks([0.0, 0.25, 0.5, 0.75, 1.0])
-    ax.set_ylabel("success rate")
-    ax.set_title(f"{data.name}: success per object and method ({_count(data.trials, 'trial')} "
-                 "each; * control)", fontsize=10)
-    ax.legend(fontsize=8, ncols=min(4, n_met), loc="upper center", frameon=False)
+    panels = [("all hangable objects", _hangable(data))] + [
+        (obj + (" (control)" if obj in controls else ""),
+         [r for r in data.rows if r["object"] == obj]) for obj in data.objects]
+    ncols = min(6, len(panels))
+    nrows = math.ceil(len(panels) / ncols)
+    fig = _figure(2.1 * ncols + 0.4, 1.75 * nrows + 0.9)
+    for k, (title, rows) in enumerate(panels):
+        ax = fig.add_subplot(nrows, ncols, k + 1)
+        _rate_bars(ax, [(m, [r for r in rows if r["method"] == m]) for m in data.methods],
+                   colours, labels=k == 0)
+        n = len({(r["object"], r["trial"]) for r in rows})
+        ax.set_title(f"{title} ({n})", fontsize=8, fontweight="bold" if k == 0 else "normal")
+        ax.tick_params(labelsize=7)
+        if k % ncols:
+            ax.set_yticklabels([])
+    height = fig.get_figheight()
+    fig.suptitle(f"{data.name}: success rate per method with Wilson 95 % intervals (trials in "
+                 "parentheses; a dash at 0: no success)", fontsize=9, y=1 - 0.08 / height,
+                 va="top")
+    fig.legend(loc="upper center", bbox_to_anchor=(0.5, 1 - 0.3 / height),
+               ncols=min(6, len(data.methods)), fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.6 / height))
+    _save(fig, path)
+
+
+def plot_causes(data: ReportInput, path: Path) -> None:
+    """The failed trials of the objects with hangable parts per method, stacked by cause (the
+    classes with at least one trial), PNG and SVG."""
+    import matplotlib
+
+    counts = cause_counts(data)
+    counts = counts[counts.sum(axis=1) > 0]
+    fig = _figure(max(5.0, 1.3 * len(data.methods) + 3.2), 4.2)
+    ax = fig.add_subplot(1, 1, 1)
+    xs = list(range(len(data.methods)))
+    bottom = [0] * len(data.methods)
+    top = max(1, counts.sum(axis=0).max() if len(counts) else 1)
+    palette = matplotlib.colormaps["tab20"]
+    for cause, values in counts.iterrows():
+        colour = palette(2 * CAUSES.index(cause) % 20)  # tab20's darker shades first
+        ax.bar(xs, values.to_list(), bottom=bottom, width=0.6, label=cause, color=colour)
+        for x, v, b in zip(xs, values, bottom, strict=True):
+            if v >= 0.04 * top:  # a label where it fits
+                ax.text(x, b + v / 2, str(v), ha="center", va="center", fontsize=7)
+        bottom = [b + v for b, v in zip(bottom, values, strict=True)]
+    totals = {m: sum(1 for r in _hangable(data) if r["method"] == m) for m in data.methods}
+    ax.set_xticks(xs)
+    ax.set_xticklabels([f"{m}\n({totals[m]} trials)" for m in data.methods], fontsize=8)
+    ax.set_ylabel("failed trials")
+    ax.set_title(f"{data.name}: failures by cause (objects with hangable parts)", fontsize=10)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False,
+              reverse=True)
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp.png")
-    fig.savefig(tmp)
-    os.replace(tmp, path)
+    _save(fig, path)

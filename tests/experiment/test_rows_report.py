@@ -3,6 +3,7 @@
 
 import json
 import random
+import re
 
 import pytest
 from PIL import Image
@@ -16,6 +17,11 @@ from gbh_drake.experiment.worker import run_trial_task
 
 METHODS = [MethodConfig("gbh-10", "{grasp_method: gbh}", "GbH 10 views"),
            MethodConfig("antipodal", "{grasp_method: antipodal}", "GraspNet 1 view")]
+
+
+def flat(text) -> str:
+    """Markdown with runs of spaces made one (the tables pad their columns to their width)."""
+    return re.sub(r" +", " ", "\n".join(text) if isinstance(text, list) else text)
 
 
 def make_row(obj, method, trial, outcome="success", *, control=False, held_by="cage",
@@ -90,18 +96,20 @@ def test_comparable_leaves_out_timing_only():
 def test_summary(made_up):
     folder, _ = made_up
     summary_path, plot_path = write_report(folder)
-    text = summary_path.read_text()
+    text = flat(summary_path.read_text())
     table = text.split("## Table 1")[1].split("##")[0]
-    # hangable objects only: gbh-10 3 of 4 (2 cage, 1 pinch); antipodal 1 of 4 (cage)
-    assert "| gbh-10 | 10 | 4 | 3 | 1 | 75.0 % | 2 | 1 | GbH 10 views: 68/75 = 90.7 % |" in table
-    assert "| antipodal | 1 | 4 | 1 | 3 | 25.0 % | 1 | 0 | GraspNet 1 view: 23/75 = 30.7 % |" \
-        in table
+    # hangable objects only: gbh-10 3 of 4 (2 cage, 1 pinch); antipodal 1 of 4 (cage); Wilson
+    # 95 %: 3/4 -> [30.06, 95.44] %, 1/4 -> [4.56, 69.94] %
+    assert "| gbh-10 | 10 | 4 | 3 | 1 | 75.0 % | [30.1, 95.4] % | 2 | 1 | GbH 10 views: 68/75 " \
+        "= 90.7 % |" in table
+    assert "| antipodal | 1 | 4 | 1 | 3 | 25.0 % | [4.6, 69.9] % | 1 | 0 | GraspNet 1 view: " \
+        "23/75 = 30.7 % |" in table
     controls = text.split("## Controls")[1].split("##")[0]
     assert "| gbh-10 | 2 | 0 | no_hangable_structure x2 |" in controls
     assert "| antipodal | 2 | 1 | not_lifted x1, success x1 |" in controls
     per_object = text.split("## Per object")[1].split("##")[0]
-    assert "| mug_classic | 2/2 | 0/2 |" in per_object and "| box (control) | 0/2 | 1/2 |" \
-        in per_object
+    assert "| mug_classic | 2/2 [34, 100] % | 0/2 [0, 66] % |" in per_object
+    assert "| box (control) | 0/2 [0, 66] % | 1/2 [9, 91] % |" in per_object
     outcomes = text.split("## Failures by outcome")[1].split("##")[0]
     assert "| not_lifted | 0 | 2 |" in outcomes and "| dropped_during_carry | 1 | 0 |" in outcomes
     refused = text.split("## Grasps refused")[1].split("##")[0]
@@ -135,8 +143,9 @@ def test_gbh_report_command(made_up, capsys):
     folder, _ = made_up
     (folder / "experiment.yaml").unlink()  # the rows alone are enough
     assert main(["report", str(folder)]) == 0
-    out = capsys.readouterr().out
-    assert "| Method | Viewpoints | Total | Success | Fail | Rate |" in out
+    out = flat(capsys.readouterr().out)
+    assert "| Method | Viewpoints | Total | Success | Fail | Rate | 95 % CI |" in out
+    assert "| A vs B | Pairs |" in out  # the paired comparison beside Table 1
     assert (folder / "summary.md").is_file() and (folder / "success.png").is_file()
     assert main(["report", str(folder / "nowhere")]) == 2
 
@@ -165,10 +174,10 @@ def test_resting_pose_classes_and_their_table(made_up):
         if r["object"] == "kettle":
             r["pose"] = [0.5, 0.0, 0.05, pi / 2, 0.0, 0.0]
     RowStore(folder).rewrite(rows)
-    table = by_resting_pose(read_input(folder))
+    table = flat(by_resting_pose(read_input(folder)))
     # gbh-10: the mug upright 2/2; the kettle on its side 1/2; antipodal: 0/2 and 1/2.
-    assert "| gbh-10 | 2/2 (100.0 %) | 1/2 (50.0 %) | - |" in table
-    assert "| antipodal | 0/2 (0.0 %) | 1/2 (50.0 %) | - |" in table
+    assert "| gbh-10 | 2/2 (100.0 %, [34.2, 100.0] %) | 1/2 (50.0 %, [9.5, 90.5] %) | - |" in table
+    assert "| antipodal | 0/2 (0.0 %, [0.0, 65.8] %) | 1/2 (50.0 %, [9.5, 90.5] %) | - |" in table
     assert "## By resting pose" in summary_markdown(read_input(folder))
 
 
@@ -185,5 +194,5 @@ def test_executed_grasps_are_counted_by_rank_and_value(tmp_path):
     rows[3].update(fallback=True, grasp_rank=0)
     data = ReportInput(name="x", objects=["mug_classic", "kettle"], methods=["gbh-10"],
                        trials=2, paper={}, rows=rows)
-    table = "\n".join(by_rank(data))
+    table = flat(by_rank(data))
     assert "| gbh-10 | 1/1 | 0/1 | 1/1 | 1/1 | 1/1 |" in table

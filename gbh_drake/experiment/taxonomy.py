@@ -1,0 +1,87 @@
+"""Why a trial failed, in the words a reader uses: one cause class per failed trial, derived from
+its row and the row's ``record`` alone (never typed by hand), by :func:`cause_of`.
+
+The classes (:data:`CAUSES`, in pipeline order; the report lists every one, zeros included):
+
+- ``out of reach``, ``candidate set missed``: reserved, not derivable from a row yet (no field
+  says the object lay beyond the arm, or that the hangable part had no candidate); always 0.
+- ``no structure``: GbH found nothing to hang the object by (``no_hangable_structure``).
+- ``table clearance``, ``collision N_c``, ``closing sweep``: reserved. A row's
+  ``no_grasp_found`` says only how many candidates were rejected (``reason``: "no
+  collision-free grasp among 144 candidates ..."; the antipodal sampler: "found no grasp"),
+  not by which check, so these three are counted together as ``no grasp found``.
+- ``no grasp found``: the method offered no grasp (``no_grasp_found``).
+- ``IK``, ``planner``: grasps were offered and every one refused (``no_reachable_grasp``): the
+  more frequent kind of refusal in ``refusals`` (keys ``reason:where``; ``ik:*`` is IK;
+  ``planner:*``, ``collision:*`` and ``approach:*``, a path or approach that could not be
+  planned, are planner); a tie, or no refusal recorded, counts as IK.
+- ``lift too low``: held but not lifted clear of the table (``not_lifted``).
+- ``slipped during carry``: dropped after the lift began (``dropped_during_lift``,
+  ``dropped_during_carry``).
+- ``scan cut/partial``: ``empty_scan``, or a failure decided on the scan (no structure, no grasp,
+  IK or planner) of a scan warned to reach the edge of what the cameras framed
+  (:data:`EDGE_WARNINGS`); failures after a grasp was executed keep their physical cause.
+- ``error``: the pipeline raised (``error``) or the trial never finished (``incomplete``).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+#: Every cause class, in pipeline order.
+CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearance",
+          "collision N_c", "closing sweep", "no grasp found", "IK", "planner", "lift too low",
+          "slipped during carry", "scan cut/partial", "error")
+
+#: Classes no row can be given yet (listed with 0 so that the table's columns do not change).
+RESERVED = ("out of reach", "candidate set missed", "table clearance", "collision N_c",
+            "closing sweep")
+
+#: The starts of the scan warnings that the object reaches the edge of what was framed or seen
+#: (gbh_drake.perception.scan: FRAME_EDGE_WARNING, the image border, the workspace bound).
+EDGE_WARNINGS = ("the object reaches the edge of the region framed by the first look",
+                 "the object reaches the image border", "the object reaches the workspace bound")
+
+#: Outcomes decided on the scan, before any grasp was executed.
+_ON_THE_SCAN = ("no_hangable_structure", "no_grasp_found", "no_reachable_grasp")
+
+_BY_OUTCOME = {
+    "no_hangable_structure": "no structure",
+    "no_grasp_found": "no grasp found",
+    "not_lifted": "lift too low",
+    "dropped_during_lift": "slipped during carry",
+    "dropped_during_carry": "slipped during carry",
+    "empty_scan": "scan cut/partial",
+    "error": "error",
+    "incomplete": "error",
+}
+
+
+def cause_of(row: dict) -> str:
+    """The cause class (one of :data:`CAUSES`) of a failed trial's ``row``; ``""`` for a
+    success. Raises ``ValueError`` for an outcome it does not know."""
+    if row.get("success"):
+        return ""
+    outcome = row.get("outcome", "")
+    if outcome in _ON_THE_SCAN and scan_cut(row):
+        return "scan cut/partial"
+    if outcome == "no_reachable_grasp":
+        return refused_by(row.get("refusals") or (row.get("record") or {}).get("refusals") or {})
+    if outcome not in _BY_OUTCOME:
+        raise ValueError(f"no cause class for the outcome {outcome!r} of trial "
+                         f"{row.get('object')}/{row.get('method')}/{row.get('trial')}")
+    return _BY_OUTCOME[outcome]
+
+
+def scan_cut(row: dict) -> bool:
+    """Whether the row's scan was warned to reach the edge of what the cameras framed."""
+    warnings = (row.get("record") or {}).get("scan_warnings") or []
+    return any(str(w).startswith(EDGE_WARNINGS) for w in warnings)
+
+
+def refused_by(refusals: dict[str, int]) -> str:
+    """``IK`` or ``planner``: the more frequent kind of refusal (a tie or none: ``IK``)."""
+    kinds: Counter = Counter()
+    for key, n in refusals.items():
+        kinds["IK" if key.split(":")[0] == "ik" else "planner"] += int(n)
+    return "planner" if kinds["planner"] > kinds["IK"] else "IK"
