@@ -14,8 +14,9 @@ material). The lift comes from the scan: once lifted, the caged material sinks o
 lower side (the bar's upper face for a top-down hook, :func:`~gbh_drake.core.hanging_pose.rest_on_loop`)
 and the object hangs from there with its CoM below it; its lowest point must clear the table
 by ``lift_clearance``. The lift aims at the bound for any way the object turns, and goes no
-lower than the prediction with the CoM below the contact; where the arm cannot reach that, the
-plan says so (:attr:`PickPlan.notes`, :attr:`PickPlan.lift_short`).
+lower than the prediction with the CoM below the contact; where the arm cannot reach that, it
+lifts as high as it reaches, the carry rises on to the need at the place where the arm reaches
+that there, and the plan says so (:attr:`PickPlan.notes`, :attr:`PickPlan.lift_short`).
 
 The carry from the lift to the place keeps the hook point at the lift height: the straight
 joint-space move is checked by forward kinematics, and where it dips the carry goes through
@@ -42,6 +43,8 @@ from gbh_drake.scenario.schema import PickConfig
 APPROACH_STEP = 0.05
 #: Turns (rad) of the hand about the vertical tried for the carry, in order.
 CARRY_YAWS = np.radians([0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 180.0])
+#: A lift short of the need is searched to this resolution (m) for the most the arm reaches.
+LIFT_RESOLUTION = 0.01
 #: The carry may let the hook point sink this far (m) below the lift height before it is planned
 #: through Cartesian waypoints (about the IK's tolerance and a joint-space move's sag).
 CARRY_TOLERANCE = 0.005
@@ -193,12 +196,22 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # From the bound for any turn down to the prediction; below it only with a note.
     tries = list(np.linspace(top, floor, 4))
     tries += [dz for dz in np.linspace(floor, max(cfg.min_lift, 0.5 * top), 3)[1:] if dz < floor]
-    q["lift"], lift = None, top
+    q["lift"], lift, failed = None, top, top
     for dz in tries:
         q["lift"] = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
         if q["lift"] is not None:
             lift = float(dz)
             break
+        failed = float(dz)
+    if q["lift"] is not None and lift < floor:
+        # Short of the need: as high as the arm reaches (bisection between the heights tried).
+        while failed - lift > LIFT_RESOLUTION:
+            dz = 0.5 * (lift + failed)
+            q_up = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
+            if q_up is None:
+                failed = dz
+            else:
+                q["lift"], lift = q_up, dz
     if q["lift"] is None:
         return refuse("ik", "lift", f"the hanging object needs a {need:.2f} m lift, the arm "
                       f"reaches none down to {tries[-1]:.2f} m")
@@ -211,14 +224,21 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # vertical through the hook point (the object hangs the same way).
     com_offset = np.zeros(2) if hook else (hook_W - setup.com_W)[:2]
     target_xy = np.asarray(cfg.place_position[:2], dtype=float) + com_offset
+    # A lift short of the need rises on to it at the place where the arm reaches that.
     q["carry"], X_carry = None, None
-    for yaw in CARRY_YAWS:
-        R_turn = RotationMatrix.MakeZRotation(yaw)
-        X_carry = RigidTransform(R_turn.multiply(X_closed.rotation()),
-                                 [*target_xy, hook_W[2] + lift]) @ \
-            RigidTransform(X_closed.inverse().multiply(hook_W)).inverse()
-        q["carry"] = ik(X_carry, q["lift"], closed_hand)
+    rises = [need - lift, 0.0] if need > lift + LIFT_RESOLUTION else [0.0]
+    for rise in rises:
+        for yaw in CARRY_YAWS:
+            R_turn = RotationMatrix.MakeZRotation(yaw)
+            X_carry = RigidTransform(R_turn.multiply(X_closed.rotation()),
+                                     [*target_xy, hook_W[2] + lift + rise]) @ \
+                RigidTransform(X_closed.inverse().multiply(hook_W)).inverse()
+            q["carry"] = ik(X_carry, q["lift"], closed_hand)
+            if q["carry"] is not None:
+                break
         if q["carry"] is not None:
+            if rise > 0.0:
+                notes.append(f"the carry rises {rise:.3f} m on to the need at the place")
             break
     if q["carry"] is None:
         return refuse("ik", "carry")
@@ -233,7 +253,9 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # (the machine stops once the hand's load drops), less where the hand would meet the table.
     # (The higher of the estimates hanging at the hook point and sunk onto the loop: lowering
     # stops once the object stands, so going too deep costs nothing.)
-    low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + lift
+    carry_height = X_carry.multiply(X_closed.inverse().multiply(hook_W))[2]
+    low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + \
+        carry_height - hook_W[2]
     q["place"] = None
     for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
         q_place = ik(_shifted(X_carry, [0.0, 0.0, -max(down, 0.0)]), q["carry"], closed_hand)
