@@ -540,7 +540,7 @@ def trials_frame(data: ReportInput) -> pd.DataFrame:
         out.append(flat)
     first = ["object", "is_control", "method", "trial", "seed", "outcome", "success", "held_by",
              "cause", "grasp_kind", "grasp_rank", "grasp_score", "resting_pose"]
-    frame = pd.DataFrame(out)
+    frame = pd.DataFrame(out) if out else pd.DataFrame(columns=first)
     return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]
 
 
@@ -562,16 +562,16 @@ def table1_frame(data: ReportInput) -> pd.DataFrame:
                                       "wilson_lo", "wilson_hi", "cage", "pinch"])
 
 
-def _rate_bars(ax, rows_by_method: list[tuple[str, list[dict]]], colours, *, labels: bool):
+def _rate_bars(ax, rows_by_method: list[list[dict]], colours):
     """One bar per method: the success rate with its Wilson 95 % interval; a method with a zero
     rate gets a marker at 0 (so that it is seen to have run), one without trials nothing."""
-    for j, (method, rows) in enumerate(rows_by_method):
+    for j, rows in enumerate(rows_by_method):
         if not rows:
             continue
         tally = Tally.of(rows)
         rate = tally.success / tally.total
         lo, hi = wilson(tally.success, tally.total)
-        ax.bar(j, rate, width=0.8, color=colours[j], label=method if labels else None)
+        ax.bar(j, rate, width=0.8, color=colours[j])
         ax.errorbar(j, rate, yerr=[[rate - lo], [hi - rate]], color="black", capsize=2,
                     linewidth=0.8)
         if tally.success == 0:
@@ -616,8 +616,8 @@ def plot_success(data: ReportInput, path: Path) -> None:
     fig = _figure(2.1 * ncols + 0.4, 1.75 * nrows + 0.9)
     for k, (title, rows) in enumerate(panels):
         ax = fig.add_subplot(nrows, ncols, k + 1)
-        _rate_bars(ax, [(m, [r for r in rows if r["method"] == m]) for m in data.methods],
-                   colours, labels=k == 0)
+        _rate_bars(ax, [[r for r in rows if r["method"] == m] for m in data.methods],
+                   colours)
         n = len({(r["object"], r["trial"]) for r in rows})
         ax.set_title(f"{title} ({n})", fontsize=8, fontweight="bold" if k == 0 else "normal")
         ax.tick_params(labelsize=7)
@@ -627,7 +627,10 @@ def plot_success(data: ReportInput, path: Path) -> None:
     fig.suptitle(f"{data.name}: success rate per method with Wilson 95 % intervals (trials in "
                  "parentheses; a dash at 0: no success)", fontsize=9, y=1 - 0.08 / height,
                  va="top")
-    fig.legend(loc="upper center", bbox_to_anchor=(0.5, 1 - 0.3 / height),
+    from matplotlib.patches import Patch
+
+    fig.legend(handles=[Patch(color=c, label=m) for m, c in zip(data.methods, colours, strict=True)],
+               loc="upper center", bbox_to_anchor=(0.5, 1 - 0.3 / height),
                ncols=min(6, len(data.methods)), fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0, 1, 1 - 0.6 / height))
     _save(fig, path)
@@ -658,8 +661,11 @@ def plot_causes(data: ReportInput, path: Path) -> None:
     ax.set_xticklabels([f"{m}\n({totals[m]} trials)" for m in data.methods], fontsize=8)
     ax.set_ylabel("failed trials")
     ax.set_title(f"{data.name}: failures by cause (objects with hangable parts)", fontsize=10)
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False,
-              reverse=True)
+    if len(counts):
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False,
+                  reverse=True)
+    else:
+        ax.text(0.5, 0.5, "no failures", transform=ax.transAxes, ha="center")
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     _save(fig, path)

@@ -196,3 +196,79 @@ def test_executed_grasps_are_counted_by_rank_and_value(tmp_path):
                        trials=2, paper={}, rows=rows)
     table = flat(by_rank(data))
     assert "| gbh-10 | 1/1 | 0/1 | 1/1 | 1/1 | 1/1 |" in table
+
+
+def test_outputs_a_researcher_loads(made_up):
+    """trials.csv (one row per trial), table1.csv, the paired comparison and the causes, on the
+    made-up rows; both plots as PNG and SVG."""
+    import pandas as pd
+
+    folder, rows = made_up
+    summary, _ = write_report(folder)
+    trials = pd.read_csv(folder / "trials.csv", keep_default_na=False)
+    assert len(trials) == len(rows) == 12
+    assert not trials.duplicated(["object", "method", "trial"]).any()
+    for column in ("object", "method", "trial", "seed", "outcome", "success", "held_by", "cause",
+                   "grasp_kind", "grasp_rank", "grasp_score", "resting_pose", "n_structures",
+                   "true_part_found", "grasped_true_part", "lift", "time_total", "pose_yaw"):
+        assert column in trials.columns, column
+    kettle = trials[(trials.object == "kettle") & (trials.method == "gbh-10") & (trials.trial == 1)]
+    assert kettle.cause.item() == "slipped during carry" and kettle.refusals.item() == "ik:lift x2"
+    assert set(trials[trials.success].cause) == {""}
+    table1 = pd.read_csv(folder / "table1.csv")
+    gbh = table1.set_index("method").loc["gbh-10"]
+    assert (gbh.trials, gbh.successes, gbh.cage, gbh.pinch) == (4, 3, 2, 1)
+    assert (gbh.rate, gbh.wilson_lo, gbh.wilson_hi) == pytest.approx((0.75, 0.3006, 0.9544),
+                                                                     abs=1e-4)
+    text = flat(summary.read_text())
+    # gbh-10 vs antipodal on the 4 hangable poses: both 1 (kettle 0), gbh-10 only 2 (the mug's),
+    # neither 1 (kettle 1): p = 2 x 0.5^2 = 0.5, +50 points
+    assert "| gbh-10 vs antipodal | 4 | 1 | 2 | 0 | 1 | +50.0 |" in text
+    assert "| 0.500 | 0.500 |" in text
+    causes = text.split("## Failures by cause")[1].split("##")[0]
+    assert "| slipped during carry | 1 | 0 | 1 |" in causes
+    assert "| lift too low | 0 | 2 | 2 |" in causes and "| planner | 0 | 1 | 1 |" in causes
+    assert "| out of reach | 0 | 0 | 0 |" in causes  # reserved classes are listed
+    for name in ("success", "causes"):
+        assert Image.open(folder / f"{name}.png").format == "PNG"
+        assert (folder / f"{name}.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_a_rate_of_no_trials_is_a_dash(made_up):
+    import pandas as pd
+
+    folder, rows = made_up
+    RowStore(folder).rewrite(rows[:4])  # gbh-10 only
+    write_report(folder)
+    text = flat((folder / "summary.md").read_text())
+    assert "| antipodal | - | 0 | 0 | 0 | - | - | 0 | 0 |" in text
+    assert "No two methods ran on the same poses." in text
+    assert "| box | - | - |" in text  # no rows: not known to be a control
+    table1 = pd.read_csv(folder / "table1.csv").set_index("method")
+    assert table1.loc["antipodal"].trials == 0 and pd.isna(table1.loc["antipodal"].wilson_lo)
+    RowStore(folder).rewrite([])
+    write_report(folder)  # no rows at all: the reports still come out
+    empty = pd.read_csv(folder / "trials.csv")
+    assert empty.empty and "cause" in empty.columns
+
+
+def test_reference_experiment_as_csv(tmp_path):
+    """The 460-trial experiment in docs/experiment: one CSV row per trial, a cause for every
+    failure, Table 1's numbers (no plots: fast)."""
+    from pathlib import Path
+
+    import pandas as pd
+
+    from gbh_drake.experiment.report import cause_counts, table1_frame, trials_frame
+
+    data = read_input(Path(__file__).parents[2] / "docs" / "experiment")
+    (tmp_path / "trials.csv").write_text(trials_frame(data).to_csv(index=False))
+    trials = pd.read_csv(tmp_path / "trials.csv", keep_default_na=False)
+    assert len(trials) == len(data.rows) == 460
+    assert not trials.duplicated(["object", "method", "trial"]).any()
+    assert ((trials.cause == "") == trials.success).all()
+    hangable_failures = sum(not r["success"] and not r["is_control"] for r in data.rows)
+    assert cause_counts(data).to_numpy().sum() == hangable_failures == 193
+    gbh10 = table1_frame(data).set_index("method").loc["gbh-10"]
+    assert (gbh10.trials, gbh10.successes) == (95, 45)
+    assert (gbh10.wilson_lo, gbh10.wilson_hi) == pytest.approx((0.3763, 0.5731), abs=1e-4)
