@@ -16,7 +16,9 @@ aside). The parts, each a small module:
 * :mod:`~gbh_drake.experiment.rows`: the JSONL rows (append, resume, compare timing aside);
 * :mod:`~gbh_drake.experiment.runner`: resume, run, write, report;
 * :mod:`~gbh_drake.experiment.report`: ``summary.md`` (Table 1 beside the paper's, per object,
-  failures) and ``success.png``.
+  failures), ``trials.csv``, ``table1.csv``, ``success.png``/``.svg`` and ``causes.png``/``.svg``;
+* :mod:`~gbh_drake.experiment.stats`: Wilson intervals, McNemar's exact test, Holm;
+* :mod:`~gbh_drake.experiment.taxonomy`: one cause class per failed trial (``cause_of``).
 
 This package's ``__init__`` imports nothing heavy: worker processes import it before they set
 their thread count.

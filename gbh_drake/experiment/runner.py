@@ -4,13 +4,18 @@ The steps of :func:`run_experiment`: list every trial (:func:`~gbh_drake.experim
 make_tasks`), read the rows already in the folder and skip their trials (except those that ended
 in an error, a bug rather than a result: they are run again), run the others on the chosen
 engine (local worker processes or Ray) under a progress bar, append each row as it arrives (and
-its replay when it failed), then sort the rows and write ``summary.md`` and ``success.png``.
+its replay when it failed), then sort the rows and write the reports
+(:func:`~gbh_drake.experiment.report.write_report`).
 
 The folder::
 
     trials.jsonl          one row per trial (see gbh_drake.experiment.rows)
-    summary.md            Table 1 beside the paper's, per object, failures, timings
-    success.png           success rate per object and method
+    summary.md            Table 1 beside the paper's (Wilson 95 % intervals, McNemar's test per
+                          pair of methods), per object, failures by outcome and by cause, timings
+    trials.csv            one row per trial, flat (pandas.read_csv), with its failure cause
+    table1.csv            per method: trials, successes, rate, Wilson lo/hi, cage, pinch
+    success.png, .svg     success rate per method with Wilson error bars: totals, then per object
+    causes.png, .svg      the failures per method stacked by cause
     experiment.yaml       the resolved experiment (gbh report reads it)
     scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
     replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial
