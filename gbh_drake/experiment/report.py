@@ -585,10 +585,14 @@ def _rate_bars(ax, rows_by_method: list[list[dict]], colours):
 
 
 def _save(fig, path: Path) -> None:
-    """``path`` (PNG) and the same with .svg, each written whole or not at all."""
+    """``path`` (PNG) and the same with .svg, each written whole or not at all (the SVG without a
+    date and with fixed ids: the same rows give the same file)."""
+    import matplotlib
+
     for target in (path, path.with_suffix(".svg")):
         tmp = target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
-        fig.savefig(tmp, metadata={"Date": None} if target.suffix == ".svg" else None)
+        with matplotlib.rc_context({"svg.hashsalt": "gbh"}):
+            fig.savefig(tmp, metadata={"Date": None} if target.suffix == ".svg" else None)
         os.replace(tmp, target)
 
 

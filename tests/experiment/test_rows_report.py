@@ -229,9 +229,13 @@ def test_outputs_a_researcher_loads(made_up):
     assert "| slipped during carry | 1 | 0 | 1 |" in causes
     assert "| lift too low | 0 | 2 | 2 |" in causes and "| planner | 0 | 1 | 1 |" in causes
     assert "| out of reach | 0 | 0 | 0 |" in causes  # reserved classes are listed
+    svgs = {}
     for name in ("success", "causes"):
         assert Image.open(folder / f"{name}.png").format == "PNG"
-        assert (folder / f"{name}.svg").read_text().lstrip().startswith("<?xml")
+        svgs[name] = (folder / f"{name}.svg").read_text()
+        assert svgs[name].lstrip().startswith("<?xml")
+    write_report(folder)  # the same rows, the same files
+    assert all((folder / f"{name}.svg").read_text() == svg for name, svg in svgs.items())
 
 
 def test_a_rate_of_no_trials_is_a_dash(made_up):
