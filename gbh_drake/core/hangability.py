@@ -66,7 +66,8 @@ def detect_hangable_structures(
     free = active_free_space(obj, params)
     if free is not None:
         through &= observed_through(obj, free, c, v, params.ground_normal,
-                                    unknown_floor(obj, free, params))
+                                    unknown_floor(obj, free, params),
+                                    params.through_proof_length)
     structures = [
         _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
         for i in np.flatnonzero(through)
@@ -234,10 +235,12 @@ def unknown_floor(obj: ObjectModel, free: FreeSpace, params: GbhParams) -> float
 
 
 def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
-                     ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf) -> np.ndarray:
+                     ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
+                     max_length: float = np.inf) -> np.ndarray:
     """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in observed-free space
     (``free.observed_free`` at its margin) from c until they are ``_RAY_BEYOND_BOX_SPACINGS``
-    sample spacings out of the mesh's bounding box, sampled every half spacing. All samples
+    sample spacings out of the mesh's bounding box, or ``max_length`` (m) from c if that comes
+    first (``GbhParams.through_proof_length``), sampled every half spacing. All samples
     must be free: one unseen stretch may be the material the view did not see. Samples lower
     than ``floor`` along ``ground_normal`` (:func:`unknown_floor`) are not asked: the table is
     not the object (the scan cut it away), and no camera sees into it."""
@@ -249,7 +252,8 @@ def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.nda
     with np.errstate(divide="ignore", invalid="ignore"):
         exit_t = np.where(dirs > 0, (hi - origins) / dirs,
                           np.where(dirs < 0, (lo - origins) / dirs, np.inf)).min(axis=1)
-    length = np.maximum(exit_t, 0.0) + _RAY_BEYOND_BOX_SPACINGS * obj.spacing
+    length = np.minimum(np.maximum(exit_t, 0.0) + _RAY_BEYOND_BOX_SPACINGS * obj.spacing,
+                        max_length)
     step = 0.5 * obj.spacing
     n = int(np.ceil(length.max() / step)) + 1
     t = np.arange(n) * step  # (n,)

@@ -22,7 +22,7 @@ from gbh_drake.core.hangability import (
     detect_hangable_structures,
     unknown_floor,
 )
-from gbh_drake.core.object_model import ObjectModel, prepare_object
+from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
@@ -79,10 +79,53 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
     height = ground_distance(X, kinds, np.asarray(params.ground_normal), params.ground_height,
                              gripper)
     free = active_free_space(obj, params)
-    if free is not None:
-        n_s += _unknown_in_sweep(obj, free, X, kinds, n_c, n_s, height, params, gripper)
+    unknown = np.zeros(len(X), dtype=int)
+    if free is not None and params.unknown_sweep:
+        unknown = _unknown_in_sweep(obj, free, X, kinds, n_c, n_s, height, params, gripper)
+        n_s += unknown
+    if params.sampling_votes > 1:
+        _vote(obj, X, kinds, n_c, n_s, unknown, params, gripper)
     for g, n, s, d in zip(candidates, n_c, n_s, height, strict=True):
         g.n_collisions, g.n_sweep_collisions, g.ground_distance = int(n), int(s), float(d)
+
+
+def _vote(obj: ObjectModel, X: np.ndarray, kinds: list[str], n_c: np.ndarray, n_s: np.ndarray,
+          unknown: np.ndarray, params: GbhParams, gripper: HookGripperGeometry) -> None:
+    """The resampling vote (``GbhParams.sampling_votes``), in place: candidates near a
+    threshold are counted again on other samplings of the surface (seeds derived from the
+    trial's); each keeps the counts of the median vote by pass/fail (a majority that passes
+    keeps its lowest passing counts, else its lowest failing ones)."""
+    near = (n_c < 2 * params.p_c) & (n_s - unknown < 2 * params.p_sweep + 2)
+    idx = np.flatnonzero(near)
+    if len(idx) == 0:
+        return
+    seed = obj.sampling[0] if obj.sampling else 0
+    votes_c, votes_s = [n_c[idx]], [n_s[idx]]
+    for k in range(1, params.sampling_votes):
+        points, _, spacing = poisson_disk_samples(obj.mesh, params.n_points,
+                                                  params.oversampling,
+                                                  _vote_seed(seed, k))
+        c_k = np.zeros(len(idx), dtype=int)
+        s_k = np.zeros(len(idx), dtype=int)
+        for kind in dict.fromkeys(kinds[i] for i in idx):
+            sel = np.array([kinds[i] == kind for i in idx])
+            c_k[sel], s_k[sel] = count_open_and_sweep(
+                points, X[idx[sel]], kind, params.collision_margin, gripper,
+                sweep_margin=params.sweep_margin_spacings * spacing)
+        votes_c.append(c_k)
+        votes_s.append(s_k + unknown[idx])
+    c, s = np.stack(votes_c), np.stack(votes_s)  # (votes, n)
+    passes = (c < params.p_c) & (s < params.p_sweep)
+    majority = passes.sum(axis=0) * 2 > params.sampling_votes
+    for j, i in enumerate(idx):
+        pick = np.flatnonzero(passes[:, j] == majority[j])
+        best = pick[np.argmin(c[pick, j] + s[pick, j])]
+        n_c[i], n_s[i] = c[best, j], s[best, j]
+
+
+def _vote_seed(seed: int, k: int) -> int:
+    """The k-th vote's sampling seed, derived from the trial's ``seed``."""
+    return int(np.random.SeedSequence([int(seed), 7919, k]).generate_state(1)[0])
 
 
 def _unknown_in_sweep(obj: ObjectModel, free: FreeSpace, X: np.ndarray, kinds: list[str],

@@ -3,6 +3,8 @@ core's through-hole test and closing sweep with a synthetic one-view scan."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import trimesh
@@ -118,3 +120,19 @@ def test_a_torus_seen_through_its_hole_keeps_its_structure(params):
     found = detect_hangable_structures(scan, params, free_space=fs)
     assert found and abs(found[0].v[2]) > 0.9
     assert np.linalg.norm(found[0].c[:2]) < 0.01
+
+
+def test_a_hole_no_camera_saw_through_is_no_hole(params):
+    """A ring seen edge-on from the side: its hole is hidden behind the ring's near side (and
+    the cup behind it would hide it too). Without the free space the whole ring is a through
+    hole; with it, the rays through c run in unseen space and the structure is refused."""
+    ring = trimesh.creation.torus(0.03, 0.008, major_sections=64, minor_sections=24)
+    X = camera_X_CW((0.6, 0.0, 0.0), (0.0, 0.0, 0.0))
+    depth = rendered_depth(ring, X, 160, 120, 150.0)
+    fs = FreeSpace.from_depth_images([depth], 150.0, 150.0, 79.5, 59.5, [X], 0.0025, 3.0)
+    found_without = detect_hangable_structures(ring, params)
+    assert found_without and abs(found_without[0].v[2]) > 0.9
+    assert not any(abs(s.v[2]) > 0.9 and np.linalg.norm(s.c[:2]) < 0.01
+                   for s in detect_hangable_structures(ring, params, free_space=fs))
+    paper = dataclasses.replace(params, unknown_is_occupied=False)
+    assert detect_hangable_structures(ring, paper, free_space=fs)
