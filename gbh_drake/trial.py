@@ -111,6 +111,13 @@ class TrialRecord:
     refusal_texts: list[str] = field(default_factory=list)
     lift: float = float("nan")
     """How far the gripper rose after closing."""
+    lift_needed: float = float("nan")
+    """How far it should have risen for the object, hanging from where its material comes to
+    rest on the loop, to clear the table by ``pick.lift_clearance`` (nan: not estimated)."""
+    carry_dip: float = float("nan")
+    """How far (m) the hook point went below its lifted height along the carry."""
+    plan_notes: list[str] = field(default_factory=list)
+    """What the plan could not do as wanted (a lift short of the need, a carry that dips)."""
     place: list[float] = field(default_factory=list)
     """Where the hook point was when the object was released (W)."""
     verdict: Verdict = field(default_factory=Verdict)
@@ -321,6 +328,9 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         fallback=status.fallback, refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),
+        lift_needed=float(getattr(plan, "lift_needed", float("nan"))) if plan else float("nan"),
+        carry_dip=float(getattr(plan, "carry_dip", float("nan"))) if plan else float("nan"),
+        plan_notes=list(getattr(plan, "notes", [])) if plan else [],
         place=plan.place_W.tolist() if plan else [],
         verdict=verdict, phases=dict(status.phase_start),
         sim_time=context.get_time(),

@@ -158,7 +158,7 @@ class GbhParams:
     gripper sweeps while closing (hand, rods and bar moving from the open to the closed pose,
     the closed pose included) that are not already counted in N_c. Default 1: none, because
     the closing motion must not meet material (that is a pinch, not a cage); see scoring.py."""
-    sampling_votes: int = ranged(3, Int(1, 9))
+    sampling_votes: int = ranged(1, Int(1, 9))
     """Ours: a candidate near a collision threshold (N_c < 2 p_c and N_sweep < 2 p_sweep + 2)
     is counted again on ``sampling_votes - 1`` more samplings of the same surface (other
     seeds, derived from the trial's) and kept only if it passes on most of them: a

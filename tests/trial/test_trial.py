@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from pydrake.systems.analysis import Simulator
 
 from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
@@ -14,7 +15,7 @@ from gbh_drake.objects import list_objects
 from gbh_drake.run import RunSummary
 from gbh_drake.seeds import derive_seeds
 from gbh_drake.systems.pick_and_carry import Mode
-from gbh_drake.trial import build_trial, simulate_trial
+from gbh_drake.trial import build_trial, make_record, simulate_trial
 
 pytestmark = pytest.mark.sim
 
@@ -30,12 +31,21 @@ class Grasp:
 
 
 def _plan_only(scenario, **kwargs):
-    """Simulates until the machine has planned (or found nothing); the record and status."""
+    """Simulates until the machine has planned (or found nothing): the scan is taken once the
+    object is still, then PLAN runs; the trial, simulator, record and status."""
     trial = build_trial(scenario, **kwargs)
-    simulator, record = simulate_trial(trial, max_time=scenario.settle_time + 0.05)
-    status = trial.pick.GetOutputPort("status").Eval(
-        trial.pick.GetMyContextFromRoot(simulator.get_context()))
-    return trial, simulator, record, status
+    simulator = Simulator(trial.diagram)
+    simulator.Initialize()
+    port = trial.pick.GetOutputPort("status")
+    t, latest = scenario.settle_time, scenario.settle_time + scenario.scan.still_max_wait + 0.5
+    while True:
+        simulator.AdvanceTo(t)
+        status = port.Eval(trial.pick.GetMyContextFromRoot(simulator.get_context()))
+        if status.mode not in (Mode.SETTLE, Mode.PLAN) or t >= latest:
+            break
+        t += 0.05
+    simulator.AdvanceTo(t + 0.02)  # the monitor's next look (every 10 ms) judges it
+    return trial, simulator, make_record(trial, simulator, 0.0), status
 
 
 @pytest.mark.trial
