@@ -76,9 +76,18 @@ def _scan_task(args):
         "gbh": scenario.gbh}
 
 
+_SCANS: dict = {}
+
+
+def _load_scans(path: str) -> None:
+    """Worker initializer: the scans, read once per worker (not sent with every job)."""
+    _SCANS.update(pickle.loads(Path(path).read_bytes()))
+
+
 def _gbh_task(args):
-    """Counts of one scan under one parameter value."""
-    key, record, name, value = args
+    """Counts of one scan (by key, from the worker's copy) under one parameter value."""
+    key, name, value = args
+    record = _SCANS[key]
     import numpy as np
     import trimesh
 
@@ -174,10 +183,16 @@ def main(argv=None) -> int:
                       file=sys.stderr)
     cache.write_bytes(pickle.dumps(scans))
     sweeps = [_parse_sweep(s) for s in args.sweep]
-    jobs = [(key, scans[key], name, value) for name, values in sweeps for value in values
+    jobs = [(key, name, value) for name, values in sweeps for value in values
             for key in sorted(scans)]
-    with ProcessPoolExecutor(args.workers) as pool:
-        rows = list(pool.map(_gbh_task, jobs, chunksize=4))
+    with ProcessPoolExecutor(args.workers, initializer=_load_scans,
+                             initargs=(str(cache),)) as pool:
+        rows = []
+        for i, row in enumerate(pool.map(_gbh_task, jobs, chunksize=4)):
+            rows.append(row)
+            if (i + 1) % 200 == 0:
+                print(f"GbH {i + 1}/{len(jobs)} ({time.perf_counter() - start:.0f} s)",
+                      file=sys.stderr)
     with open(out / "rows.jsonl", "w") as f:
         for r in rows:
             f.write(json.dumps(r) + "\n")
