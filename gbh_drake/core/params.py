@@ -18,18 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gbh_drake.core.ranges import (
-    FieldError,
-    Int,
-    Items,
-    NonNeg,
-    OneOf,
-    Pos,
-    Range,
-    checker,
-    ranged,
-    sibling,
-)
+from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, checker, ranged, sibling
 from gbh_drake.core.results import GbhInputError
 
 #: Segment samples per cluster GbH may test (max_contacts_per_cluster x n_segment_samples).
