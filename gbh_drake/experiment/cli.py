@@ -26,8 +26,8 @@ def add_subcommands(sub) -> None:
     """Adds ``experiment`` and ``report`` to the ``gbh`` subparsers ``sub``."""
     p = sub.add_parser("experiment", help="run objects x trials x methods (the paper's Table 1)",
                        description="Runs the experiment's trials not yet in its folder (an "
-                                   "interrupted experiment resumes), then writes summary.md "
-                                   "and success.png.")
+                                   "interrupted experiment resumes), then writes summary.md, "
+                                   "trials.csv, table1.csv and the plots.")
     p.add_argument("experiment", help="experiment YAML file (e.g. "
                                       "scenarios/experiment_small.yaml)")
     p.add_argument("--workers", type=int, default=default_workers(),
@@ -44,7 +44,7 @@ def add_subcommands(sub) -> None:
                         "repeated: applied in order)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    p = sub.add_parser("report", help="rebuild an experiment's summary.md and success.png "
+    p = sub.add_parser("report", help="rebuild an experiment's summary.md, CSVs and plots "
                                       "from its rows")
     p.add_argument("folder", help="the experiment's folder (holds trials.jsonl)")
 
