@@ -25,7 +25,7 @@ import sys
 import threading
 from pathlib import Path
 
-from gbh_drake import REPO_ROOT, SCENARIOS_DIR
+from gbh_drake import REPO_ROOT, SCENARIOS_DIR, __version__
 from gbh_drake.experiment import cli as experiment_cli
 
 DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
@@ -115,6 +115,7 @@ def _say(message: str) -> None:
 @_handles_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="gbh", description="Grasping by Hanging in Drake")
+    parser.add_argument("--version", action="version", version=f"gbh_drake {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p_run = sub.add_parser("run", help="simulate a scenario and write its Meshcat replay")
