@@ -61,6 +61,8 @@ class RunSummary:
                          f"candidates, {r.n_ranked} ranked; {r.n_grasps_offered} offered")
             for text in r.refusal_texts:
                 lines.append(f"  refused {text}")
+            for note in r.plan_notes:
+                lines.append(f"  plan: {note}")
             if r.grasp_rank >= 0:
                 lines.append(f"  executed grasp #{r.grasp_rank + 1} ({r.grasp_kind}"
                              f"{', fallback' if r.fallback else ''}, score {r.grasp_score:.3f}); "
