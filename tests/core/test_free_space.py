@@ -108,7 +108,7 @@ def front_of(mesh: trimesh.Trimesh, X_CW: np.ndarray) -> trimesh.Trimesh:
 
 @pytest.fixture(scope="module")
 def params() -> GbhParams:
-    return GbhParams(ground_clearance=-1.0)
+    return GbhParams(ground_clearance=-1.0, unknown_is_occupied=True)
 
 
 def test_a_torus_seen_through_its_hole_keeps_its_structure(params):
