@@ -5,11 +5,22 @@ Layout: ``core`` holds the pure geometry (no pydrake), ``perception`` the scanni
 object set, ``station.py`` builds the simulation diagram from a ``scenario.Scenario``.
 """
 
+from importlib.resources import files
 from pathlib import Path
 
 __version__ = "0.1.0"
 
-#: Repository root (holds ``models/`` and ``scenarios/``) when running from a checkout.
+#: Repository root (holds ``models/`` and ``scenarios/``) when running from a checkout (also
+#: the editable install of ``./dev.sh setup``); in an installed wheel, the site-packages folder.
 REPO_ROOT = Path(__file__).resolve().parent.parent
-MODELS_DIR = REPO_ROOT / "models"
-SCENARIOS_DIR = REPO_ROOT / "scenarios"
+
+#: An installed wheel ships ``models/`` and ``scenarios/`` inside the package (setup.py maps them
+#: there); a checkout has them at the repository root only.
+_PACKAGED = Path(str(files(__name__)))
+IN_CHECKOUT = not (_PACKAGED / "models").is_dir()
+
+#: The models of Drake's package ``gbh_drake`` (``package://gbh_drake/...``): the arm URDF, the
+#: gripper and table SDFs and the Franka meshes.
+MODELS_DIR = REPO_ROOT / "models" if IN_CHECKOUT else _PACKAGED / "models"
+#: The shipped scenario files (``default.yaml`` is what ``gbh run`` runs without a file).
+SCENARIOS_DIR = REPO_ROOT / "scenarios" if IN_CHECKOUT else _PACKAGED / "scenarios"

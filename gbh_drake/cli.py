@@ -1,6 +1,7 @@
 """The ``gbh`` command line.
 
-    gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: scenarios/default.yaml)
+    gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: the packaged
+                                                       scenarios/default.yaml, from any folder)
     gbh diagram [SCENARIO.yaml]                        write the station's and the trial's diagrams
     gbh objects list                                   the object set: sizes, masses, hangable parts
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
@@ -25,15 +26,19 @@ import sys
 import threading
 from pathlib import Path
 
-from gbh_drake import REPO_ROOT, SCENARIOS_DIR, __version__
+from gbh_drake import IN_CHECKOUT, REPO_ROOT, SCENARIOS_DIR, __version__
 from gbh_drake.experiment import cli as experiment_cli
 
+#: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
+#: package's); relative paths in it resolve against its own folder, as in any scenario file.
 DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
+#: Where ``gbh diagram`` writes: the repository's diagrams/, or ./diagrams outside a checkout.
+DEFAULT_DIAGRAMS = REPO_ROOT / "diagrams" if IN_CHECKOUT else Path("diagrams")
 
 
 def _scenario_arg(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", nargs="?", default=str(DEFAULT_SCENARIO),
-                        help="scenario YAML file (default: scenarios/default.yaml)")
+                        help="scenario YAML file (default: the packaged scenarios/default.yaml)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
                         help="YAML text applied over the file, e.g. --set 'seed: 3' (may be "
                              "repeated: applied in order)")
@@ -125,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
 
     p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
-    p_diag.add_argument("--out", default=str(REPO_ROOT / "diagrams"), help="output folder")
+    p_diag.add_argument("--out", default=str(DEFAULT_DIAGRAMS), help="output folder")
 
     p_obj = sub.add_parser("objects", help="the object set")
     p_obj.add_argument("action", choices=["list", "build"])

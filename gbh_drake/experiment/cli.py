@@ -71,11 +71,15 @@ def _report(folder: Path) -> int:
 
 def _experiment(args: argparse.Namespace) -> int:
     from gbh_drake.experiment.config import ExperimentError, load_experiment
+    from gbh_drake.experiment.engines import RAY_MISSING, ray_installed
     from gbh_drake.experiment.report import read_input, table1
     from gbh_drake.experiment.runner import run_experiment
 
     if args.workers < 1:
         print("gbh: --workers must be at least 1", file=sys.stderr)
+        return 2
+    if args.ray and not ray_installed():  # before anything runs: Ray is an optional extra
+        print(f"gbh: {RAY_MISSING}", file=sys.stderr)
         return 2
     try:
         experiment = load_experiment(args.experiment, overrides=args.overrides)

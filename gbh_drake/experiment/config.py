@@ -336,9 +336,12 @@ def experiment_yaml(experiment: Experiment) -> str:
 
 
 def git_commit(repo: Path | None = None) -> str:
-    """``HEAD``'s hash, ``-dirty`` when tracked files differ from it; empty outside git."""
-    from gbh_drake import REPO_ROOT
+    """``HEAD``'s hash, ``-dirty`` when tracked files differ from it; empty outside git (and for
+    an installed wheel: its site-packages may sit in someone else's repository)."""
+    from gbh_drake import IN_CHECKOUT, REPO_ROOT
 
+    if repo is None and not IN_CHECKOUT:
+        return ""
     repo = repo or REPO_ROOT
     try:
         head = subprocess.run(["git", "-C", str(repo), "rev-parse", "HEAD"], check=True,

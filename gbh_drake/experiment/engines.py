@@ -6,7 +6,8 @@
 * :func:`ray_results`: the same function as Ray tasks (one CPU each) on a cluster: ``auto`` (the
   cluster this machine belongs to), ``ray://host:port`` or ``host:port`` (a cluster's address; its
   nodes need this package installed at the same path), or ``local`` (a one-machine Ray started
-  here, listening on the loopback only, dashboard and usage reporting off).
+  here, listening on the loopback only, dashboard and usage reporting off). Ray is optional
+  (``pip install 'gbh_drake[ray]'``): only this engine imports it.
 
 Workers run single-threaded (see :mod:`gbh_drake.experiment.worker`), so rows are identical,
 timing fields aside, whatever the number of workers or the engine.
@@ -15,6 +16,7 @@ timing fields aside, whatever the number of workers or the engine.
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import multiprocessing
 import os
 import time
@@ -47,6 +49,27 @@ LOCAL_RAY_ENV = {
                                       "HTTPS_PROXY")},
     **{name: "localhost,127.0.0.1,::1" for name in ("no_proxy", "NO_PROXY")},
 }
+
+
+#: Why the Ray engine cannot run here (``gbh experiment --ray`` without Ray installed).
+RAY_MISSING = ("--ray needs Ray, which is not installed in this environment: pip install "
+               "'gbh_drake[ray]' (or leave out --ray to run local worker processes)")
+
+
+class RayMissing(RuntimeError):
+    """The Ray engine was asked for, but ``ray`` cannot be imported (message: :data:`RAY_MISSING`)."""
+
+    def __init__(self):
+        super().__init__(RAY_MISSING)
+
+
+def ray_installed() -> bool:
+    """Whether ``ray`` can be found, without importing it (a local Ray's environment must be set
+    before the import: :func:`init_ray` does that)."""
+    try:
+        return importlib.util.find_spec("ray") is not None
+    except (ImportError, ValueError):
+        return False
 
 
 @contextlib.contextmanager
@@ -126,7 +149,10 @@ def ray_results(tasks: Sequence[TrialTask], address: str, *, workers: int = 0,
 
 
 def init_ray(address: str, *, workers: int = 0):
-    """``ray.init`` for ``address`` (``local``: a Ray on this machine only); returns ``ray``."""
+    """``ray.init`` for ``address`` (``local``: a Ray on this machine only); returns ``ray``.
+    Raises :class:`RayMissing` when Ray is not installed."""
+    if not ray_installed():
+        raise RayMissing
     if address == "local":
         with environment({**LOCAL_RAY_ENV, **WORKER_ENV}):
             import ray

@@ -6,12 +6,14 @@ from pathlib import Path
 
 import yaml
 
-from gbh_drake import MODELS_DIR
+from gbh_drake import IN_CHECKOUT, MODELS_DIR
 from gbh_drake.modeling.object_sdf import ObjectModelFiles, write_object_model
 from gbh_drake.objects import list_objects, make_object
 from gbh_drake.objects.export import ground_truth
 
-OBJECT_MODELS_DIR = MODELS_DIR / "objects"
+#: ``gbh objects build``'s folder: the repository's models/objects/ (Drake's package ``gbh_drake``),
+#: or ./models/objects outside a checkout (never into an installed package).
+OBJECT_MODELS_DIR = MODELS_DIR / "objects" if IN_CHECKOUT else Path("models") / "objects"
 
 
 def build_object_models(out_dir: Path = OBJECT_MODELS_DIR,
