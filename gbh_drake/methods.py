@@ -101,9 +101,9 @@ def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
 
 
 def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
-                fallback: bool = False) -> GraspSearchReport:
-    report = _add(builder, systems, "grasp_search", GraspSearchReport(hook=hook,
-                                                                      fallback=fallback))
+                scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+    report = _add(builder, systems, "grasp_search", GraspSearchReport(
+        hook=hook, fallback=fallback, params=scenario.gbh))
     builder.Connect(scan, report.GetInputPort("scan"))
     if hook:
         builder.Connect(systems["hangability_detector"].get_output_port(),
@@ -129,7 +129,7 @@ class Gbh(GraspMethod):
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
         _add_gbh(builder, scenario, seeds, scan, systems)
-        return _gbh_source(systems, _add_search(builder, systems, scan, hook=True))
+        return _gbh_source(systems, _add_search(builder, systems, scan, hook=True, scenario=scenario))
 
 
 class Antipodal(GraspMethod):
@@ -141,7 +141,7 @@ class Antipodal(GraspMethod):
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
         sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=False)
+        report = _add_search(builder, systems, scan, hook=False, scenario=scenario)
         return GraspSource(grasps=sampler.get_output_port(), search=report.get_output_port(),
                            systems=systems)
 
@@ -155,7 +155,8 @@ class GbhFallback(GraspMethod):
         systems: dict[str, System] = {}
         _add_gbh(builder, scenario, seeds, scan, systems)
         sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=True, fallback=True)
+        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+                             fallback=True)
         return _gbh_source(systems, report, fallback=sampler.get_output_port())
 
 

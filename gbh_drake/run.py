@@ -16,6 +16,7 @@ import numpy as np
 import yaml
 from pydrake.geometry import Meshcat
 
+from gbh_drake.core.resting import rest_in_words
 from gbh_drake.outputs import RunOutputs, plain
 from gbh_drake.scenario import Scenario, dump_resolved
 from gbh_drake.trial import TrialRecord, TrialRun, record_trial
@@ -49,7 +50,8 @@ class RunSummary:
             f"  object {r.object} ({r.object_mass * 1000:.0f} g, {r.source}), seed {r.seed}, "
             f"method {r.method}, {r.num_views} view(s), task {self.task}",
             f"  start pose x {r.pose[0]:.3f} y {r.pose[1]:.3f} m, yaw "
-            f"{np.degrees(r.pose[5]):.0f} deg; settling moved it {self.settle_drift * 1000:.1f} mm",
+            f"{np.degrees(r.pose[5]):.0f} deg, {rest_in_words(r.pose)}; "
+            f"settling moved it {self.settle_drift * 1000:.1f} mm",
             f"  simulated {r.sim_time:.2f} s in {r.timings.get('simulate', 0.0):.2f} s wall "
             f"({self.realtime_rate:.2f}x real time); phases: {phases}",
         ]
@@ -65,7 +67,7 @@ class RunSummary:
                 lines.append(f"  plan: {note}")
             if r.grasp_rank >= 0:
                 lines.append(f"  executed grasp #{r.grasp_rank + 1} ({r.grasp_kind}"
-                             f"{', fallback' if r.fallback else ''}, score {r.grasp_score:.3f}); "
+                             f"{', fallback' if r.fallback else ''}, score {r.grasp_score:.3g}); "
                              f"lift {r.lift * 100:.1f} cm, released at "
                              f"({r.place[0]:.2f}, {r.place[1]:.2f}) m")
             verdict = "SUCCESS" if r.success else "FAILURE"

@@ -90,6 +90,10 @@ class TrialRecord:
     n_ranked: int = 0
     """Grasps the method offered (GbH: the ranked top k; antipodal: the sampler's)."""
     n_grasps_offered: int = 0
+    rejected_by: dict[str, int] = field(default_factory=dict)
+    """GbH's candidates each collision rule removed, in the order the rules apply
+    (``collision N_c``, ``closing sweep``, ``table clearance``;
+    :mod:`gbh_drake.core.rejections`); filled when the method offered no grasp."""
     true_parts: int = 0
     """Ground-truth hangable parts of the object (0 for controls and mesh files)."""
     true_part_found: bool | None = None
@@ -186,10 +190,13 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     builder.Connect(source.search, monitor.GetInputPort("grasp_search"))
 
     if meshcat is not None:
-        viz = builder.AddNamedSystem("grasp_visualizer", GraspVisualizer(meshcat))
+        viz = builder.AddNamedSystem("grasp_visualizer",
+                                     GraspVisualizer(meshcat, params=scenario.gbh))
         builder.Connect(scan, viz.GetInputPort("scan"))
         if source.hanging_structures is not None:
             builder.Connect(source.hanging_structures, viz.GetInputPort("hanging_structures"))
+        if source.candidates is not None:
+            builder.Connect(source.candidates, viz.GetInputPort("grasp_candidates"))
         builder.Connect(source.grasps, viz.GetInputPort("grasps"))
         builder.Connect(pick.GetOutputPort("status"), viz.GetInputPort("pick_status"))
 
@@ -297,6 +304,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
     n_candidates = len(_port_value(source.candidates, context)) \
         if source.candidates is not None else 0
     offered = _port_value(source.grasps, context)
+    search = _port_value(source.search, context) if not offered else None
     X = station.X_WO_initial
     refusals: dict[str, int] = {}
     for r in status.refusals:
@@ -318,6 +326,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         scan_warnings=list(getattr(scan, "warnings", [])),
         n_structures=len(structures), n_candidates=n_candidates,
         n_ranked=len(offered), n_grasps_offered=status.n_grasps,
+        rejected_by=dict(getattr(search, "rejected_by", {}) or {}),
         true_parts=len(station.asset.hangable_parts),
         true_part_found=any(on_part(s.c) for s in structures) if known else None,
         grasped_true_part=None if not station.asset.hangable_parts or executed is None else

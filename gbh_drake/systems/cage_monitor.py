@@ -84,6 +84,9 @@ class GraspSearch:
 
     outcome: Outcome = Outcome.NO_GRASP_FOUND
     reason: str = "no grasp to try"
+    rejected_by: dict[str, int] = field(default_factory=dict)
+    """GbH's candidates each collision rule removed, in the order the rules apply
+    (:func:`gbh_drake.core.rejections.count_rejections`); empty without GbH candidates."""
 
 #: A lifted object that is back on the table is dropped once no gripper body has touched it
 #: for this long (s): a basket still hanging on the bar loses contact for a step now and then.

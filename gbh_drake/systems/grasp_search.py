@@ -11,6 +11,8 @@ from __future__ import annotations
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
 
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.rejections import count_rejections
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.cage_monitor import GraspSearch, Outcome
 from gbh_drake.systems.hangability_detector import Hangability
@@ -18,11 +20,15 @@ from gbh_drake.systems.scanner import no_scan
 
 
 def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
-                     n_candidates: int = 0, *, fallback: bool = False,
-                     sampler: str = "the antipodal sampler") -> GraspSearch:
-    """Why a method offered no grasp on ``scan``: ``hangability`` and ``n_candidates`` are GbH's
-    (None: a method without GbH, whose grasps came from ``sampler``); ``fallback``: an antipodal
-    fallback was tried too and found nothing either."""
+                     candidates: list | None = None, *, fallback: bool = False,
+                     sampler: str = "the antipodal sampler",
+                     params: GbhParams | None = None) -> GraspSearch:
+    """Why a method offered no grasp on ``scan``: ``hangability`` and ``candidates`` (counted
+    :class:`~gbh_drake.core.results.GraspCandidate`) are GbH's (None: a method without GbH,
+    whose grasps came from ``sampler``); ``fallback``: an antipodal fallback was tried too and
+    found nothing either; ``params``: GbH's (the rules' thresholds; default GbhParams()). The
+    reason counts the candidates each collision rule removed and says how near the closest
+    came (:func:`~gbh_drake.core.rejections.count_rejections`)."""
     if scan.empty:
         return GraspSearch(Outcome.EMPTY_SCAN, scan.message)
     if hangability is None:
@@ -31,9 +37,13 @@ def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
     if not hangability.structures:
         return GraspSearch(Outcome.NO_HANGABLE_STRUCTURE,
                            (hangability.message or "no hangable structure found") + also)
+    candidates = list(candidates or [])
+    rejections = count_rejections(candidates, params or GbhParams())
+    why = rejections.summary()
     return GraspSearch(Outcome.NO_GRASP_FOUND,
-                       f"no collision-free grasp among {n_candidates} candidates on "
-                       f"{len(hangability.structures)} hanging structures{also}")
+                       f"no collision-free grasp among {len(candidates)} candidates on "
+                       f"{len(hangability.structures)} hanging structures"
+                       f"{': ' + why if why else ''}{also}", rejections.removed)
 
 
 class GraspSearchReport(LeafSystem):
@@ -57,11 +67,13 @@ class GraspSearchReport(LeafSystem):
     """
 
     def __init__(self, *, hook: bool = True, fallback: bool = False,
-                 sampler: str = "the antipodal sampler"):
+                 sampler: str = "the antipodal sampler", params: GbhParams | None = None):
         """``hook``: the method runs GbH (declares the structure and candidate inputs);
         ``fallback``: an antipodal fallback follows GbH; ``sampler``: what offered the grasps
-        of a method without GbH (for the reason's words)."""
+        of a method without GbH (for the reason's words); ``params``: GbH's (the collision
+        rules' thresholds, to count what each removed)."""
         super().__init__()
+        self._params = params or GbhParams()
         self._fallback = bool(fallback)
         self._sampler = sampler
         self._scan = self.DeclareAbstractInputPort("scan", AbstractValue.Make(
@@ -80,6 +92,7 @@ class GraspSearchReport(LeafSystem):
 
     def _calc(self, context, output) -> None:
         hangability = self._structures.Eval(context) if self._structures else None
-        n = len(self._candidates.Eval(context)) if self._candidates else 0
-        output.set_value(explain_no_grasp(self._scan.Eval(context), hangability, n,
-                                          fallback=self._fallback, sampler=self._sampler))
+        candidates = self._candidates.Eval(context) if self._candidates else None
+        output.set_value(explain_no_grasp(self._scan.Eval(context), hangability, candidates,
+                                          fallback=self._fallback, sampler=self._sampler,
+                                          params=self._params))

@@ -29,6 +29,8 @@ BLUE = Rgba(0.1, 0.3, 0.9, 1.0)
 BLACK = Rgba(0.0, 0.0, 0.0, 1.0)
 GREY = Rgba(0.6, 0.6, 0.6, 0.4)
 GRIPPER = Rgba(0.85, 0.55, 0.2, 0.6)
+#: Refused grasps (the closest to passing, drawn when none passed).
+REFUSED = Rgba(0.55, 0.2, 0.8, 1.0)
 
 
 def clear(meshcat: Meshcat, prefix: str = "gbh") -> None:
@@ -81,16 +83,20 @@ def draw_grasps(
     prefix: str = "gbh",
     n_solid: int = 1,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
+    *,
+    rgba: Rgba = RED,
+    folder: str = "grasps",
 ) -> None:
-    """Grasps X_WG as red keypoint polylines (open gripper); the first ``n_solid`` also as the
-    solid model's boxes (the model N_c is counted against)."""
+    """Grasps X_WG as keypoint polylines of ``rgba`` (open gripper) under
+    ``<prefix>/<folder>``; the first ``n_solid`` also as the solid model's boxes (the model
+    N_c is counted against)."""
     for i, g in enumerate(grasps):
-        path = f"{prefix}/grasps/{i}"
+        path = f"{prefix}/{folder}/{i}"
         kp = keypoints_W(g.X_WG, gripper.q_open, gripper)
         fingers = np.stack([kp[k] for k in ("p2", "p4", "p5", "p3", "p1")])
-        meshcat.SetLine(f"{path}/fingers", np.asfortranarray(fingers.T), 3.0, RED)
+        meshcat.SetLine(f"{path}/fingers", np.asfortranarray(fingers.T), 3.0, rgba)
         hand = np.stack([kp["p7"], kp["p6"]])
-        meshcat.SetLine(f"{path}/hand_axis", np.asfortranarray(hand.T), 3.0, RED)
+        meshcat.SetLine(f"{path}/hand_axis", np.asfortranarray(hand.T), 3.0, rgba)
         if i < n_solid:
             X_WG = RigidTransform(g.X_WG)
             for b in gripper.solid_boxes_G(gripper.q_open):

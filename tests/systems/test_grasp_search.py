@@ -3,7 +3,8 @@
 import numpy as np
 import trimesh
 
-from gbh_drake.core.results import HangingStructure
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.results import GraspCandidate, GraspKind, HangingStructure
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.scenario.schema import MonitorConfig
 from gbh_drake.systems.cage_monitor import GraspSearch, Observation, Outcome, _Watch, observe
@@ -35,10 +36,32 @@ def test_nothing_hangable_is_its_own_outcome_and_names_the_fallback():
                              "grasp either")
 
 
-def test_structures_without_a_grasp_count_the_candidates():
-    search = explain_no_grasp(SCAN, Hangability(None, [STRUCTURE, STRUCTURE], ""), 7)
-    assert search == GraspSearch(Outcome.NO_GRASP_FOUND, "no collision-free grasp among 7 "
-                                                         "candidates on 2 hanging structures")
+def _candidate(n_c: int, n_s: int, height: float, kind: str = "vertical") -> GraspCandidate:
+    g = GraspCandidate(np.eye(4), GraspKind(kind), 0, STRUCTURE, np.zeros(3))
+    g.n_collisions, g.n_sweep_collisions, g.ground_distance = n_c, n_s, height
+    return g
+
+
+def test_structures_without_a_grasp_count_the_candidates_each_rule_removed():
+    """The reason says how many candidates there were, what each rule removed (in the order
+    the rules apply) and how near the closest came to the last rule."""
+    params = GbhParams(p_c=1, p_sweep=1, ground_clearance=0.003)
+    candidates = [_candidate(5, 0, 0.1), _candidate(0, 2, 0.1), _candidate(0, 0, 0.0023),
+                  _candidate(0, 0, -0.01, "parallel")]
+    search = explain_no_grasp(SCAN, Hangability(None, [STRUCTURE, STRUCTURE], ""), candidates,
+                              params=params)
+    assert search.outcome == Outcome.NO_GRASP_FOUND
+    assert search.reason == (
+        "no collision-free grasp among 4 candidates on 2 hanging structures: N_c removed 1, "
+        "the closing sweep 1, the table clearance the last 2 (closest: a vertical grasp 2.3 mm "
+        "above the table, 0.7 mm short of the 3.0 mm clearance)")
+    assert search.rejected_by == {"collision N_c": 1, "closing sweep": 1, "table clearance": 2}
+
+
+def test_no_candidates_at_all_is_said_without_rules():
+    search = explain_no_grasp(SCAN, Hangability(None, [STRUCTURE], ""), [])
+    assert search.reason == "no collision-free grasp among 0 candidates on 1 hanging structures"
+    assert search.rejected_by == {"collision N_c": 0, "closing sweep": 0, "table clearance": 0}
 
 
 def test_the_monitor_decides_the_outcome_from_the_search_once():

@@ -105,6 +105,21 @@ def test_a_target_out_of_reach_gives_no_reachable_grasp_with_reasons(scenario):
     assert record.refusals.get("ik:carry", 0) >= 1 and "ik:carry" in record.reason
 
 
+def test_a_hanger_lying_flat_is_refused_by_the_table_and_the_verdict_says_so(scenario):
+    """The bar cannot pass under material that lies on the table: the record counts what each
+    rule removed, and the reason names the rule that removed the last candidates and how near
+    the closest came."""
+    scenario.settle_time = 0.1
+    scenario.object.name = "clothes_hanger"
+    _, _, record, status = _plan_only(scenario)
+    assert status.mode == Mode.NO_GRASP and record.outcome == "no_grasp_found"
+    assert list(record.rejected_by) == ["collision N_c", "closing sweep", "table clearance"]
+    assert sum(record.rejected_by.values()) == record.n_candidates > 0
+    assert record.rejected_by["table clearance"] > 0
+    assert "the table clearance the last" in record.reason
+    assert "mm short of the 3.0 mm clearance" in record.reason
+
+
 def test_ik_finds_grasps_of_an_object_settled_at_a_random_pose(scenario):
     """Regression: IK once pinned the free object's quaternion (unit only to ~1e-5 after
     settling) against InverseKinematics' unit-quaternion constraint: every grasp failed."""
@@ -151,3 +166,6 @@ def test_every_object_gets_a_plan_or_true_reasons(scenario, name):
         else:
             assert record.outcome in ("empty_scan", "no_hangable_structure", "no_grasp_found")
             assert record.reason
+            if record.outcome == "no_grasp_found" and record.n_candidates:
+                assert sum(record.rejected_by.values()) == record.n_candidates
+                assert "closest: a " in record.reason, record.reason
