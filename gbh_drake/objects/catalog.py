@@ -10,6 +10,12 @@ ground truth: the centre is moved across the axis to the middle of the largest c
 the clear diameter is that disc's diameter.
 
 Hole axes: loops in the x-z plane have axis +y, flat loops axis +z.
+
+Each object is registered with its natural rest (:class:`~gbh_drake.objects.spec.NaturalRest`,
+the ``natural`` protocol of the experiment): the rest a person would set it down in, with a
+one-line reason. Every object of the set is modelled in that rest (frame O upright as a person
+sets it down), so every rest here is :func:`as_modelled`; the tests check that each is one of the
+object's stable resting poses.
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ from manifold3d import CrossSection, Manifold
 from gbh_drake.objects import primitives as P
 from gbh_drake.objects.handles import XZ, LoopPlane, arch_handle, handle_loop, side_handle
 from gbh_drake.objects.holes import fit_hole
-from gbh_drake.objects.spec import HangablePart, ObjectSpec
+from gbh_drake.objects.spec import HangablePart, NaturalRest, ObjectSpec
 
 Y_AXIS = (0.0, 1.0, 0.0)
 Z_AXIS = (0.0, 0.0, 1.0)
@@ -58,21 +64,46 @@ class Design:
 
 _BUILDERS: dict[str, Callable[..., Design]] = {}
 _EXTERNAL: dict[str, Callable[[], ObjectSpec]] = {}
+_RESTS: dict[str, NaturalRest] = {}
 
 
-def register(name: str):
-    """Decorator adding a builder to the set under ``name``."""
+def as_modelled(reason: str) -> NaturalRest:
+    """The natural rest of an object modelled in it: frame O as it is (rpy 0, 0, 0)."""
+    return NaturalRest((0.0, 0.0, 0.0), reason)
+
+
+def register(name: str, *, rest: NaturalRest | None = None):
+    """Decorator adding a builder to the set under ``name``, with its natural rest (None: the
+    object has none, and the ``natural`` protocol refuses it)."""
 
     def wrap(fn: Callable[..., Design]) -> Callable[..., Design]:
         _BUILDERS[name] = fn
+        _set_rest(name, rest)
         return fn
 
     return wrap
 
 
-def register_external(name: str, loader: Callable[[], ObjectSpec]) -> None:
-    """Add a non-procedural object (a loader returning a finished ObjectSpec)."""
+def register_external(name: str, loader: Callable[[], ObjectSpec], *,
+                      rest: NaturalRest | None = None) -> None:
+    """Add a non-procedural object (a loader returning a finished ObjectSpec), with its natural
+    rest as :func:`register`."""
     _EXTERNAL[name] = loader
+    _set_rest(name, rest)
+
+
+def _set_rest(name: str, rest: NaturalRest | None) -> None:
+    if rest is None:
+        _RESTS.pop(name, None)
+    else:
+        _RESTS[name] = rest
+
+
+def natural_rest(name: str) -> NaturalRest | None:
+    """The declared natural rest of the object ``name`` (without building it), or None."""
+    if name not in _BUILDERS and name not in _EXTERNAL:
+        raise KeyError(f"unknown object {name!r}; known: {', '.join(list_objects())}")
+    return _RESTS.get(name)
 
 
 def list_objects() -> list[str]:
@@ -85,7 +116,10 @@ def make_object(name: str, **params) -> ObjectSpec:
     if name in _EXTERNAL:
         if params:
             raise TypeError(f"object {name!r} takes no parameters")
-        return _EXTERNAL[name]()
+        spec = _EXTERNAL[name]()
+        if spec.natural_rest is None:
+            spec.natural_rest = _RESTS.get(name)
+        return spec
     if name not in _BUILDERS:
         raise KeyError(f"unknown object {name!r}; known: {', '.join(list_objects())}")
     return finish(name, _BUILDERS[name](**params))
@@ -113,6 +147,7 @@ def finish(name: str, design: Design) -> ObjectSpec:
         rgba=design.rgba,
         description=design.description,
         genus=design.genus,
+        natural_rest=_RESTS.get(name),
     )
 
 
@@ -159,7 +194,8 @@ def _ring(center_uv, outer_half, inner_half) -> tuple[CrossSection, CrossSection
 
 
 # ---- cups and mugs -------------------------------------------------------------------------------
-@register("mug_classic")
+@register("mug_classic",
+          rest=as_modelled("upright on its base, as a mug is set down on a table or shelf"))
 def mug_classic(radius=0.041, height=0.095, wall=0.0045, reach=0.045, mass=0.33) -> Design:
     """Straight ceramic mug (8.2 cm x 9.5 cm) with a round-section C handle."""
     outer = [(0, 0), (radius - 0.003, 0), (radius, 0.003), (radius, height)]
@@ -169,7 +205,8 @@ def mug_classic(radius=0.041, height=0.095, wall=0.0045, reach=0.045, mass=0.33)
                   "classic straight ceramic mug, C handle of round section", [hole])
 
 
-@register("mug_large")
+@register("mug_large",
+          rest=as_modelled("upright on its base, as a mug is set down on a table or shelf"))
 def mug_large(radius=0.048, height=0.105, wall=0.005, reach=0.05, mass=0.45) -> Design:
     """Large latte mug (9.6 cm x 10.5 cm), tall D handle with a flat oval section."""
     outer = [(0, 0), (radius - 0.004, 0), (radius - 0.001, 0.004), (radius, height)]
@@ -179,7 +216,8 @@ def mug_large(radius=0.048, height=0.105, wall=0.005, reach=0.05, mass=0.45) -> 
                   "large latte mug, tall D handle with flat oval section", [hole])
 
 
-@register("teacup")
+@register("teacup",
+          rest=as_modelled("upright on its base, as a cup is set down on a table or saucer"))
 def teacup(r_base=0.028, r_rim=0.043, height=0.065, wall=0.0035, mass=0.2) -> Design:
     """Tapered teacup with an ear-shaped handle that rises outward."""
     outer = [(0, 0), (r_base - 0.003, 0), (r_base, 0.005), (r_rim, height)]
@@ -189,7 +227,8 @@ def teacup(r_base=0.028, r_rim=0.043, height=0.065, wall=0.0035, mass=0.2) -> De
                   "tapered teacup, ear handle rising outward", [hole])
 
 
-@register("mug_square_handle")
+@register("mug_square_handle",
+          rest=as_modelled("upright on its base, as a mug is set down on a table or shelf"))
 def mug_square_handle(radius=0.0425, height=0.1, wall=0.005, mass=0.38) -> Design:
     """Straight mug with an angular handle of square section."""
     outer = [(0, 0), (radius, 0), (radius, height)]
@@ -200,7 +239,8 @@ def mug_square_handle(radius=0.0425, height=0.1, wall=0.005, mass=0.38) -> Desig
 
 
 # ---- containers with top handles or bails --------------------------------------------------------
-@register("bucket")
+@register("bucket",
+          rest=as_modelled("upright on its base, bail up, as a bucket is set down (it holds things)"))
 def bucket(r_base=0.09, r_rim=0.11, height=0.18, bail_height=0.27, mass=0.45) -> Design:
     """Plastic bucket with a rim bead, two ears and a 5 mm steel wire bail (hole axis +y)."""
     outer = np.array([(0, 0), (r_base, 0), (r_rim, height)])
@@ -218,7 +258,8 @@ def bucket(r_base=0.09, r_rim=0.11, height=0.18, bail_height=0.27, mass=0.45) ->
                   [HoleDesign("bail", guess, Y_AXIS, search_radius=0.02)])
 
 
-@register("basket")
+@register("basket",
+          rest=as_modelled("upright on its base, handle up, as a basket is set down (it holds things)"))
 def basket(r_base=0.085, r_rim=0.1, height=0.11, handle_top=0.2, mass=0.35) -> Design:
     """Round basket with a wide flat arched handle strapped along the outside of the wall."""
     outer = np.array([(0, 0), (r_base, 0), (r_rim, height)])
@@ -234,7 +275,8 @@ def basket(r_base=0.085, r_rim=0.1, height=0.11, handle_top=0.2, mass=0.35) -> D
                   [HoleDesign("handle", guess, Y_AXIS, search_radius=0.02)])
 
 
-@register("tote_bag")
+@register("tote_bag",
+          rest=as_modelled("standing on its bottom, handles up, as a bag is set down by its handles"))
 def tote_bag(width=0.28, depth=0.09, height=0.24, handle_top=0.35, mass=0.3) -> Design:
     """Tote bag as a rigid open box (3 mm walls) with two rigid arched handles (axis +y)."""
     wall = 0.003
@@ -253,7 +295,8 @@ def tote_bag(width=0.28, depth=0.09, height=0.24, handle_top=0.35, mass=0.3) -> 
                   "tote bag with two rigid handles", holes)
 
 
-@register("kettle")
+@register("kettle",
+          rest=as_modelled("upright on its base, handle on top, as a kettle stands on a stove"))
 def kettle(mass=0.7) -> Design:
     """Stovetop kettle (open top, lid removed) with an arched top handle and a straight spout."""
     outer = np.array([(0, 0), (0.085, 0), (0.09, 0.01), (0.09, 0.08), (0.06, 0.125),
@@ -268,7 +311,7 @@ def kettle(mass=0.7) -> Design:
                   [HoleDesign("handle", np.array([0.0, 0.0, 0.185]), Y_AXIS, search_radius=0.02)])
 
 
-@register("teapot")
+@register("teapot", rest=as_modelled("upright on its base, as a teapot is set down to pour from"))
 def teapot(mass=0.55) -> Design:
     """Round ceramic teapot (open top) with a side handle on -x and a spout on +x."""
     outer = np.array([(0, 0), (0.05, 0), (0.06, 0.01), (0.07, 0.045), (0.065, 0.08),
@@ -285,7 +328,8 @@ def teapot(mass=0.55) -> Design:
                   [HoleDesign("handle", guess, Y_AXIS)])
 
 
-@register("watering_can")
+@register("watering_can",
+          rest=as_modelled("upright on its base, as a watering can is set down (it holds water)"))
 def watering_can(mass=0.35) -> Design:
     """Plastic watering can: cylinder with a filling neck, rear D handle, long spout and rose."""
     outer = np.array([(0, 0), (0.07, 0), (0.075, 0.005), (0.075, 0.17), (0.05, 0.195),
@@ -301,7 +345,7 @@ def watering_can(mass=0.35) -> Design:
                   [HoleDesign("handle", np.array([-0.105, 0.0, 0.14]), Y_AXIS, search_radius=0.02)])
 
 
-@register("pot")
+@register("pot", rest=as_modelled("upright on its base, as a pot stands on a stove"))
 def pot(radius=0.09, height=0.11, mass=0.7) -> Design:
     """Cooking pot with two horizontal U side handles (hole axes +z)."""
     outer = np.array([(0, 0), (radius - 0.005, 0), (radius, 0.005), (radius, height)])
@@ -320,7 +364,8 @@ def pot(radius=0.09, height=0.11, mass=0.7) -> Design:
                   "cooking pot with two side handles", holes)
 
 
-@register("frying_pan")
+@register("frying_pan",
+          rest=as_modelled("on its base, handle out to the side, as a pan stands on a stove"))
 def frying_pan(tilt_deg=12.0, handle_length=0.17, hole_radius=0.0155, mass=0.75) -> Design:
     """Frying pan whose handle rises at ``tilt_deg`` and ends in a large hang hole."""
     outer = np.array([(0, 0), (0.075, 0), (0.1, 0.045)])
@@ -341,7 +386,8 @@ def frying_pan(tilt_deg=12.0, handle_length=0.17, hole_radius=0.0155, mass=0.75)
 
 
 # ---- flat and small objects ----------------------------------------------------------------------
-@register("tape_roll")
+@register("tape_roll",
+          rest=as_modelled("lying flat on one side, as a roll of tape is put down on a desk"))
 def tape_roll(core_radius=0.038, outer_radius=0.054, width=0.019, mass=0.13) -> Design:
     """Roll of 19 mm masking tape on a 76 mm core, lying flat (hole axis +z)."""
     solid = P.revolve(np.array([(core_radius, 0), (outer_radius, 0), (outer_radius, width),
@@ -350,7 +396,7 @@ def tape_roll(core_radius=0.038, outer_radius=0.054, width=0.019, mass=0.13) -> 
                   [HoleDesign("core", np.array([0.0, 0.0, 0.5 * width]), Z_AXIS)])
 
 
-@register("key_ring")
+@register("key_ring", rest=as_modelled("lying flat, as keys are dropped on a table"))
 def key_ring(ring_radius=0.021, wire=0.0025, mass=0.045) -> Design:
     """A split ring (torus) with two flat keys, lying flat (hole axis +z)."""
     ring = P.revolve(P.polygon(P.arc((ring_radius, wire), wire, 0, 2 * np.pi, 16)), 48)
@@ -371,7 +417,7 @@ def key_ring(ring_radius=0.021, wire=0.0025, mass=0.045) -> Design:
                   [HoleDesign("ring", np.array([0.0, 0.0, wire]), Z_AXIS)], center_xy=True)
 
 
-@register("scissors")
+@register("scissors", rest=as_modelled("lying flat, closed, as scissors are put down on a desk"))
 def scissors(thickness=0.006, mass=0.09) -> Design:
     """Closed scissors lying flat: two blades and two finger loops (hole axes +z)."""
 
@@ -395,7 +441,8 @@ def scissors(thickness=0.006, mass=0.09) -> Design:
                   "scissors lying flat, two finger loops", holes, center_xy=True)
 
 
-@register("clothes_hanger")
+@register("clothes_hanger",
+          rest=as_modelled("lying flat, as a hanger is put down on a table or a bed"))
 def clothes_hanger(width=0.4, drop=0.11, hook_radius=0.02, wire=0.0035, mass=0.06) -> Design:
     """Plastic clothes hanger lying flat: closed triangle plus an open J hook (axes +z)."""
     plane = LoopPlane(origin=(0.0, 0.0, wire), u=(1.0, 0.0, 0.0), v=(0.0, 1.0, 0.0))
@@ -418,7 +465,8 @@ def clothes_hanger(width=0.4, drop=0.11, hook_radius=0.02, wire=0.0035, mass=0.0
                   "plastic clothes hanger lying flat, open hook and closed triangle", holes)
 
 
-@register("spray_bottle")
+@register("spray_bottle",
+          rest=as_modelled("standing on its base, as a spray bottle is put down (upright: it holds liquid)"))
 def spray_bottle(mass=0.35) -> Design:
     """Half-full spray bottle (solid) whose trigger and guard close a loop (hole axis +y)."""
     body = P.revolve(np.array([(0, 0), (0.038, 0), (0.04, 0.004), (0.04, 0.14), (0.036, 0.155),
@@ -433,7 +481,8 @@ def spray_bottle(mass=0.35) -> Design:
                   [HoleDesign("trigger_guard", np.array([0.032, 0.0, 0.178]), Y_AXIS)])
 
 
-@register("headphones")
+@register("headphones",
+          rest=as_modelled("standing on their ear cups, headband up, as headphones are put down on a desk"))
 def headphones(half_width=0.085, band_radius=0.085, mass=0.25) -> Design:
     """Over-ear headphones standing on their ear cups; the headband is an open hook (axis +y).
 
@@ -457,14 +506,15 @@ def headphones(half_width=0.085, band_radius=0.085, mass=0.25) -> Design:
 
 
 # ---- controls: nothing to hang by ----------------------------------------------------------------
-@register("box")
+@register("box",
+          rest=as_modelled("standing on its 7 x 12 cm end, as a box of tea or cereal stands on a shelf"))
 def box(size=(0.07, 0.12, 0.16), mass=0.3) -> Design:
     """Cardboard box (control)."""
     return Design(P.box(size, (0, 0, 0.5 * size[2])), 0, mass, (0.8, 0.65, 0.45, 1.0),
                   "closed cardboard box (control)", is_control=True)
 
 
-@register("ball")
+@register("ball", rest=as_modelled("on its flat spot, where the ball comes to rest"))
 def ball(radius=0.035, flat=0.0015, mass=0.1) -> Design:
     """Ball with a tiny flat spot so that it stays put (control)."""
     sphere = P.revolve(np.vstack([P.arc((0, 0), radius, -0.5 * np.pi, 0.5 * np.pi, 25)]), 48)
@@ -472,7 +522,7 @@ def ball(radius=0.035, flat=0.0015, mass=0.1) -> Design:
     return Design(solid, 0, mass, (0.85, 0.9, 0.2, 1.0), "ball (control)", is_control=True)
 
 
-@register("bottle")
+@register("bottle", rest=as_modelled("upright on its base, as a capped bottle is put down"))
 def bottle(mass=0.55) -> Design:
     """Capped 0.5 l bottle, as a solid (control)."""
     profile = np.array([(0, 0), (0.033, 0), (0.035, 0.004), (0.035, 0.16), (0.03, 0.185),
@@ -482,7 +532,7 @@ def bottle(mass=0.55) -> Design:
                   is_control=True)
 
 
-@register("can")
+@register("can", rest=as_modelled("upright on its base, as a drink can is put down"))
 def can(mass=0.37) -> Design:
     """Full 33 cl drink can, as a solid (control)."""
     profile = np.array([(0, 0), (0.026, 0), (0.033, 0.008), (0.033, 0.11), (0.028, 0.12),

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gbh_drake.objects.catalog import register_external
+from gbh_drake.objects.catalog import as_modelled, register_external
 from gbh_drake.objects.holes import fit_hole
 from gbh_drake.objects.mass import mass_properties_detailed
 from gbh_drake.objects.mesh_io import load_mesh_file
@@ -51,4 +51,5 @@ def pybullet_mug() -> ObjectSpec:
     )
 
 
-register_external("pybullet_mug", pybullet_mug)
+register_external("pybullet_mug", pybullet_mug,
+                  rest=as_modelled("upright on its base, as a mug is set down on a table or shelf"))

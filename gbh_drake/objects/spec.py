@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import trimesh
+from scipy.spatial.transform import Rotation
 
 #: Kinds of hangable part: a ``"closed"`` loop (a through hole) or an ``"open"`` hook.
 HANGABLE_KINDS = ("closed", "open")
@@ -50,6 +51,31 @@ class HangablePart:
         }
 
 
+@dataclass(frozen=True)
+class NaturalRest:
+    """The rest a person would set the object down in (the ``natural`` protocol's orientation).
+
+    ``rpy_deg`` (3,): roll, pitch, yaw (deg; Drake's RollPitchYaw, R = Rz(yaw) Ry(pitch)
+    Rx(roll)) turning frame O into that rest, before the trial's random yaw about z; (0, 0, 0)
+    when O itself is the natural rest. ``reason``: one line saying why a person would set it
+    down so.
+    """
+
+    rpy_deg: tuple[float, float, float]
+    reason: str
+
+    def __post_init__(self) -> None:
+        if len(self.rpy_deg) != 3 or not all(np.isfinite(self.rpy_deg)):
+            raise ValueError(f"natural rest: rpy_deg needs 3 finite numbers, got {self.rpy_deg}")
+        if not self.reason.strip() or "\n" in self.reason:
+            raise ValueError("natural rest: give a one-line reason")
+
+    @property
+    def R(self) -> np.ndarray:
+        """(3, 3) the rotation taking O to the rest (applied to O's coordinates)."""
+        return Rotation.from_euler("xyz", self.rpy_deg, degrees=True).as_matrix()
+
+
 @dataclass
 class ObjectSpec:
     """One object of the set.
@@ -57,7 +83,9 @@ class ObjectSpec:
     ``mesh`` is in frame O (metres); ``density`` (kg/m^3) applies to the mesh's solid volume (for
     the procedural objects it is chosen so that the mass is realistic, see ``catalog``);
     ``rgba`` the display colour in [0, 1]. ``genus`` is the designed genus of the (single,
-    watertight) body, or None for imported meshes that are not watertight.
+    watertight) body, or None for imported meshes that are not watertight. ``natural_rest``:
+    the rest a person would set it down in (declared once per object where the object set
+    registers it, ``catalog``), None when none was declared.
     """
 
     name: str
@@ -69,3 +97,4 @@ class ObjectSpec:
     description: str
     genus: int | None = None
     metadata: dict = field(default_factory=dict)
+    natural_rest: NaturalRest | None = None
