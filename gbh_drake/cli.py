@@ -1,12 +1,15 @@
 """The ``gbh`` command line.
 
-    gbh run [SCENARIO.yaml] [--meshcat] [--set YAML]   simulate a scenario (default: the packaged
-                                                       scenarios/default.yaml, from any folder)
-    gbh diagram [SCENARIO.yaml]                        write the station's and the trial's diagrams
+    gbh run [SCENARIO.yaml] [--meshcat [--port N]] [--set YAML]   simulate a scenario (default:
+                                                       the packaged scenarios/default.yaml)
+    gbh diagram [SCENARIO.yaml] [--out DIR]            write the station's and the trial's diagrams
+                                                       (default output/diagrams/)
     gbh objects list                                   the object set: sizes, masses, hangable parts
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
     gbh experiment EXPERIMENT.yaml [--workers N] [--ray ADDRESS]   objects x trials x methods (Table 1)
     gbh report DIR                                     rebuild an experiment's tables and plot
+
+``gbh --verbose ...`` also prints Drake's INFO messages (kept out by default).
 
 Exit codes: 0 done; 2 bad input (a scenario, mesh or output folder that cannot be used: one line
 ``gbh: <what>: <file>: <field> (line N): <problem>`` on stderr, see docs/errors.md); 130 after
@@ -26,14 +29,15 @@ import sys
 import threading
 from pathlib import Path
 
-from gbh_drake import IN_CHECKOUT, REPO_ROOT, SCENARIOS_DIR, __version__
+from gbh_drake import SCENARIOS_DIR, __version__
 from gbh_drake.experiment import cli as experiment_cli
 
 #: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
 #: package's); relative paths in it resolve against its own folder, as in any scenario file.
 DEFAULT_SCENARIO = SCENARIOS_DIR / "default.yaml"
-#: Where ``gbh diagram`` writes: the repository's diagrams/, or ./diagrams outside a checkout.
-DEFAULT_DIAGRAMS = REPO_ROOT / "diagrams" if IN_CHECKOUT else Path("diagrams")
+#: Where ``gbh diagram`` writes, under the current folder (the tracked ``diagrams/`` of the
+#: checkout are redrawn with ``gbh diagram --out diagrams``).
+DEFAULT_DIAGRAMS = Path("output") / "diagrams"
 
 
 def _scenario_arg(parser: argparse.ArgumentParser) -> None:
@@ -121,16 +125,23 @@ def _say(message: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="gbh", description="Grasping by Hanging in Drake")
     parser.add_argument("--version", action="version", version=f"gbh_drake {__version__}")
+    parser.add_argument("--verbose", action="store_true",
+                        help="also print Drake's INFO messages (Meshcat's URL, context "
+                             "allocation)")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p_run = sub.add_parser("run", help="simulate a scenario and write its Meshcat replay")
     _scenario_arg(p_run)
     p_run.add_argument("--meshcat", action="store_true",
-                       help="serve the live Meshcat view and wait for Enter before exiting")
+                       help="serve the live Meshcat view (its URL is printed) and wait for "
+                            "Enter before exiting")
+    p_run.add_argument("--port", type=int, default=None,
+                       help="the live Meshcat server's port (default: the first free from 7000)")
 
     p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
-    p_diag.add_argument("--out", default=str(DEFAULT_DIAGRAMS), help="output folder")
+    p_diag.add_argument("--out", default=str(DEFAULT_DIAGRAMS),
+                        help=f"output folder (default {DEFAULT_DIAGRAMS})")
 
     p_obj = sub.add_parser("objects", help="the object set")
     p_obj.add_argument("action", choices=["list", "build"])
@@ -139,6 +150,8 @@ def main(argv: list[str] | None = None) -> int:
 
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
+    if args.command == "run" and args.port is not None and not 0 < args.port < 65536:
+        parser.error(f"--port {args.port}: a port is 1-65535")
     if args.command == "objects":
         return _objects(args.action, args.out)
     if args.command in experiment_cli.COMMANDS:
@@ -146,16 +159,27 @@ def main(argv: list[str] | None = None) -> int:
     from gbh_drake.scenario import load_scenario
 
     scenario = load_scenario(args.scenario, overrides=args.overrides)
+    quiet_drake(verbose=args.verbose)
     if args.command == "run":
-        return _run(scenario, live=args.meshcat)
+        return _run(scenario, live=args.meshcat, port=args.port)
     return _diagram(scenario, Path(args.out))
 
 
-def _run(scenario, *, live: bool) -> int:
+def quiet_drake(*, verbose: bool = False) -> None:
+    """Keeps Drake's INFO messages ("Meshcat listening ...", "Allocating contexts ...") out of
+    the output unless ``verbose``: its warnings and errors still show. (pydrake's import sets
+    the level of its ``drake`` logger, so this imports it first.)"""
+    import pydrake.common  # noqa: F401
+
+    logging.getLogger("drake").setLevel(logging.INFO if verbose else logging.WARNING)
+
+
+def _run(scenario, *, live: bool, port: int | None = None) -> int:
     from gbh_drake.run import run
     from gbh_drake.viz.meshcat_server import local_meshcat
 
-    meshcat = local_meshcat()
+    # The replay is recorded through Meshcat; its server's URL is said only for a live view.
+    meshcat = local_meshcat(port if live else None)
     if live:
         print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
         if scenario.simulator_config.target_realtime_rate == 0:
@@ -205,6 +229,9 @@ def _diagram(scenario, out: Path) -> int:
         raise OutputError(e.filename or out, f"could not write it ({e.strerror or e})") from None
     for path in written:
         print(f"wrote {path}")
+    if not any(p.suffix == ".svg" for p in written):
+        print("Graphviz's dot is not installed: only the .dot files were written (install "
+              "graphviz, e.g. apt-get install graphviz, or render them with any Graphviz)")
     return 0
 
 

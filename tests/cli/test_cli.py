@@ -22,3 +22,46 @@ def test_diagram_writes_dot(tmp_path):
     for name in ("scanner", "hangability_detector", "grasp_synthesizer", "grasp_scorer",
                  "pick_and_carry", "cage_monitor", "station"):
         assert name in trial
+
+
+@pytest.mark.sim
+def test_diagram_writes_under_output_by_default_and_says_when_graphviz_is_missing(
+        tmp_path, monkeypatch, capsys):
+    """Without --out nothing tracked is rewritten: the diagrams go to ./output/diagrams; with
+    no Graphviz the .dot files are written and the output says why there is no SVG."""
+    import gbh_drake.diagrams
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(gbh_drake.diagrams.shutil, "which", lambda name: None)
+    assert main(["diagram"]) == 0
+    out = capsys.readouterr().out
+    assert (tmp_path / "output" / "diagrams" / "trial.dot").is_file()
+    assert not list((tmp_path / "output" / "diagrams").glob("*.svg"))
+    assert "Graphviz's dot is not installed" in out
+
+
+@pytest.mark.sim
+def test_drakes_info_lines_are_kept_out_unless_verbose(caplog):
+    """Meshcat's "listening at" line (a dead link once the run is over) and Drake's other INFO
+    messages are not printed by default; --verbose brings them back."""
+    import logging
+
+    from gbh_drake.cli import quiet_drake
+    from gbh_drake.viz.meshcat_server import local_meshcat
+
+    caplog.set_level(logging.DEBUG, logger="")
+    try:
+        quiet_drake()
+        local_meshcat()
+        assert not [r for r in caplog.records if "Meshcat listening" in r.getMessage()]
+        quiet_drake(verbose=True)
+        local_meshcat()
+        assert [r for r in caplog.records if "Meshcat listening" in r.getMessage()]
+    finally:
+        quiet_drake()
+
+
+def test_a_port_out_of_range_is_refused():
+    with pytest.raises(SystemExit) as e:
+        main(["run", "--meshcat", "--port", "70000"])
+    assert e.value.code == 2
