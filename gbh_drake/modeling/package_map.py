@@ -2,7 +2,9 @@
 
 Two packages are registered:
 
-* ``gbh_drake``: the repository's ``models/`` folder (the arm URDF, the gripper and table SDFs);
+* ``gbh_drake``: ``gbh_drake.MODELS_DIR``, the repository's ``models/`` folder in a checkout,
+  ``gbh_drake/models/`` inside an installed wheel (the arm URDF, the gripper and table SDFs;
+  no ``package.xml``: the folder is registered by path);
 * ``pybullet_data``: the data folder of the installed ``pybullet`` wheel, which ships Franka's
   visual and collision meshes (Apache-2.0). It is located with importlib, never downloaded.
 """
