@@ -10,6 +10,7 @@ or mistyped keys fail loudly)::
     trials: 5                        # trials per object and method
     seed: 0                          # with (object, trial), seeds every trial
     pose: {x: [0.45, 0.62], y: [-0.18, 0.18], yaw_deg: [-180, 180], stable: true}
+    protocols: [stable, natural]     # how objects are set down; default [stable]
     methods:                         # default: the four below
     - {name: gbh-10, paper: GbH 10 views,
        overrides: {grasp_method: gbh, scan: {num_views: 10}, gbh: {d2: 0.0}}}
@@ -23,9 +24,15 @@ method by adding an entry. ``overrides`` may be written as a mapping (as above, 
 as ``!Rpy`` included) or as YAML text.
 
 Each trial's scenario is the method's, with ``object.name``, ``object.random_pose`` (the
-experiment's ``pose``) and ``seed`` set; the seed is :func:`trial_seed` of (seed, object, trial)
-alone, so every method sees the same start pose, and a result depends neither on the order of
-the trials nor on which worker ran it.
+experiment's ``pose``, its ``rest`` the trial's protocol) and ``seed`` set; the seed is
+:func:`trial_seed` of (seed, object, trial, protocol) alone, so every method sees the same start
+pose, and a result depends neither on the order of the trials nor on which worker ran it.
+
+Protocols (``protocols``, fixed before any number is seen; :data:`PROTOCOLS`): ``stable``, each
+trial's object in one of its stable resting poses drawn by probability (today's experiment, its
+seeds and rows unchanged); ``natural``, each object in the rest a person would set it down in,
+declared once per object of the set with its reason (``gbh_drake/objects/catalog.py``). Both
+draw a random yaw and position. A trial is (object, method, trial, protocol).
 """
 
 import copy
@@ -41,6 +48,7 @@ from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
+    RESTS,
     RandomRestingPose,
     Scenario,
     ScenarioError,
@@ -50,6 +58,10 @@ from gbh_drake.scenario import (
 
 #: What ``replays`` may say: keep a Meshcat replay of every failed trial, of every trial, or none.
 REPLAY_MODES = ("failures", "all", "none")
+
+#: The protocols an experiment may run: how each trial's object is set down (the values of the
+#: scenario's ``object.random_pose.rest``, see :data:`gbh_drake.scenario.schema.RESTS`).
+PROTOCOLS = RESTS
 
 
 class ExperimentError(ValueError):
@@ -103,7 +115,12 @@ class Experiment:
     """With the object's name and the trial's index, seeds each trial (non-negative)."""
     pose: RandomRestingPose = field(default_factory=RandomRestingPose)
     """Where each trial's object starts: a random stable resting pose, a yaw and a position on
-    the reachable part of the table (``object.random_pose`` of the trial's scenario)."""
+    the reachable part of the table (``object.random_pose`` of the trial's scenario; its
+    ``rest`` is set by ``protocols``)."""
+    protocols: list[str] = field(default_factory=lambda: ["stable"])
+    """How the objects are set down, each a full run of objects x trials x methods: ``stable``
+    (a random stable resting pose by its probability) and/or ``natural`` (the rest a person
+    would set each object down in, declared in the object set); see :data:`PROTOCOLS`."""
     methods: list[MethodConfig] = field(default_factory=default_methods)
     """The methods compared; every one runs every (object, trial)."""
     replays: str = "failures"
@@ -134,14 +151,21 @@ class Experiment:
         return next(m for m in self.methods if m.name == name)
 
 
-def trial_seed(seed: int, object_name: str, trial: int) -> int:
-    """The scenario seed of trial ``trial`` of ``object_name``: numpy's ``SeedSequence`` over
-    (seed, a sha256 of the name, trial), so it does not depend on Python's per-process string
-    hash, on the method, nor on any other trial."""
-    name_key = int.from_bytes(hashlib.sha256(object_name.encode()).digest()[:8], "big")
-    state = np.random.SeedSequence([int(seed), name_key, int(trial)]).generate_state(
-        1, dtype=np.uint32)
+def trial_seed(seed: int, object_name: str, trial: int, protocol: str = "stable") -> int:
+    """The scenario seed of trial ``trial`` of ``object_name`` in ``protocol``: numpy's
+    ``SeedSequence`` over (seed, a sha256 of the name, trial), and for any protocol but
+    ``stable`` a sha256 of the protocol's name after them (so the ``stable`` seeds are those
+    of the experiments before protocols existed), so it does not depend on Python's
+    per-process string hash, on the method, nor on any other trial."""
+    entropy = [int(seed), _name_key(object_name), int(trial)]
+    if protocol != "stable":
+        entropy.append(_name_key(protocol))
+    state = np.random.SeedSequence(entropy).generate_state(1, dtype=np.uint32)
     return int(state[0])
+
+
+def _name_key(name: str) -> int:
+    return int.from_bytes(hashlib.sha256(name.encode()).digest()[:8], "big")
 
 
 def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
@@ -236,6 +260,32 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         values = getattr(pose, name)
         if len(values) != 2 or values[0] > values[1]:
             fail(f"pose.{name}", f"needs [min, max], got {values}")
+    if pose.rest != "stable":
+        fail("pose.rest", f"is set by each protocol (protocols: [{pose.rest}]); remove it")
+    if not experiment.protocols:
+        fail("protocols", f"give at least one of {', '.join(PROTOCOLS)}")
+    for i, protocol in enumerate(experiment.protocols):
+        if protocol not in PROTOCOLS:
+            fail(f"protocols[{i}]", f"unknown protocol {protocol!r} (one of "
+                                    f"{', '.join(PROTOCOLS)})")
+        if experiment.protocols.index(protocol) != i:
+            fail(f"protocols[{i}]", f"{protocol!r} is listed twice")
+    if "natural" in experiment.protocols:
+        from gbh_drake.objects.catalog import natural_rest
+
+        i = experiment.protocols.index("natural")
+        if not pose.stable:
+            fail("pose.stable", "false (as modelled) contradicts the natural protocol "
+                                f"(protocols[{i}]), which sets each object in its declared "
+                                "natural rest: remove pose.stable")
+        missing = [(j, o) for j, o in enumerate(experiment.objects) if natural_rest(o) is None]
+        if missing:
+            j, name = missing[0]
+            fail(f"protocols[{i}]", f"natural: objects[{j}] {name!r} has no natural rest "
+                                    f"declared in the object set ({len(missing)} objects "
+                                    "without: " + ", ".join(o for _, o in missing) + "); "
+                                    "declare one where it is registered (rest=...) or drop "
+                                    "the protocol")
     if experiment.replays not in REPLAY_MODES:
         fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
     if not experiment.base:
@@ -265,11 +315,12 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
                 raise ExperimentError(f"{where}: {e}") from e
         scenario.source_path = base.source_path
         scenario.output_dir = ""
-        _set_trial(scenario, experiment, experiment.objects[0], 0)
-        try:
-            validate_scenario(scenario, where)
-        except ScenarioError as e:
-            raise ExperimentError(str(e)) from e
+        for protocol in reversed(experiment.protocols):  # (the first one is kept)
+            _set_trial(scenario, experiment, experiment.objects[0], 0, protocol)
+            try:
+                validate_scenario(scenario, where)
+            except ScenarioError as e:
+                raise ExperimentError(str(e)) from e
         if scenario.task != "pick":
             raise ExperimentError(f"{where}: task: an experiment picks (task: pick), got "
                                   f"{scenario.task!r}")
@@ -277,19 +328,24 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
     return scenarios
 
 
-def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int) -> int:
-    """Makes ``scenario`` the one of (object, trial): name, random pose and seed."""
+def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int,
+               protocol: str = "stable") -> int:
+    """Makes ``scenario`` the one of (object, trial, protocol): name, random pose (its rest the
+    protocol) and seed."""
     scenario.object.name = object_name
     scenario.object.mesh = ""
     scenario.object.random_pose = copy.deepcopy(experiment.pose)
-    scenario.seed = trial_seed(experiment.seed, object_name, trial)
+    scenario.object.random_pose.rest = protocol
+    scenario.seed = trial_seed(experiment.seed, object_name, trial, protocol)
     return scenario.seed
 
 
 def trial_scenario_yaml(scenario: Scenario) -> str:
     """The YAML of a trial's scenario, as a user would write it: without the fields that say
-    where files are (so the same trial has the same digest wherever the experiment lives), and
-    without ``object.pose`` when ``object.random_pose`` replaces it."""
+    where files are (so the same trial has the same digest wherever the experiment lives),
+    without ``object.pose`` when ``object.random_pose`` replaces it, and without
+    ``random_pose.rest`` when it is ``stable`` (the default: the ``stable`` trials keep the
+    text and digest they had before protocols existed)."""
     scenario = copy.copy(scenario)
     scenario.source_path = ""
     scenario.output_dir = ""
@@ -300,31 +356,36 @@ def trial_scenario_yaml(scenario: Scenario) -> str:
     for key, value in root.value:
         if key.value == "object":
             value.value = [(k, v) for k, v in value.value if k.value != "pose"]
+            for k, v in value.value:
+                if k.value == "random_pose" and isinstance(v, yaml.MappingNode):
+                    v.value = [(a, b) for a, b in v.value
+                               if not (a.value == "rest" and b.value == "stable")]
     return yaml.serialize(root, width=1 << 16)
 
 
 def make_tasks(experiment: Experiment, *, commit: str = "",
                scenarios: dict[str, Scenario] | None = None) -> list[TrialTask]:
-    """Every trial of ``experiment``, trial-major (all objects' first trials, by every method,
-    come first, so an interrupted experiment has a little of everything). ``scenarios``: the
-    methods' (default: :func:`method_scenarios`)."""
+    """Every trial of ``experiment``, trial-major (all objects' first trials, in every protocol
+    and by every method, come first, so an interrupted experiment has a little of everything).
+    ``scenarios``: the methods' (default: :func:`method_scenarios`)."""
     from gbh_drake.objects import make_object
 
     scenarios = scenarios or method_scenarios(experiment)
     controls = {name: bool(make_object(name).is_control) for name in experiment.objects}
     tasks = []
     for trial in range(experiment.trials):
-        for name in experiment.objects:
-            for method in experiment.methods:
-                scenario = copy.deepcopy(scenarios[method.name])
-                seed = _set_trial(scenario, experiment, name, trial)
-                text = trial_scenario_yaml(scenario)
-                tasks.append(TrialTask(
-                    experiment=experiment.name, object=name, is_control=controls[name],
-                    method=method.name, trial=trial, seed=seed, scenario_yaml=text,
-                    source_path=scenarios[method.name].source_path,
-                    digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
-                    replays=experiment.replays))
+        for protocol in experiment.protocols:
+            for name in experiment.objects:
+                for method in experiment.methods:
+                    scenario = copy.deepcopy(scenarios[method.name])
+                    seed = _set_trial(scenario, experiment, name, trial, protocol)
+                    text = trial_scenario_yaml(scenario)
+                    tasks.append(TrialTask(
+                        experiment=experiment.name, object=name, is_control=controls[name],
+                        method=method.name, trial=trial, seed=seed, scenario_yaml=text,
+                        source_path=scenarios[method.name].source_path,
+                        digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
+                        replays=experiment.replays, protocol=protocol))
     return tasks
 
 

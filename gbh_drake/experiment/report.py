@@ -18,21 +18,36 @@ its cause, resting pose, stage times and a few record fields; see :func:`trials_
 per object) and ``causes.png``/``.svg`` (the failure causes per method, stacked). Rows are
 ordered by object, method and trial as the experiment lists them, never by when they finished,
 so the same rows give the same report.
+
+Protocols (``stable``, ``natural``: how the objects were set down): an experiment of the
+``stable`` protocol alone gets the report it had before protocols existed (but for the
+``protocol`` columns of the CSVs); with another protocol, Table 1 (with its paired comparison),
+the resting poses, the per-object tables and the success plot are given once per protocol, and
+the tables by method (controls, failures, refusals) have a column per method and protocol
+(``gbh-10 (natural)``). A row without a protocol is ``stable``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
 import yaml
 
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key
+from gbh_drake.experiment.rows import (
+    DEFAULT_PROTOCOL,
+    ROWS_FILE,
+    RowStore,
+    protocol_of,
+    row_key,
+    sort_key,
+)
 from gbh_drake.experiment.stats import holm, mcnemar, wilson
 from gbh_drake.experiment.taxonomy import CAUSES, RESERVED, cause_of
 from gbh_drake.outputs import write_atomically
@@ -56,6 +71,15 @@ PAPER_TABLE1 = {
     "GbH 10 views": (10, 75, 68),
 }
 
+#: What each protocol means, under its Table 1.
+PROTOCOL_TEXT = {
+    "stable": "Protocol `stable`: each object in one of its stable resting poses, drawn by its "
+              "probability, with a random yaw and position.",
+    "natural": "Protocol `natural`: each object in the rest a person would set it down in "
+               "(declared per object, with its reason, in gbh_drake/objects/catalog.py), with a "
+               "random yaw and position; the paper's objects were set down by a person.",
+}
+
 
 @dataclass
 class ReportInput:
@@ -72,6 +96,8 @@ class ReportInput:
     """Rows in the file that are not trials of the experiment (an older definition)."""
     expected: bool = True
     """``objects``, ``methods`` and ``trials`` come from the experiment (not from the rows)."""
+    protocols: list[str] = field(default_factory=lambda: [DEFAULT_PROTOCOL])
+    """The experiment's protocols, in its order."""
 
 
 @dataclass
@@ -120,18 +146,26 @@ def read_input(folder: Path) -> ReportInput:
         e = yaml.safe_load(saved.read_text()) or {}
         objects, trials = list(e.get("objects", [])), int(e.get("trials", 0))
         methods = [m["name"] for m in e.get("methods", [])]
-        wanted = {(o, m, t) for o in objects for m in methods for t in range(trials)}
+        protocols = list(e.get("protocols") or [DEFAULT_PROTOCOL])
+        wanted = {(o, m, t, p) for o in objects for m in methods for t in range(trials)
+                  for p in protocols}
         kept = [r for k, r in unique.items() if k in wanted]
         return ReportInput(e.get("name") or folder.name, objects, methods, trials,
                            {m["name"]: m["paper"] for m in e.get("methods", [])
                             if m.get("paper")},
-                           sorted(kept, key=sort_key(objects, methods)),
-                           left_out=len(unique) - len(kept))
+                           sorted(kept, key=sort_key(objects, methods, protocols)),
+                           left_out=len(unique) - len(kept), protocols=protocols)
     objects = sorted({r["object"] for r in unique.values()})
     methods = sorted({r["method"] for r in unique.values()})
     trials = 1 + max((int(r["trial"]) for r in unique.values()), default=-1)
+    protocols = sorted({protocol_of(r) for r in unique.values()} | {DEFAULT_PROTOCOL},
+                       key=lambda p: (p != DEFAULT_PROTOCOL, p))
+    if len(protocols) > 1 and not any(protocol_of(r) == DEFAULT_PROTOCOL
+                                      for r in unique.values()):
+        protocols.remove(DEFAULT_PROTOCOL)
     return ReportInput(folder.name, objects, methods, trials, {},
-                       sorted(unique.values(), key=sort_key(objects, methods)), expected=False)
+                       sorted(unique.values(), key=sort_key(objects, methods, protocols)),
+                       expected=False, protocols=protocols)
 
 
 def write_report(folder: Path) -> tuple[Path, Path]:
@@ -155,6 +189,30 @@ def read_runs(folder: Path) -> list[dict]:
     if not path.is_file():
         return []
     return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+
+
+def _per_protocol(data: ReportInput) -> list[tuple[str, ReportInput]]:
+    """(heading suffix, the report input of one protocol) for each protocol; a single ``("",
+    data)`` for an experiment of the ``stable`` protocol alone (its report as it was before
+    protocols existed)."""
+    if data.protocols == [DEFAULT_PROTOCOL]:
+        return [("", data)]
+    return [(f", protocol `{p}`",
+             dataclasses.replace(data, rows=[r for r in data.rows if protocol_of(r) == p],
+                                 protocols=[p]))
+            for p in data.protocols]
+
+
+def _groups(data: ReportInput) -> list[tuple[str, str, str | None]]:
+    """(column label, method, protocol) of the tables by method: each method (protocol None:
+    any), or with several protocols each method in each protocol, ``gbh-10 (natural)``."""
+    if len(data.protocols) <= 1:
+        return [(m, m, None) for m in data.methods]
+    return [(f"{m} ({p})", m, p) for p in data.protocols for m in data.methods]
+
+
+def _of(row: dict, method: str, protocol: str | None) -> bool:
+    return row["method"] == method and (protocol is None or protocol_of(row) == protocol)
 
 
 def _hangable(data: ReportInput) -> list[dict]:
@@ -222,16 +280,17 @@ def paired(data: ReportInput) -> list[str]:
     parts): McNemar's exact test and the difference in rate with its paired-bootstrap 95 %
     interval (:func:`gbh_drake.experiment.stats.mcnemar`), p-values also Holm-adjusted over the
     pairs."""
-    outcome = {(r["object"], r["method"], int(r["trial"])): bool(r["success"])
+    outcome = {(r["object"], r["method"], int(r["trial"]), protocol_of(r)): bool(r["success"])
                for r in _hangable(data)}
-    poses = sorted({(o, t) for o, _, t in outcome})
+    poses = sorted({(o, t, p) for o, _, t, p in outcome})
     tests = []
     for i, a in enumerate(data.methods):
         for b in data.methods[i + 1:]:
-            both = [p for p in poses if (p[0], a, p[1]) in outcome and (p[0], b, p[1]) in outcome]
+            both = [(o, t, p) for o, t, p in poses
+                    if (o, a, t, p) in outcome and (o, b, t, p) in outcome]
             if both:
-                tests.append((a, b, mcnemar([outcome[(o, a, t)] for o, t in both],
-                                            [outcome[(o, b, t)] for o, t in both])))
+                tests.append((a, b, mcnemar([outcome[(o, a, t, p)] for o, t, p in both],
+                                            [outcome[(o, b, t, p)] for o, t, p in both])))
     if not tests:
         return ["No two methods ran on the same poses."]
     adjusted = holm([t.p_value for _, _, t in tests])
@@ -254,14 +313,16 @@ def _p(p: float) -> str:
 def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> str:
     """The whole ``summary.md`` (see the module docstring)."""
     hangable, controls = _hangable(data), _controls(data)
-    n_expected = len(data.objects) * len(data.methods) * data.trials
+    n_expected = len(data.objects) * len(data.methods) * data.trials * len(data.protocols)
     commits = Counter(r.get("commit", "") for r in data.rows)
     lines = [f"# Experiment {data.name}", ""]
     done = f"{len(data.rows)} of {n_expected} trials done" if data.expected else \
         f"{len(data.rows)} trials"
+    protocols = "" if data.protocols == [DEFAULT_PROTOCOL] else \
+        f" x {_count(len(data.protocols), 'protocol')} ({', '.join(data.protocols)})"
     lines.append(f"{_count(len(data.objects), 'object')} x {_count(data.trials, 'trial')} x "
-                 f"{_count(len(data.methods), 'method')}: {done}. Rebuilt from `{ROWS_FILE}` by "
-                 "`gbh report`.")
+                 f"{_count(len(data.methods), 'method')}{protocols}: {done}. Rebuilt from "
+                 f"`{ROWS_FILE}` by `gbh report`.")
     if data.rows and len(data.rows) < n_expected:
         lines.append("")
         lines.append("**Incomplete**: run the same `gbh experiment` command again to finish "
@@ -273,60 +334,70 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
         lines.append("")
         lines.append(f"{data.left_out} rows of the file are not trials of this experiment "
                      "(objects, methods or trials it no longer lists) and are left out.")
-    lines += ["", "## Table 1", ""] + table1(data)
+    for suffix, one in _per_protocol(data):
+        lines += ["", f"## Table 1{suffix}", ""]
+        lines += [PROTOCOL_TEXT[one.protocols[0]], ""] if suffix else []
+        lines += table1(one)
 
-    lines += ["", "## By resting pose (objects with hangable parts)", ""] + by_resting_pose(data)
+    for suffix, one in _per_protocol(data):
+        lines += ["", f"## By resting pose (objects with hangable parts){suffix}", ""] + \
+            by_resting_pose(one)
 
     lines += ["", "## Controls (nothing hangable)", ""]
     rows = []
-    for method in data.methods:
-        mine = [r for r in controls if r["method"] == method]
+    for label, method, protocol in _groups(data):
+        mine = [r for r in controls if _of(r, method, protocol)]
         outcomes = Counter(r["outcome"] for r in mine)
-        rows.append([method, len(mine), sum(bool(r["success"]) for r in mine),
+        rows.append([label, len(mine), sum(bool(r["success"]) for r in mine),
                      _counts(outcomes) or "-"])
     lines += _table(["Method", "Total", "Picked", "Outcomes"], rows)
     lines.append("")
     lines.append("GbH should find nothing to hang on a control; a pick is a fallback grasp or a "
                  "false hanging structure.")
 
-    lines += ["", "## Per object", ""]
-    rows = []
-    for obj in data.objects:
-        mine = [r for r in data.rows if r["object"] == obj]
-        cells = []
-        for method in data.methods:
-            tally = Tally.of(r for r in mine if r["method"] == method)
-            cells.append(f"{tally.success}/{tally.total} {tally.interval(0)}" if tally.total
-                         else "-")
-        control = any(r.get("is_control") for r in mine)
-        rows.append([obj + (" (control)" if control else ""), *cells])
-    lines += _table(["Object", *data.methods], rows)
-    lines.append("")
-    lines.append("Successes / trials and the rate's Wilson 95 % interval (with 5 trials an "
-                 "interval spans some 50 points: tell objects apart with care).")
+    for suffix, one in _per_protocol(data):
+        lines += ["", f"## Per object{suffix}", ""]
+        rows = []
+        for obj in one.objects:
+            mine = [r for r in one.rows if r["object"] == obj]
+            cells = []
+            for method in one.methods:
+                tally = Tally.of(r for r in mine if r["method"] == method)
+                cells.append(f"{tally.success}/{tally.total} {tally.interval(0)}" if tally.total
+                             else "-")
+            control = any(r.get("is_control") for r in mine)
+            rows.append([obj + (" (control)" if control else ""), *cells])
+        lines += _table(["Object", *one.methods], rows)
+        lines.append("")
+        lines.append("Successes / trials and the rate's Wilson 95 % interval (with 5 trials an "
+                     "interval spans some 50 points: tell objects apart with care).")
 
-    lines += per_object_detail(data)
+    for suffix, one in _per_protocol(data):
+        lines += per_object_detail(one, suffix)
 
+    groups = _groups(data)
     lines += ["", "## Failures by outcome (objects with hangable parts)", ""]
     failed = [r for r in hangable if not r["success"]]
     outcomes = Counter(r["outcome"] for r in failed)
-    rows = [[o, *(sum(r["outcome"] == o and r["method"] == m for r in failed)
-                  for m in data.methods)]
+    rows = [[o, *(sum(r["outcome"] == o and _of(r, m, p) for r in failed)
+                  for _, m, p in groups)]
             for o, _ in sorted(outcomes.items(), key=lambda kv: (-kv[1], kv[0]))]
-    lines += _table(["Outcome", *data.methods], rows) if rows else ["No failures."]
+    lines += _table(["Outcome", *(g[0] for g in groups)], rows) if rows else ["No failures."]
 
     lines += ["", "## Failures by cause (objects with hangable parts)", ""] + by_cause(data)
 
     lines += ["", "## Grasps refused by reason (objects with hangable parts)", ""]
     refusals: Counter = Counter()
-    per_method: dict[str, Counter] = {m: Counter() for m in data.methods}
+    per_group: dict[str, Counter] = {g[0]: Counter() for g in groups}
     for r in hangable:
         for reason, n in (r.get("refusals") or {}).items():
             refusals[reason] += n
-            per_method[r["method"]][reason] += n
-    rows = [[reason, *(per_method[m][reason] for m in data.methods)]
+            for label, m, p in groups:
+                if _of(r, m, p):
+                    per_group[label][reason] += n
+    rows = [[reason, *(per_group[g[0]][reason] for g in groups)]
             for reason, _ in sorted(refusals.items(), key=lambda kv: (-kv[1], kv[0]))]
-    lines += _table(["Refused by", *data.methods], rows) if rows else \
+    lines += _table(["Refused by", *(g[0] for g in groups)], rows) if rows else \
         ["No grasp was refused."]
     lines.append("")
     lines.append("A refused grasp is one the planner could not execute (no IK solution or no "
@@ -335,14 +406,19 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines += ["", "## Executed grasps by rank", ""] + by_rank(data)
 
     lines += ["", "## Failed trials (objects with hangable parts)", ""]
-    rows = [[r["object"], r["method"], r["trial"], r["seed"], r["outcome"], r["reason"],
+    several = data.protocols != [DEFAULT_PROTOCOL]
+    rows = [[r["object"], r["method"], r["trial"], *([protocol_of(r)] if several else []),
+             r["seed"], r["outcome"], r["reason"],
              f"[replay]({r['replay']})" if r.get("replay") else "-"] for r in failed]
-    lines += _table(["Object", "Method", "Trial", "Seed", "Outcome", "Reason", "Replay"],
-                    rows) if rows else ["None."]
+    lines += _table(["Object", "Method", "Trial", *(["Protocol"] if several else []), "Seed",
+                     "Outcome", "Reason", "Replay"], rows) if rows else ["None."]
     if rows:
         lines.append("")
         lines.append("Rerun one trial: `gbh run scenarios/<method>.yaml --set '{seed: <Seed>, "
                      "object: {name: <Object>}}'` in this folder.")
+        if several:
+            lines.append("For a trial of another protocol than the file's, add its rest: "
+                         "`object: {name: <Object>, random_pose: {rest: <Protocol>}}`.")
 
     lines += ["", "## Time", ""]
     rows = []
@@ -431,17 +507,21 @@ def by_resting_pose(data: ReportInput) -> list[str]:
     return _table(["Method", *(name for name, _, _ in RESTING_POSES)], rows) + [
         "", "Successes / trials (rate, Wilson 95 % interval). "
         "The start pose's tilt from the mesh as modelled (z up): upright below 30 deg, "
-        "upside down above 150 deg, on its side between. The poses are the random stable "
-        "resting poses the experiment fixes (by their probability); this only shows where the "
-        "failures lie (a mug on its side rests on its handle; a flat object has no room for the "
-        "bar under it). For a user's mesh, z is the mesh's "
-        "own z axis."]
+        "upside down above 150 deg, on its side between. " + (
+            "The poses are each object's natural rest (every object of the set is modelled in "
+            "it: all upright here, the flat objects lying flat)." if data.protocols == ["natural"]
+            else
+            "The poses are the random stable "
+            "resting poses the experiment fixes (by their probability); this only shows where the "
+            "failures lie (a mug on its side rests on its handle; a flat object has no room for the "
+            "bar under it). For a user's mesh, z is the mesh's "
+            "own z axis.")]
 
 
-def per_object_detail(data: ReportInput) -> list[str]:
+def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
     """Per object and method, over its trials: was a true hangable part found, which grasp kinds
-    were executed, cage or pinch, the outcomes."""
-    lines = ["", "## Per object, in detail", "",
+    were executed, cage or pinch, the outcomes (``suffix`` ends the heading)."""
+    lines = ["", f"## Per object, in detail{suffix}", "",
              "Over each object's trials (its random resting poses): *part found*, trials in which "
              "a hanging structure lay on a true hangable part (the object's ground truth); "
              "*hooked it*, trials whose executed GbH grasp hooked one; *kinds*, the executed "
@@ -486,12 +566,17 @@ def _count(n: int, noun: str) -> str:
 
 def cause_counts(data: ReportInput) -> pd.DataFrame:
     """Failed trials of the objects with hangable parts by cause (rows: every class of
-    :data:`~gbh_drake.experiment.taxonomy.CAUSES`, zeros included) and method (columns)."""
+    :data:`~gbh_drake.experiment.taxonomy.CAUSES`, zeros included) and method (columns; with
+    several protocols, method and protocol: ``gbh-10 (natural)``)."""
     failed = [r for r in _hangable(data) if not r["success"]]
+    groups = _groups(data)
+    label = {(m, p): name for name, m, p in groups}
+    several = len(data.protocols) > 1
     frame = pd.DataFrame({"cause": [cause_of(r) for r in failed],
-                          "method": [r["method"] for r in failed]})
+                          "method": [label.get((r["method"], protocol_of(r) if several else None),
+                                               r["method"]) for r in failed]})
     return (pd.crosstab(frame["cause"], frame["method"])
-            .reindex(index=list(CAUSES), columns=data.methods, fill_value=0))
+            .reindex(index=list(CAUSES), columns=[g[0] for g in groups], fill_value=0))
 
 
 def by_cause(data: ReportInput) -> list[str]:
@@ -529,6 +614,7 @@ def trials_frame(data: ReportInput) -> pd.DataFrame:
         pose = list(r.get("pose") or [])
         flat = {k: v for k, v in r.items()
                 if not isinstance(v, dict | list) and k not in ("traceback",)}
+        flat["protocol"] = protocol_of(r)
         flat["refusals"] = _counts(Counter(r.get("refusals") or {}))
         flat["cause"] = cause_of(r)
         flat["resting_pose"] = resting_pose(pose) if len(pose) == 6 else ""
@@ -538,27 +624,29 @@ def trials_frame(data: ReportInput) -> pd.DataFrame:
         flat["released_on_table"] = (record.get("verdict") or {}).get("released_on_table")
         flat.update({f"time_{k}": (r.get("stage_times") or {}).get(k) for k in STAGES})
         out.append(flat)
-    first = ["object", "is_control", "method", "trial", "seed", "outcome", "success", "held_by",
+    first = ["object", "is_control", "method", "trial", "protocol", "seed", "outcome", "success",
+             "held_by",
              "cause", "grasp_kind", "grasp_rank", "grasp_score", "resting_pose"]
     frame = pd.DataFrame(out) if out else pd.DataFrame(columns=first)
     return frame[[c for c in first if c in frame] + [c for c in frame if c not in first]]
 
 
 def table1_frame(data: ReportInput) -> pd.DataFrame:
-    """Table 1 as numbers (objects with hangable parts): per method its trials, successes, rate
-    and Wilson 95 % interval (fractions; empty without trials), cage, pinch."""
+    """Table 1 as numbers (objects with hangable parts): per protocol and method its trials,
+    successes, rate and Wilson 95 % interval (fractions; empty without trials), cage, pinch."""
     out = []
-    for method in data.methods:
-        rows = [r for r in _hangable(data) if r["method"] == method]
+    for protocol, method in [(p, m) for p in data.protocols for m in data.methods]:
+        rows = [r for r in _hangable(data) if _of(r, method, protocol)]
         tally = Tally.of(rows)
         lo, hi = wilson(tally.success, tally.total) if tally.total else (None, None)
-        out.append({"method": method,
+        out.append({"protocol": protocol, "method": method,
                     "viewpoints": ",".join(str(v) for v in sorted({r["viewpoints"] for r in rows
                                                                     if r.get("viewpoints")})),
                     "trials": tally.total, "successes": tally.success,
                     "rate": tally.success / tally.total if tally.total else None,
                     "wilson_lo": lo, "wilson_hi": hi, "cage": tally.cage, "pinch": tally.pinch})
-    return pd.DataFrame(out, columns=["method", "viewpoints", "trials", "successes", "rate",
+    return pd.DataFrame(out, columns=["protocol", "method", "viewpoints", "trials", "successes",
+                                      "rate",
                                       "wilson_lo", "wilson_hi", "cage", "pinch"])
 
 
@@ -612,9 +700,12 @@ def plot_success(data: ReportInput, path: Path) -> None:
 
     colours = [matplotlib.colormaps["tab10"](j % 10) for j in range(len(data.methods))]
     controls = {r["object"] for r in _controls(data)}
-    panels = [("all hangable objects", _hangable(data))] + [
-        (obj + (" (control)" if obj in controls else ""),
-         [r for r in data.rows if r["object"] == obj]) for obj in data.objects]
+    panels = []
+    for suffix, one in _per_protocol(data):
+        tag = f" ({one.protocols[0]})" if suffix else ""
+        panels += [("all hangable objects" + tag, _hangable(one))] + [
+            (obj + (" (control)" if obj in controls else "") + tag,
+             [r for r in one.rows if r["object"] == obj]) for obj in one.objects]
     ncols = min(6, len(panels))
     nrows = math.ceil(len(panels) / ncols)
     fig = _figure(2.1 * ncols + 0.4, 1.75 * nrows + 0.9)
@@ -623,7 +714,8 @@ def plot_success(data: ReportInput, path: Path) -> None:
         _rate_bars(ax, [[r for r in rows if r["method"] == m] for m in data.methods],
                    colours)
         n = len({(r["object"], r["trial"]) for r in rows})
-        ax.set_title(f"{title} ({n})", fontsize=8, fontweight="bold" if k == 0 else "normal")
+        ax.set_title(f"{title} ({n})", fontsize=8,
+                     fontweight="bold" if title.startswith("all hangable") else "normal")
         ax.tick_params(labelsize=7)
         if k % ncols:
             ax.set_yticklabels([])
@@ -647,10 +739,11 @@ def plot_causes(data: ReportInput, path: Path) -> None:
 
     counts = cause_counts(data)
     counts = counts[counts.sum(axis=1) > 0]
-    fig = _figure(max(5.0, 1.3 * len(data.methods) + 3.2), 4.2)
+    groups = _groups(data)
+    fig = _figure(max(5.0, 1.3 * len(groups) + 3.2), 4.2)
     ax = fig.add_subplot(1, 1, 1)
-    xs = list(range(len(data.methods)))
-    bottom = [0] * len(data.methods)
+    xs = list(range(len(groups)))
+    bottom = [0] * len(groups)
     top = max(1, counts.sum(axis=0).max() if len(counts) else 1)
     palette = matplotlib.colormaps["tab20"]
     for cause, values in counts.iterrows():
@@ -660,9 +753,9 @@ def plot_causes(data: ReportInput, path: Path) -> None:
             if v >= 0.04 * top:  # a label where it fits
                 ax.text(x, b + v / 2, str(v), ha="center", va="center", fontsize=7)
         bottom = [b + v for b, v in zip(bottom, values, strict=True)]
-    totals = {m: sum(1 for r in _hangable(data) if r["method"] == m) for m in data.methods}
+    totals = {g: sum(1 for r in _hangable(data) if _of(r, m, p)) for g, m, p in groups}
     ax.set_xticks(xs)
-    ax.set_xticklabels([f"{m}\n({totals[m]} trials)" for m in data.methods], fontsize=8)
+    ax.set_xticklabels([f"{g}\n({totals[g]} trials)" for g, _, _ in groups], fontsize=8)
     ax.set_ylabel("failed trials")
     ax.set_title(f"{data.name}: failures by cause (objects with hangable parts)", fontsize=10)
     if len(counts):

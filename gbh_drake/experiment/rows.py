@@ -11,7 +11,9 @@ z in m, roll, pitch, yaw in rad), ``outcome``, ``success``, ``reason``, ``held_b
 ``pinch``), ``grasp_kind``, ``grasp_score``, ``grasp_rank``, ``fallback``, ``refusals``,
 ``replay`` (path relative to the folder, or empty), ``commit``, ``scenario_digest``,
 ``stage_times`` (wall seconds: build, scan, plan, simulate, replay, total), ``worker`` and
-``record`` (the whole :class:`~gbh_drake.trial.TrialRecord`). NaN is written as null.
+``record`` (the whole :class:`~gbh_drake.trial.TrialRecord`), and ``protocol`` (``stable`` or
+``natural``, set by the runner; a row without it, written before protocols existed, is
+``stable``). NaN is written as null.
 """
 
 from __future__ import annotations
@@ -29,9 +31,18 @@ from gbh_drake.outputs import write_atomically
 ROWS_FILE = "trials.jsonl"
 
 
-def row_key(row: dict) -> tuple[str, str, int]:
-    """(object, method, trial): a trial of the experiment."""
-    return (row["object"], row["method"], int(row["trial"]))
+#: The protocol of a row that does not say (rows written before there were protocols).
+DEFAULT_PROTOCOL = "stable"
+
+
+def protocol_of(row: dict) -> str:
+    """The row's protocol (``stable`` when the row has none)."""
+    return row.get("protocol") or DEFAULT_PROTOCOL
+
+
+def row_key(row: dict) -> tuple[str, str, int, str]:
+    """(object, method, trial, protocol): a trial of the experiment."""
+    return (row["object"], row["method"], int(row["trial"]), protocol_of(row))
 
 
 def comparable(row: dict) -> dict:
@@ -45,14 +56,18 @@ def comparable(row: dict) -> dict:
     return row
 
 
-def sort_key(objects: Sequence[str] = (), methods: Sequence[str] = ()):
-    """Orders rows by object (in ``objects``' order, then by name), method (likewise), trial."""
+def sort_key(objects: Sequence[str] = (), methods: Sequence[str] = (),
+             protocols: Sequence[str] = ()):
+    """Orders rows by protocol (in ``protocols``' order, then by name), object (in
+    ``objects``' order, then by name), method (likewise), trial."""
     o = {name: i for i, name in enumerate(objects)}
     m = {name: i for i, name in enumerate(methods)}
+    p = {name: i for i, name in enumerate(protocols)}
 
     def key(row: dict):
-        return (o.get(row["object"], len(o)), row["object"], m.get(row["method"], len(m)),
-                row["method"], int(row["trial"]))
+        protocol = protocol_of(row)
+        return (p.get(protocol, len(p)), protocol, o.get(row["object"], len(o)), row["object"],
+                m.get(row["method"], len(m)), row["method"], int(row["trial"]))
 
     return key
 

@@ -18,7 +18,8 @@ The folder::
     causes.png, .svg      the failures per method stacked by cause
     experiment.yaml       the resolved experiment (gbh report reads it)
     scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
-    replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial
+    replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial (``__<protocol>``
+                          before ``.html`` for a protocol other than ``stable``)
     runs.jsonl            when each run started, on what, how long it took
 """
 
@@ -43,7 +44,14 @@ from gbh_drake.experiment.config import (
 )
 from gbh_drake.experiment.engines import local_results, ray_results
 from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, write_report
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key, sort_key
+from gbh_drake.experiment.rows import (
+    DEFAULT_PROTOCOL,
+    ROWS_FILE,
+    RowStore,
+    protocol_of,
+    row_key,
+    sort_key,
+)
 from gbh_drake.outputs import FolderLock, OutputError, write_atomically
 
 
@@ -67,11 +75,14 @@ class ExperimentRun:
 
 
 def replay_name(row: dict) -> str:
-    """``<object>__<method>__<trial>.html`` with anything unusual in a name made ``_``."""
+    """``<object>__<method>__<trial>.html`` (``<object>__<method>__<trial>__<protocol>.html``
+    for a protocol other than ``stable``) with anything unusual in a name made ``_``."""
     def safe(s) -> str:
         return re.sub(r"[^A-Za-z0-9._+-]", "_", str(s))
 
-    return f"{safe(row['object'])}__{safe(row['method'])}__{int(row['trial'])}.html"
+    protocol = protocol_of(row)
+    tail = "" if protocol == DEFAULT_PROTOCOL else f"__{safe(protocol)}"
+    return f"{safe(row['object'])}__{safe(row['method'])}__{int(row['trial'])}{tail}.html"
 
 
 def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: int = 1,
@@ -93,17 +104,21 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         engine = (f"Ray ({ray_address}" + (f", {workers} CPUs)" if ray_address == "local"
                                            else ")")) if ray_address else \
             f"{workers} local worker{'s' if workers != 1 else ''}"
+        protocols = "" if experiment.protocols == [DEFAULT_PROTOCOL] else \
+            f" x {len(experiment.protocols)} protocols"
         log(f"{experiment.name}: {len(tasks)} trials ({len(experiment.objects)} objects x "
-            f"{experiment.trials} x {len(experiment.methods)} methods) in {folder}; "
+            f"{experiment.trials} x {len(experiment.methods)} methods{protocols}) in {folder}; "
             f"{len(done)} done before, {len(pending)} to run on {engine}")
         results = ray_results(pending, ray_address, workers=workers, log=log) if ray_address \
             else local_results(pending, workers)
         started = datetime.datetime.now().isoformat(timespec="seconds")
         ran, interrupted = 0, True
         bar = _progress_bar(len(pending), experiment.name, enabled=progress)
+        by_digest = {(t.object, t.method, t.trial, t.digest): t for t in pending}
         try:
             for result in results:
                 row = result.row
+                _set_protocol(row, by_digest)
                 if result.replay_html is not None:
                     name = replay_name(row)
                     (folder / "replays").mkdir(exist_ok=True)
@@ -129,6 +144,13 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                 _sort_rows(store, experiment)
             write_report(folder)
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
+
+
+def _set_protocol(row: dict, by_digest: dict) -> None:
+    """Writes the protocol of the row's task into it (the worker's row does not carry it; its
+    object, method, trial and scenario digest name the task)."""
+    task = by_digest[(row["object"], row["method"], int(row["trial"]), row["scenario_digest"])]
+    row["protocol"] = task.protocol
 
 
 def _finished(store: RowStore, tasks) -> dict:
@@ -167,7 +189,8 @@ def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> 
 def _sort_rows(store: RowStore, experiment: Experiment) -> None:
     """Rewrites the rows in report order (object, method, trial), one per trial."""
     rows = {row_key(r): r for r in store.load()}
-    key = sort_key(experiment.objects, [m.name for m in experiment.methods])
+    key = sort_key(experiment.objects, [m.name for m in experiment.methods],
+                   experiment.protocols)
     store.rewrite(sorted(rows.values(), key=key))
 
 

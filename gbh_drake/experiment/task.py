@@ -39,10 +39,14 @@ class TrialTask:
     replays: str
     """``failures``: record the trial in Meshcat and send back its replay if it fails;
     ``all``: whatever its outcome; ``none``: do not record."""
+    protocol: str = "stable"
+    """How the object was set down (``stable`` or ``natural``: the scenario's
+    ``object.random_pose.rest``); rows carry it."""
 
     @property
-    def key(self) -> tuple[str, str, int]:
-        return (self.object, self.method, self.trial)
+    def key(self) -> tuple[str, str, int, str]:
+        """(object, method, trial, protocol), as :func:`gbh_drake.experiment.rows.row_key`."""
+        return (self.object, self.method, self.trial, self.protocol)
 
 
 @dataclass

@@ -41,6 +41,8 @@ class ObjectAsset:
     hangable_parts: list = field(default_factory=list)
     """Ground truth of a named object (``HangablePart``: hole centre and axis in O, kind, clear
     diameter); empty for a mesh file. For judging what GbH found, never for planning."""
+    natural_rest: object = None
+    """The named object's declared natural rest (``NaturalRest``), None for a mesh file."""
 
     @property
     def model_name(self) -> str:
@@ -101,20 +103,29 @@ def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
                  for p in parts]
     return ObjectAsset(spec.name, mesh, float(props.mass), np.asarray(props.com, float),
                        np.asarray(props.inertia, float), tuple(spec.rgba),
-                       f"object set: {spec.name}", hangable_parts=parts)
+                       f"object set: {spec.name}", hangable_parts=parts,
+                       natural_rest=spec.natural_rest)
 
 
 def initial_object_pose(config: ObjectConfig, asset: ObjectAsset, seed: int) -> RigidTransform:
     """X_WO at the start, from ``seed``: ``config.random_pose`` when given (a stable resting
-    pose by its probability, or upright, a yaw and a position), else ``config.pose``; either
+    pose by its probability, the object's declared natural rest (``rest: natural``) or as
+    modelled, a yaw and a position), else ``config.pose``; either
     way the lowest point is put on the table (never inside it), plus ``drop_height``."""
     from gbh_drake.objects import lift_to_table, sample_resting_pose
 
     if config.random_pose is not None:
         rp = config.random_pose
+        R_rest = None
+        if rp.rest == "natural":
+            if asset.natural_rest is None:
+                raise ValueError(f"object.random_pose.rest: natural: {asset.source} has no "
+                                 "natural rest declared")
+            R_rest = asset.natural_rest.R
         X, _ = sample_resting_pose(asset.mesh, np.random.default_rng(seed), rp.x, rp.y,
                                    np.radians(rp.yaw_deg), com=asset.com_O,
-                                   orientation="stable" if rp.stable else "natural")
+                                   orientation="stable" if rp.stable and R_rest is None
+                                   else "natural", R_rest=R_rest)
     else:
         pose = config.pose
         X_WO = pose.GetDeterministicValue() if pose.IsDeterministic() else \

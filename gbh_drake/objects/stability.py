@@ -161,6 +161,7 @@ def sample_resting_pose(
     com=None,
     orientation: str = "stable",
     poses: StablePoses | None = None,
+    R_rest=None,
 ) -> tuple[np.ndarray, dict]:
     """A random resting pose ``X_WO`` (4, 4) of ``mesh`` (frame O) on the table z = 0, and info.
 
@@ -177,7 +178,9 @@ def sample_resting_pose(
 
     ``orientation``: ``"stable"`` draws among :func:`stable_poses` by probability;
     ``"natural"`` keeps O's own orientation (R = I; right for the object set, whose frame O is
-    its natural resting pose); ``"most_probable"`` always takes the most probable pose.
+    its natural resting pose), or ``R_rest`` (3, 3) when given (an object's declared natural
+    rest, :class:`~gbh_drake.objects.spec.NaturalRest`); ``"most_probable"`` always takes the
+    most probable pose.
     ``com`` (3,) is the centre of mass in O (default: uniform density); ``poses`` precomputed
     :func:`stable_poses`.
 
@@ -202,11 +205,20 @@ def sample_resting_pose(
                         len(probs) - 1))
     elif orientation == "most_probable":
         index = 0
-    else:
+    elif R_rest is None:
         natural = poses.natural()
         index = -1 if natural is None else poses.poses.index(natural)
+    else:  # the stable pose that R_rest turns onto the table, if it is one
+        R_rest = np.asarray(R_rest, dtype=np.float64).reshape(3, 3)
+        down = R_rest.T @ np.array([0.0, 0.0, -1.0])
+        near = poses.nearest(down)
+        index = poses.poses.index(near) if near.normal_O @ down > np.cos(
+            np.radians(NATURAL_DEG)) else -1
     pose = poses.poses[index] if index >= 0 else None
-    R_rest = np.eye(3) if orientation == "natural" else pose.R
+    if orientation == "natural":
+        R_rest = np.eye(3) if R_rest is None else R_rest
+    else:
+        R_rest = pose.R
     R = _rot_z(yaw) @ R_rest
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
     com_rot = R @ com

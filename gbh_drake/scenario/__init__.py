@@ -19,6 +19,7 @@ from gbh_drake.scenario.schema import (
     DEFAULT_DIRECTIVES,
     DEFAULT_Q_HOME,
     GRASP_METHODS,
+    RESTS,
     TASKS,
     HandConfig,
     MonitorConfig,
@@ -31,7 +32,7 @@ from gbh_drake.scenario.schema import (
 )
 
 __all__ = [
-    "DEFAULT_DIRECTIVES", "DEFAULT_Q_HOME", "GRASP_METHODS", "TASKS", "FieldError", "HandConfig",
+    "DEFAULT_DIRECTIVES", "DEFAULT_Q_HOME", "GRASP_METHODS", "RESTS", "TASKS", "FieldError", "HandConfig",
     "MonitorConfig", "ObjectConfig", "PickConfig", "RandomRestingPose", "RobotConfig", "Scenario",
     "ScenarioError", "default_directives", "dump_resolved", "load_scenario", "validate_scenario",
 ]

@@ -1,6 +1,7 @@
 """The object to pick: a known name of the object set (with a suggestion for a typo), at a size
 that can be simulated, or a mesh file the mesh import accepts. The object set is imported on
-demand (its generators are heavy)."""
+demand (its generators are heavy). A random pose with ``rest: natural`` needs a named object
+with a declared natural rest."""
 
 import difflib
 from pathlib import Path
@@ -29,6 +30,11 @@ def check_object(scenario) -> None:
                              mass=obj.mass or None, orientation=obj.orientation)
         except MeshImportError as e:
             raise FieldError(("object", "mesh"), str(e)) from None
+        if _natural(obj):
+            raise FieldError(("object", "random_pose", "rest"),
+                             "natural is the rest declared for each object of the set; a mesh "
+                             "file (object.mesh) has none: use rest: stable (its stable "
+                             "resting poses), or stable: false (as object.orientation places it)")
         return
     if obj.orientation != "keep":
         raise FieldError(("object", "orientation"), "applies to mesh files (object.mesh); the "
@@ -44,11 +50,22 @@ def check_object(scenario) -> None:
         hint = f"did you mean {close[0]!r}? " if close else ""
         raise FieldError(("object", "name"), f"unknown object {obj.name!r} ({hint}known: "
                                              f"{', '.join(known)}; or give object.mesh)")
+    if _natural(obj):
+        from gbh_drake.objects.catalog import natural_rest
+
+        if natural_rest(obj.name) is None:
+            raise FieldError(("object", "random_pose", "rest"),
+                             f"natural: {obj.name} has no natural rest declared (register it "
+                             "with rest=... in the object set); use rest: stable")
     size = _named_extent(obj.name) * obj.scale
     if not NAMED_SIZE[0] <= size <= NAMED_SIZE[1]:
         raise FieldError(("object", "scale"), f"makes {obj.name} {size * 1000:.3g} mm across; "
                                               f"objects of {NAMED_SIZE[0] * 100:g} cm to "
                                               f"{NAMED_SIZE[1]:g} m can be simulated")
+
+
+def _natural(obj) -> bool:
+    return obj.random_pose is not None and obj.random_pose.rest == "natural"
 
 
 _EXTENTS: dict[str, float] = {}

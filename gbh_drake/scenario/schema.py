@@ -72,10 +72,22 @@ GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback")
 TASKS = ("pick", "settle")
 
 
+#: How a random start pose rests (``RandomRestingPose.rest``; the experiment's ``protocols``):
+#:
+#: * ``stable``: one of the object's stable resting orientations, drawn by its probability (the
+#:   harder protocol: a mug may lie on its handle, a hanger flat side up or down);
+#: * ``natural``: the rest a person would set the object down in (mugs, kettles, baskets upright;
+#:   a hanger, scissors, a key ring lying flat; a tote standing), declared once per object of the
+#:   set with a one-line reason (``gbh_drake/objects/catalog.py``); the paper's objects were set
+#:   down by a person.
+RESTS = ("stable", "natural")
+
+
 @dataclass
 class RandomRestingPose:
-    """A random start pose: one of the object's stable resting orientations (drawn by its
-    probability), a uniform yaw and a uniform position on the table, from the scenario's seed."""
+    """A random start pose: a resting orientation (``rest``: a stable one drawn by its
+    probability, or the object's natural rest), a uniform yaw and a uniform position on the
+    table, from the scenario's seed."""
 
     x: list[float] = ranged(lambda: [0.45, 0.62], Items(2, what="values [min, max] (m)"))
     """Range [min, max] (m) of the object's x in W (its footprint's centre)."""
@@ -85,13 +97,23 @@ class RandomRestingPose:
         lambda: [-180.0, 180.0], Items(2, Range(-360.0, 360.0, unit="deg"), what="values [min, max] (deg)"))
     """Range [min, max] (deg) of the yaw about +z_W."""
     stable: bool = True
-    """Draw among the object's stable resting orientations (trimesh); False: as modelled."""
+    """With ``rest: stable``: draw among the object's stable resting orientations (trimesh);
+    False: as modelled."""
+    rest: str = ranged("stable", OneOf(RESTS, note="natural: the rest declared for each object "
+                                                   "of the set; not for a mesh file"))
+    """``stable`` (a stable resting orientation by its probability, or as modelled when
+    ``stable`` is False) or ``natural`` (the rest a person would set the object down in, declared
+    per object of the set); see :data:`RESTS`."""
 
     def check_relations(self, at: tuple = ()) -> None:
         for name in ("x", "y", "yaw_deg"):
             lo_hi = getattr(self, name)
             if lo_hi[0] > lo_hi[1]:
                 raise FieldError(at + (name,), f"needs [min, max] with min <= max, got {list(lo_hi)}")
+        if self.rest == "natural" and not self.stable:
+            raise FieldError(at + ("stable",), f"{sibling(at, 'rest')}: natural takes the "
+                                               "object's natural rest; stable: false (as "
+                                               "modelled) says otherwise: give one of them")
 
 
 @dataclass

@@ -82,7 +82,8 @@ def test_a_trial_does_not_depend_on_the_others(tmp_path):
         - {name: antipodal, overrides: {grasp_method: antipodal, scan: {num_views: 1}}}
         """))
     tasks = make_tasks(part)
-    assert [t.key for t in tasks] == [("box", "antipodal", 0), ("mug_classic", "antipodal", 0)]
+    assert [t.key for t in tasks] == [("box", "antipodal", 0, "stable"),
+                                      ("mug_classic", "antipodal", 0, "stable")]
     for t in tasks:
         assert (t.seed, t.digest, t.scenario_yaml) == \
             (whole[t.key].seed, whole[t.key].digest, whole[t.key].scenario_yaml)
@@ -155,3 +156,65 @@ def test_errors_name_the_field(tmp_path, text, where):
     with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
         method_scenarios(load_experiment(path))
     assert where in str(error.value)
+
+
+# ---- protocols: stable (today's) and natural ---------------------------------------------------
+def test_the_stable_protocol_keeps_the_seeds_and_a_natural_one_has_its_own():
+    assert trial_seed(0, "mug_classic", 0, "stable") == trial_seed(0, "mug_classic", 0) == \
+        374982299
+    natural = [trial_seed(0, "mug_classic", t, "natural") for t in range(3)]
+    assert natural == [trial_seed(0, "mug_classic", t, "natural") for t in range(3)]
+    assert natural[0] == 2109864392  # golden: sha256 of "natural" after (seed, name, trial)
+    assert len(set(natural)) == 3
+    assert not set(natural) & {trial_seed(0, "mug_classic", t) for t in range(3)}
+
+
+def test_protocols_default_to_stable_and_leave_todays_trials_as_they_were():
+    stable = load_experiment(SHORT)
+    assert stable.protocols == ["stable"]
+    both = load_experiment(SHORT, overrides="protocols: [stable, natural]")
+    tasks = make_tasks(both)
+    assert len(tasks) == 2 * len(make_tasks(stable))
+    assert len({t.key for t in tasks}) == len(tasks)  # (object, method, trial, protocol)
+    by_key = {t.key: t for t in tasks}
+    for t in make_tasks(stable):  # same seed, same scenario text, same digest: rows resume
+        assert t.protocol == "stable" and t.key[3] == "stable"
+        assert (by_key[t.key].seed, by_key[t.key].digest) == (t.seed, t.digest)
+        assert "rest:" not in t.scenario_yaml
+    natural = [t for t in tasks if t.protocol == "natural"]
+    for t in natural:
+        twin = by_key[(t.object, t.method, t.trial, "stable")]
+        assert t.seed == trial_seed(both.seed, t.object, t.trial, "natural") != twin.seed
+        assert "rest: natural" in t.scenario_yaml and t.digest != twin.digest
+    # every method sees the same natural pose of an (object, trial)
+    assert len({(t.object, t.trial, t.seed) for t in natural}) == len(natural) // 4
+
+
+def test_the_shipped_experiment_runs_both_protocols():
+    assert load_experiment(SCENARIOS_DIR / "experiment.yaml").protocols == ["stable", "natural"]
+
+
+@pytest.mark.parametrize("text, where, words", [
+    ("protocols: [stable, upright]\n", "protocols[1]", "unknown protocol 'upright'"),
+    ("protocols: [natural, natural]\n", "protocols[1]", "listed twice"),
+    ("protocols: []\n", "protocols", "at least one"),
+    ("protocols: [natural]\npose: {rest: natural}\n", "pose.rest", "set by each protocol"),
+    ("protocols: [natural]\npose: {stable: false}\n", "pose.stable", "contradicts"),
+])
+def test_protocol_errors_name_the_file_and_field(tmp_path, text, where, words):
+    path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
+    with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
+        load_experiment(path)
+    assert f": {where}: " in str(error.value) and words in str(error.value)
+
+
+def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
+        tmp_path, monkeypatch):
+    from gbh_drake.objects import catalog
+
+    monkeypatch.delitem(catalog._RESTS, "kettle")  # as an object registered without rest=
+    path = write(tmp_path, "base: BASE\nobjects: [box, kettle]\nprotocols: [stable, natural]\n")
+    with pytest.raises(ExperimentError, match=r"exp\.yaml: protocols\[1\]: natural: "
+                                              r"objects\[1\] 'kettle' has no natural rest"):
+        load_experiment(path)
+    load_experiment(path, overrides="protocols: [stable]")  # the stable protocol needs none
