@@ -3,6 +3,10 @@
 Layout: ``core`` holds the pure geometry (no pydrake), ``perception`` the scanning,
 ``systems`` the Drake LeafSystems, ``planning`` IK, RRT-Connect and the pick motion, ``objects`` the
 object set, ``station.py`` builds the simulation diagram from a ``scenario.Scenario``.
+
+``gbh_drake.run_trial(scenario_or_path, *, overrides=None, meshcat=None)`` runs one trial and
+returns its record (:mod:`gbh_drake.api`; imported on first use, so ``import gbh_drake`` stays
+light).
 """
 
 from importlib.resources import files
@@ -24,3 +28,12 @@ IN_CHECKOUT = not (_PACKAGED / "models").is_dir()
 MODELS_DIR = REPO_ROOT / "models" if IN_CHECKOUT else _PACKAGED / "models"
 #: The shipped scenario files (``default.yaml`` is what ``gbh run`` runs without a file).
 SCENARIOS_DIR = REPO_ROOT / "scenarios" if IN_CHECKOUT else _PACKAGED / "scenarios"
+
+
+def __getattr__(name: str):
+    """``run_trial`` is imported on first use (it needs pydrake)."""
+    if name == "run_trial":
+        from gbh_drake.api import run_trial
+
+        return run_trial
+    raise AttributeError(f"module 'gbh_drake' has no attribute {name!r}")

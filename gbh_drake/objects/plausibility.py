@@ -48,6 +48,14 @@ SOLID_MIN_THICKNESS = 0.01
 ASSUMED_WALL = 0.004
 """m: wall thickness of the hollow object the solid-filled warning compares with."""
 
+REFUSE_MAX_EXTENT = 1.2
+"""m: a scenario refuses an object larger than this: the scanner's workspace box (1.2 m wide,
+``ScanConfig.workspace``) could not hold it, nor the arm lift it (a mesh in millimetres read as
+metres is a 100 m object)."""
+REFUSE_MIN_EXTENT = 0.005
+"""m: ... or smaller than this: two TSDF voxels (2.5 mm), below what the scan can resolve and
+thinner than the gripper's 8 mm rods."""
+
 #: Scenario fields named in hints.
 FIELD_SCALE, FIELD_MASS, FIELD_DENSITY = "scale", "mass", "density"
 
@@ -67,6 +75,21 @@ def extent_warnings(mesh: trimesh.Trimesh, scale: float = 1.0) -> list[str]:
             f"({_length(MIN_EXTENT)} - {_length(MAX_EXTENT)})")
     hint = scale_hint(extent, scale)
     return [f"{what}: {hint}"]
+
+
+def size_refusal(mesh: trimesh.Trimesh, scale: float = 1.0) -> str | None:
+    """Why an object of ``mesh`` (m, after ``scale``) cannot be simulated at all, with the
+    ``scale`` hint, or None: its largest extent is outside [REFUSE_MIN_EXTENT,
+    REFUSE_MAX_EXTENT] (the warnings' range is narrower: :func:`extent_warnings`)."""
+    extent = float(np.max(mesh.extents)) if len(mesh.vertices) else 0.0
+    if not np.isfinite(extent) or REFUSE_MIN_EXTENT <= extent <= REFUSE_MAX_EXTENT:
+        return None
+    what = ("larger than the workspace" if extent > REFUSE_MAX_EXTENT else
+            "smaller than the scan and the gripper can sense")
+    bound = REFUSE_MAX_EXTENT if extent > REFUSE_MAX_EXTENT else REFUSE_MIN_EXTENT
+    sign = ">" if extent > REFUSE_MAX_EXTENT else "<"
+    return (f"largest extent {_length(extent)} is {what} ({sign} {_length(bound)}): "
+            f"{scale_hint(extent, scale)}")
 
 
 def scale_hint(extent: float, scale: float = 1.0) -> str:

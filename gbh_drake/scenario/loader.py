@@ -74,17 +74,35 @@ def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[st
         text = read_text(path)
     except YamlTextError as e:
         raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
-    layers = [(origin, text)]
+    return _load_layers([(origin, text), *_override_layers(origin, overrides)], Scenario(),
+                        origin, str(path.resolve()))
+
+
+def apply_overrides(scenario: Scenario, overrides: str | list[str] | tuple[str, ...],
+                    origin: str = "<in memory>") -> Scenario:
+    """A copy of ``scenario`` with ``overrides`` (YAML text, or several applied in order) on
+    top, checked as a loaded file is; raises :class:`ScenarioError` naming ``origin``."""
+    return _load_layers(_override_layers(origin, overrides), scenario, origin,
+                        scenario.source_path)
+
+
+def _override_layers(origin: str, overrides: str | list[str] | tuple[str, ...]
+                     ) -> list[tuple[str, str]]:
+    """(origin, text) of each non-blank override, labelled for messages."""
     texts = [overrides] if isinstance(overrides, str) else list(overrides)
     texts = [t for t in texts if t.strip()]
-    for i, extra in enumerate(texts):
-        label = "overrides" if len(texts) == 1 else f"overrides {i + 1} of {len(texts)}"
-        layers.append((f"{origin} ({label})", extra))
-    scenario, roots = Scenario(), []
+    return [(f"{origin} ({'overrides' if len(texts) == 1 else f'overrides {i + 1} of {len(texts)}'})",
+             t) for i, t in enumerate(texts)]
+
+
+def _load_layers(layers: list[tuple[str, str]], start: Scenario, origin: str,
+                 source_path: str) -> Scenario:
+    """``start`` updated by each (origin, YAML text) layer in turn, then checked."""
+    scenario, roots = copy.deepcopy(start), []
     for layer_origin, layer_text in layers:
         scenario, root = _load_layer(layer_text, layer_origin, scenario)
         roots.append((layer_origin, root))
-    scenario.source_path = str(path.resolve())
+    scenario.source_path = source_path
     try:
         _check_layers(roots, scenario)
         check_scenario(scenario)

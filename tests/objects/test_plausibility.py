@@ -103,3 +103,17 @@ def test_solid_fill_rule():
     ring = trimesh.creation.annulus(0.04, 0.05, 0.1)  # a tube: fill 36 %
     assert P.solid_fill(ring) is None
     assert np.isfinite(P.SOLID_MIN_FILL) and P.SOLID_MIN_THICKNESS == 0.01
+
+
+@pytest.mark.parametrize("factor, refused", [
+    (1000.0, "largest extent 133 m is larger than the workspace (> 1.2 m): looks like "
+             "millimetres: give scale: 0.001 (then 13.3 cm)"),
+    (10.0, "largest extent 1.33 m is larger than the workspace (> 1.2 m): looks like "
+           "inches: give scale: 0.0254 (then 3.37 cm)"),
+    (8.0, None),  # 1.06 m: implausible (a warning), not impossible
+    (0.05, None),  # 6.6 mm: a warning
+    (0.03, "largest extent 3.98 mm is smaller than the scan and the gripper can sense "
+           "(< 5 mm): looks 100x too small: give scale: 100 (then 39.8 cm)"),
+])
+def test_absurd_sizes_are_refused_with_the_scale_hint(factor, refused):
+    assert P.size_refusal(_scaled(MUG, factor)) == refused

@@ -1,0 +1,42 @@
+"""One call for one trial: ``gbh_drake.run_trial(scenario_or_path) -> TrialRecord``.
+
+The same trial as ``gbh run`` (:func:`gbh_drake.trial.record_trial`: build, simulate until the
+scenario's ``max_time`` or the machine is done, judge), without writing an output folder::
+
+    import gbh_drake
+
+    record = gbh_drake.run_trial("scenarios/default.yaml", overrides="seed: 3")
+    print(record.outcome, record.held_by, record.reason)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gbh_drake.scenario import Scenario, load_scenario
+from gbh_drake.scenario.loader import apply_overrides, validate_scenario
+from gbh_drake.trial import TrialRecord, record_trial
+
+
+def run_trial(scenario_or_path: Scenario | str | Path | None = None, *,
+              overrides: str | list[str] | None = None, meshcat=None) -> TrialRecord:
+    """Simulates one trial and returns its :class:`~gbh_drake.trial.TrialRecord`.
+
+    ``scenario_or_path``: a scenario file (default: the packaged ``scenarios/default.yaml``) or
+    a :class:`~gbh_drake.scenario.Scenario` built in code (checked first); ``overrides``: YAML
+    text (or several, applied in order) on top, as ``gbh run --set``; ``meshcat``: a
+    ``pydrake.geometry.Meshcat`` to draw and record the trial in (its scene is cleared
+    first), or None. Raises :class:`~gbh_drake.scenario.ScenarioError` for a bad scenario."""
+    if scenario_or_path is None:
+        from gbh_drake import SCENARIOS_DIR
+
+        scenario_or_path = SCENARIOS_DIR / "default.yaml"
+    if isinstance(scenario_or_path, Scenario):
+        scenario = scenario_or_path
+        validate_scenario(scenario, scenario.source_path or "<in memory>")
+        if overrides:
+            scenario = apply_overrides(scenario, overrides,
+                                       scenario.source_path or "<in memory>")
+    else:
+        scenario = load_scenario(scenario_or_path, overrides=overrides or "")
+    return record_trial(scenario, meshcat=meshcat, keep_replay=False).record
