@@ -128,8 +128,8 @@ def test_report_does_not_depend_on_the_order_rows_finished(made_up):
     RowStore(folder).rewrite(list(reversed(rows)))
     assert summary_markdown(read_input(folder)) == first
     assert [row_key(r) for r in read_input(folder).rows][:3] == [
-        ("mug_classic", "gbh-10", 0), ("mug_classic", "gbh-10", 1),
-        ("mug_classic", "antipodal", 0)]
+        ("mug_classic", "gbh-10", 0, "stable"), ("mug_classic", "gbh-10", 1, "stable"),
+        ("mug_classic", "antipodal", 0, "stable")]  # (rows without a protocol are stable)
 
 
 def test_incomplete_experiment_says_so(made_up):
@@ -157,7 +157,7 @@ def test_a_broken_trial_is_a_row_not_a_crash():
     row = run_trial_task(task).row
     assert row["outcome"] == "error" and not row["success"]
     assert "not_a_field" in row["reason"] and "Traceback" in row["traceback"]
-    assert row_key(row) == ("box", "m", 0) and row["scenario_digest"] == "d"
+    assert row_key(row) == ("box", "m", 0, "stable") and row["scenario_digest"] == "d"
 
 
 def test_resting_pose_classes_and_their_table(made_up):
@@ -276,3 +276,74 @@ def test_reference_experiment_as_csv(tmp_path):
     gbh10 = table1_frame(data).set_index("method").loc["gbh-10"]
     assert (gbh10.trials, gbh10.successes) == (95, 56)
     assert (gbh10.wilson_lo, gbh10.wilson_hi) == pytest.approx((0.4890, 0.6830), abs=1e-4)
+
+
+# ---- protocols ---------------------------------------------------------------------------------
+def test_a_stable_only_report_is_the_one_of_rows_without_a_protocol(made_up):
+    """Rows written before protocols existed are ``stable``: the same report, byte for byte,
+    whether the rows say ``protocol: stable`` or nothing."""
+    folder, rows = made_up
+    before = summary_markdown(read_input(folder))
+    assert "protocol" not in before.lower()
+    RowStore(folder).rewrite([dict(r, protocol="stable") for r in rows])
+    assert summary_markdown(read_input(folder)) == before
+
+
+def test_two_protocols_give_table_1_once_per_protocol(made_up):
+    import pandas as pd
+
+    from gbh_drake.experiment.report import table1_frame, trials_frame
+
+    folder, rows = made_up
+    experiment = Experiment(name="made_up", objects=["mug_classic", "kettle", "box"], trials=2,
+                            methods=METHODS, protocols=["stable", "natural"])
+    (folder / "experiment.yaml").write_text(experiment_yaml(experiment))
+    natural = [dict(r, protocol="natural", seed=r["seed"] + 7) for r in rows]
+    for r in natural:  # in the natural rest every mug trial succeeds
+        if r["object"] == "mug_classic":
+            r.update(outcome="success", success=True, held_by="cage", reason="success")
+    RowStore(folder).rewrite(rows + natural[:-1])  # the last natural trial not run yet
+    data = read_input(folder)
+    assert data.protocols == ["stable", "natural"] and len(data.rows) == 23
+    text = flat(summary_markdown(data))
+    assert "3 objects x 2 trials x 2 methods x 2 protocols (stable, natural): 23 of 24" in text
+    stable = text.index("## Table 1, protocol `stable`")
+    natural_at = text.index("## Table 1, protocol `natural`")
+    assert stable < natural_at < text.index("## By resting pose")
+    assert "| antipodal | 1 | 4 | 1 | 3 | 25.0 % |" in text[stable:natural_at]
+    assert "| antipodal | 1 | 4 | 3 | 1 | 75.0 % |" in text[natural_at:]
+    assert "## Per object, protocol `natural`" in text and "| gbh-10 (natural) |" in text
+    assert "| Object | Method | Trial | Protocol | Seed |" in text  # the failed trials
+    write_report(folder)
+    table = pd.read_csv(folder / "table1.csv")
+    assert list(table.protocol) == ["stable", "stable", "natural", "natural"]
+    assert table.set_index(["protocol", "method"]).loc[("natural", "antipodal")].successes == 3
+    trials = pd.read_csv(folder / "trials.csv")
+    assert len(trials) == 23 and not trials.duplicated(["object", "method", "trial",
+                                                        "protocol"]).any()
+    assert (trials.protocol == "natural").sum() == 11
+    assert list(table1_frame(data).columns[:2]) == ["protocol", "method"]
+    assert "protocol" in trials_frame(data).columns
+
+
+def test_old_rows_read_as_stable_and_resume_against_todays_tasks(tmp_path):
+    from gbh_drake.experiment.runner import _finished, _set_protocol, replay_name
+
+    task = TrialTask(experiment="e", object="box", is_control=True, method="m", trial=0,
+                     seed=1, scenario_yaml="", source_path="", digest="d1", commit="c",
+                     replays="none")
+    natural = TrialTask(experiment="e", object="box", is_control=True, method="m", trial=0,
+                        seed=2, scenario_yaml="", source_path="", digest="d2", commit="c",
+                        replays="none", protocol="natural")
+    old = make_row("box", "m", 0, control=True)
+    old.update(scenario_digest="d1")
+    store = RowStore(tmp_path)
+    store.append(old)  # a row of before protocols: no protocol field
+    done = _finished(store, [task, natural])
+    assert list(done) == [("box", "m", 0, "stable")]
+    row = make_row("box", "m", 0, "not_lifted", control=True)
+    row.update(scenario_digest="d2")
+    _set_protocol(row, {("box", "m", 0, "d1"): task, ("box", "m", 0, "d2"): natural})
+    assert row["protocol"] == "natural" and row_key(row) == ("box", "m", 0, "natural")
+    assert replay_name(row) == "box__m__0__natural.html"
+    assert replay_name(old) == "box__m__0.html"
