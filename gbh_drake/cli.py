@@ -158,11 +158,19 @@ def main(argv: list[str] | None = None) -> int:
         return experiment_cli.run_command(args)
     from gbh_drake.scenario import load_scenario
 
-    scenario = load_scenario(args.scenario, overrides=args.overrides)
-    quiet_drake(verbose=args.verbose)
-    if args.command == "run":
-        return _run(scenario, live=args.meshcat, port=args.port)
-    return _diagram(scenario, Path(args.out))
+    # A mesh's warnings (size, mass, repairs) are said once, in the run's summary (or in the
+    # refusal of an absurd size), not also as log lines while the scenario is checked.
+    objects_log = logging.getLogger("gbh_drake.objects")
+    level = objects_log.level
+    objects_log.setLevel(logging.ERROR)
+    try:
+        scenario = load_scenario(args.scenario, overrides=args.overrides)
+        quiet_drake(verbose=args.verbose)
+        if args.command == "run":
+            return _run(scenario, live=args.meshcat, port=args.port)
+        return _diagram(scenario, Path(args.out))
+    finally:
+        objects_log.setLevel(level)
 
 
 def quiet_drake(*, verbose: bool = False) -> None:

@@ -24,12 +24,16 @@ def check_object(scenario) -> None:
             what = "is a folder" if path.is_dir() else "file not found"
             raise FieldError(("object", "mesh"), f"{what}: {path}")
         from gbh_drake.objects import MeshImportError, load_mesh_object
+        from gbh_drake.objects.plausibility import size_refusal
 
         try:
-            load_mesh_object(path, scale=obj.scale, density=obj.density or None,
-                             mass=obj.mass or None, orientation=obj.orientation)
+            loaded = load_mesh_object(path, scale=obj.scale, density=obj.density or None,
+                                      mass=obj.mass or None, orientation=obj.orientation)
         except MeshImportError as e:
             raise FieldError(("object", "mesh"), str(e)) from None
+        refusal = size_refusal(loaded.mesh, obj.scale)
+        if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
+            raise FieldError(("object", "scale"), f"{path}: {refusal}")
         if _natural(obj):
             raise FieldError(("object", "random_pose", "rest"),
                              "natural is the rest declared for each object of the set; a mesh "

@@ -65,3 +65,28 @@ def test_a_port_out_of_range_is_refused():
     with pytest.raises(SystemExit) as e:
         main(["run", "--meshcat", "--port", "70000"])
     assert e.value.code == 2
+
+
+def test_a_mesh_in_millimetres_is_refused_before_anything_is_simulated_with_the_hint_once(
+        tmp_path):
+    """A 16 cm staple written in millimetres (read as a 160 m object): exit 2, one line naming
+    the file and object.scale with the scale hint, said once (no log line repeats it), and no
+    output folder."""
+    import subprocess
+    import sys
+
+    import trimesh
+
+    from gbh_drake import SCENARIOS_DIR
+
+    mesh = trimesh.load(SCENARIOS_DIR / "meshes" / "staple.obj")
+    mesh.apply_scale(1000.0)
+    mesh.export(tmp_path / "staple_mm.obj")
+    (tmp_path / "mm.yaml").write_text("object:\n  mesh: staple_mm.obj\n  density: 500\n")
+    done = subprocess.run([sys.executable, "-m", "gbh_drake.cli", "run", str(tmp_path / "mm.yaml")],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("give scale: 0.001") == 1, done.stderr
+    assert done.stderr.startswith(f"gbh: invalid scenario: {tmp_path / 'mm.yaml'}: object.scale: ")
+    assert "larger than the workspace" in done.stderr and not done.stdout
+    assert not (tmp_path / "output").exists()
