@@ -3,14 +3,25 @@ its row and the row's ``record`` alone (never typed by hand), by :func:`cause_of
 
 The classes (:data:`CAUSES`, in pipeline order; the report lists every one, zeros included):
 
-- ``out of reach``, ``candidate set missed``: reserved, not derivable from a row yet (no field
-  says the object lay beyond the arm, or that the hangable part had no candidate); always 0.
+- ``out of reach``, ``candidate set missed``: from a ``no_grasp_found`` row's ``reach`` field
+  (the reach analysis, :mod:`gbh_drake.experiment.reach`, on the trial's scan and on the true
+  mesh where the object lay). ``out of reach``: no hook pose around the true mesh's structures
+  passes every rule; the gripper's limit, whatever the scan was (it also wins over ``scan
+  cut/partial``: no scan would have given a grasp). ``candidate set missed``: a pose passes
+  on the true mesh **and** on the trial's own scan, so the method had what it needed and its
+  candidate set did not contain such a pose. When the true mesh has a pose but the scan has
+  none (``out of reach``, ``no structure`` or ``undecided`` on the scan) the grasp was lost in
+  the scan, not in the candidate set: ``reach`` does not decide, nor does it when the true
+  mesh's search is ``undecided`` or finds no structure (GbH's structures were on a false
+  part) or the analysis failed; the next rules apply.
 - ``no structure``: GbH found nothing to hang the object by (``no_hangable_structure``).
-- ``table clearance``, ``collision N_c``, ``closing sweep``: reserved. A row's
-  ``no_grasp_found`` says only how many candidates were rejected (``reason``: "no
-  collision-free grasp among 144 candidates ..."; the antipodal sampler: "found no grasp"),
-  not by which check, so these three are counted together as ``no grasp found``.
-- ``no grasp found``: the method offered no grasp (``no_grasp_found``).
+- ``table clearance``, ``collision N_c``, ``closing sweep``: a ``no_grasp_found`` row that
+  ``reach`` did not decide and whose record has ``rejected_by`` (candidates each collision
+  rule removed, in the order the rules apply: ``collision N_c``, ``closing sweep``,
+  ``table clearance``): the last rule with a nonzero count, the one that removed the last
+  candidates.
+- ``no grasp found``: the method offered no grasp (``no_grasp_found``) and neither ``reach``
+  nor ``rejected_by`` says more (older rows; the antipodal sampler).
 - ``IK``, ``planner``: grasps were offered and every one refused (``no_reachable_grasp``): the
   more frequent kind of refusal in ``refusals`` (keys ``reason:where``; ``ik:*`` is IK;
   ``planner:*``, ``collision:*`` and ``approach:*``, a path or approach that could not be
@@ -34,8 +45,12 @@ CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearan
           "slipped during carry", "scan cut/partial", "error")
 
 #: Classes no row can be given yet (listed with 0 so that the table's columns do not change).
-RESERVED = ("out of reach", "candidate set missed", "table clearance", "collision N_c",
-            "closing sweep")
+RESERVED: tuple[str, ...] = ()
+
+#: The collision rules of GbH in the order they apply (the keys of a record's ``rejected_by``).
+REJECTION_RULES = ("collision N_c", "closing sweep", "table clearance")
+
+
 
 #: The starts of the scan warnings that the object reaches the edge of what was framed or seen
 #: (gbh_drake.perception.scan: FRAME_EDGE_WARNING, the image border, the workspace bound).
@@ -63,14 +78,32 @@ def cause_of(row: dict) -> str:
     if row.get("success"):
         return ""
     outcome = row.get("outcome", "")
+    if outcome == "no_grasp_found" and (row.get("reach") or {}).get("true") == "out of reach":
+        return "out of reach"  # no scan, cut or whole, would have given a grasp
     if outcome in _ON_THE_SCAN and scan_cut(row):
         return "scan cut/partial"
+    if outcome == "no_grasp_found":
+        return no_grasp_cause(row)
     if outcome == "no_reachable_grasp":
         return refused_by(row.get("refusals") or (row.get("record") or {}).get("refusals") or {})
     if outcome not in _BY_OUTCOME:
         raise ValueError(f"no cause class for the outcome {outcome!r} of trial "
                          f"{row.get('object')}/{row.get('method')}/{row.get('trial')}")
     return _BY_OUTCOME[outcome]
+
+
+def no_grasp_cause(row: dict) -> str:
+    """The class of a ``no_grasp_found`` row: its reach (out of reach on the true mesh;
+    reachable on both meshes: candidate set missed), else the last rule of ``rejected_by``
+    that removed candidates, else ``no grasp found`` (module docstring)."""
+    reach = row.get("reach") or {}
+    if reach.get("true") == "out of reach":
+        return "out of reach"
+    if reach.get("true") == reach.get("scan") == "reachable":
+        return "candidate set missed"
+    rejected = (row.get("record") or {}).get("rejected_by") or {}
+    last = [rule for rule in REJECTION_RULES if int(rejected.get(rule, 0)) > 0]
+    return last[-1] if last else "no grasp found"
 
 
 def scan_cut(row: dict) -> bool:

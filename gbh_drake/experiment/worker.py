@@ -1,5 +1,9 @@
 """One trial in a worker process: build the trial diagram, simulate it, make its row.
 
+A GbH trial that offered no grasp (:data:`REACH_OUTCOMES`) also gets a ``reach`` field: the
+reach analysis of :mod:`gbh_drake.experiment.reach` on its scan and on the true mesh
+(``stage_times["reach"]`` its seconds).
+
 A worker process (local or a Ray worker) runs one trial at a time and keeps its imported modules,
 the objects' models and one Meshcat server across trials. Trials run single-threaded
 (``OMP_NUM_THREADS=1``, set before the first heavy import): the experiment's parallelism is
@@ -25,6 +29,11 @@ from gbh_drake.outputs import plain
 #: Row fields that are measurements of this run, not results: they differ between runs and are
 #: left out when rows are compared (:func:`gbh_drake.experiment.rows.comparable`).
 TIMING_FIELDS = ("stage_times", "worker")
+
+#: Outcomes of a GbH trial that get a ``reach`` field (the reach analysis, issue 18): GbH
+#: found structures but offered no grasp. Not ``no_hangable_structure``: with no structure on
+#: the scan there is nothing to search around on it, and the cause is the perception's.
+REACH_OUTCOMES = ("no_grasp_found",)
 
 _meshcat = None
 _worker_process = False
@@ -113,7 +122,34 @@ def _run(task: TrialTask, start: float) -> TrialResult:
                      "total": time.perf_counter() - start},
         record=record.to_dict(),
     )
+    if record.outcome in REACH_OUTCOMES and done.trial.source.hanging_structures is not None:
+        reach_start = time.perf_counter()
+        try:
+            row["reach"] = _reach(done).to_dict()
+        except Exception as e:  # the analysis, not the trial, failed: recorded, not fatal
+            row["reach"] = {"error": f"{type(e).__name__}: {e}"}
+        row["stage_times"]["reach"] = time.perf_counter() - reach_start
+        row["stage_times"]["total"] = time.perf_counter() - start
     return TrialResult(plain(row), done.replay_html)
+
+
+def _reach(done):
+    """The reach analysis (:func:`gbh_drake.experiment.reach.reach_of_trial`) of a finished
+    GbH trial ``done`` (a ``TrialRun``): on the structures GbH found on its scan, and on the
+    object's true mesh at the pose it ended in (the robot never touched it: an outcome of
+    :data:`REACH_OUTCOMES`, so that is where it rested when scanned), with the trial's GbH
+    params and sampling seed."""
+    from gbh_drake.experiment.reach import reach_of_trial
+
+    trial, context = done.trial, done.simulator.get_context()
+    hangability = trial.source.hanging_structures.Eval(
+        trial.source.hanging_structures.get_system().GetMyContextFromRoot(context))
+    plant, name = trial.station.plant, trial.station.object_name
+    body = plant.GetBodyByName(name, plant.GetModelInstanceByName(name))
+    X_WO = plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(context), body)
+    true_mesh = trial.station.asset.mesh.copy().apply_transform(X_WO.GetAsMatrix4())
+    return reach_of_trial(hangability.object, true_mesh, trial.scenario.gbh,
+                          seed=trial.seeds.sampling, scan_structures=hangability.structures)
 
 
 def _base_row(task: TrialTask) -> dict:
