@@ -43,10 +43,12 @@ def first_run(tmp_path_factory):
 def test_every_trial_has_one_row(first_run):
     folder, by_key, rows = first_run
     assert len(rows) == len(by_key) == len(OBJECTS) * TRIALS * len(METHODS)
-    assert set(by_key) == {(o, m, t) for o in OBJECTS for m in METHODS for t in range(TRIALS)}
+    assert set(by_key) == {(o, m, t, "stable") for o in OBJECTS for m in METHODS
+                           for t in range(TRIALS)}  # (the protocol by default: stable)
     assert [row_key(r) for r in rows] == sorted(  # the finished file is in report order
         by_key, key=lambda k: (OBJECTS.index(k[0]), METHODS.index(k[1]), k[2]))
-    for (obj, method, trial), r in by_key.items():
+    for (obj, method, trial, _), r in by_key.items():
+        assert r["protocol"] == "stable"
         assert r["outcome"] != "error", r.get("traceback")
         assert r["seed"] == r["record"]["seed"] == trial_seed(11, obj, trial)
         assert r["is_control"] == (obj == "box")
@@ -59,7 +61,8 @@ def test_every_trial_has_one_row(first_run):
         assert r["record"]["object"] == obj and r["record"]["sim_time"] <= 0.6 + 1e-9
         assert len(r["pose"]) == 6 and r["pose"] == r["record"]["pose"]
     for obj in OBJECTS:  # every method saw the same pose; the trials' poses differ
-        poses = [{tuple(by_key[(obj, m, t)]["pose"]) for m in METHODS} for t in range(TRIALS)]
+        poses = [{tuple(by_key[(obj, m, t, "stable")]["pose"]) for m in METHODS}
+                 for t in range(TRIALS)]
         assert all(len(p) == 1 for p in poses) and poses[0] != poses[1]
 
 
@@ -111,8 +114,8 @@ def test_resume_on_one_worker_redoes_only_the_missing_trials(first_run, tmp_path
     folder, by_key, rows = first_run
     copy = tmp_path / "resumed"
     shutil.copytree(folder, copy, ignore=shutil.ignore_patterns("replays"))
-    missing = [("mug_classic", "gbh-1", 1), ("clothes_hanger", "antipodal", 0),
-               ("box", "gbh+fallback", 1)]
+    missing = [("mug_classic", "gbh-1", 1, "stable"), ("clothes_hanger", "antipodal", 0, "stable"),
+               ("box", "gbh+fallback", 1, "stable")]
     kept = [r if row_key(r) != missing[2] else dict(r, outcome="error", reason="a bug")
             for r in rows if row_key(r) not in missing[:2]]
     RowStore(copy).rewrite(kept)
