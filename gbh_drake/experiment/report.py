@@ -40,6 +40,7 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
+from gbh_drake.core.resting import RESTING_POSES, resting_pose
 from gbh_drake.experiment.rows import (
     DEFAULT_PROTOCOL,
     ROWS_FILE,
@@ -49,7 +50,7 @@ from gbh_drake.experiment.rows import (
     sort_key,
 )
 from gbh_drake.experiment.stats import holm, mcnemar, wilson
-from gbh_drake.experiment.taxonomy import CAUSES, RESERVED, cause_of
+from gbh_drake.experiment.taxonomy import CAUSES, cause_of
 from gbh_drake.outputs import write_atomically
 
 #: Files of an experiment folder besides the rows.
@@ -385,6 +386,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines += _table(["Outcome", *(g[0] for g in groups)], rows) if rows else ["No failures."]
 
     lines += ["", "## Failures by cause (objects with hangable parts)", ""] + by_cause(data)
+    lines += ["", "## What a loop can reach (objects with hangable parts)", ""] + by_reach(data)
 
     lines += ["", "## Grasps refused by reason (objects with hangable parts)", ""]
     refusals: Counter = Counter()
@@ -442,11 +444,6 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     return "\n".join(lines) + "\n"
 
 
-#: Resting-pose classes by the tilt of the object's z axis from the world's (deg): the start pose
-#: as drawn from the object's stable resting poses, relative to its mesh as modelled (z up).
-RESTING_POSES = (("upright", 0.0, 30.0), ("on its side", 30.0, 150.0), ("upside down", 150.0, 180.1))
-
-
 #: A grasp executed with a score below this fraction of its list's best is of low value.
 LOW_VALUE = 0.1
 
@@ -479,15 +476,6 @@ def _low_value(row: dict) -> bool:
     record = row.get("record") or {}
     score, best = row.get("grasp_score"), record.get("best_score")
     return score is not None and best is not None and best > 0 and score < LOW_VALUE * best
-
-
-def resting_pose(pose: list[float]) -> str:
-    """The class of a row's start ``pose`` [x, y, z, roll, pitch, yaw] (m, rad; Drake's
-    RollPitchYaw, R = Rz(yaw) Ry(pitch) Rx(roll)): the tilt of the object's z axis from the
-    world's is acos(cos(pitch) cos(roll))."""
-    roll, pitch = float(pose[3]), float(pose[4])
-    tilt = math.degrees(math.acos(max(-1.0, min(1.0, math.cos(pitch) * math.cos(roll)))))
-    return next(name for name, lo, hi in RESTING_POSES if lo <= tilt < hi)
 
 
 def by_resting_pose(data: ReportInput) -> list[str]:
@@ -587,20 +575,70 @@ def by_cause(data: ReportInput) -> list[str]:
     total = counts.to_numpy().sum()
     return _markdown(table) + [
         "", f"Each of the {total} failed trials in exactly one class, derived from its row "
-        "(gbh_drake/experiment/taxonomy.py): *no structure*, GbH found nothing to hang by; *no "
-        "grasp found*, no candidate passed the method's checks (the rows do not say which check "
-        "rejected them, so *table clearance*, *collision N_c* and *closing sweep* stay 0 and are "
-        "counted here); *IK* / *planner*, every offered grasp refused, mostly by IK / by the "
-        "path (RRT-Connect, a collision on a segment, no clear approach); *lift too low*, held "
-        "but not lifted clear; *slipped during carry*, dropped after the lift began; *scan "
-        "cut/partial*, an empty scan, or a failure decided on a scan warned to reach the edge of "
-        f"the framed region or the image. Reserved (not derivable yet, always 0): "
-        f"{', '.join(c for c in RESERVED)}. Plot: {CAUSES_PLOT_FILE}."]
+        "(gbh_drake/experiment/taxonomy.py): *out of reach*, no candidate passed and the reach "
+        "search (below) found no hook pose of this gripper that clears the table and avoids "
+        "collision on the true mesh where the object lay; *candidate set missed*, no candidate "
+        "passed but the search found a pose on both the true mesh and the trial's scan; *no "
+        "structure*, GbH found nothing to hang by; *table clearance*, *collision N_c*, *closing "
+        "sweep*, the rule that removed the last candidates (the record's `rejected_by`) when the "
+        "search did not decide; *no grasp found*, no candidate passed, in rows without "
+        "`rejected_by` (older rows, the antipodal sampler); *IK* / *planner*, every offered "
+        "grasp refused, mostly by IK / by the path (RRT-Connect, a collision on a segment, no "
+        "clear approach); *lift too low*, held but not lifted clear; *slipped during carry*, "
+        "dropped after the lift began; *scan cut/partial*, an empty scan, or a failure decided on "
+        "a scan warned to reach the edge of the framed region or the image. "
+        f"Plot: {CAUSES_PLOT_FILE}."]
 
 
 #: Record fields copied into trials.csv.
 RECORD_FIELDS = ("n_structures", "n_candidates", "n_ranked", "true_parts", "true_part_found",
                  "grasped_true_part", "best_score", "lift", "sim_time")
+
+
+#: A no-grasp trial's reach, from its row's ``reach`` field (gbh_drake/experiment/reach.py).
+REACH_CLASSES = ("out of reach", "candidate set missed", "lost in the scan", "undecided",
+                 "not analysed")
+
+
+def reach_class(row: dict) -> str:
+    """The reach class (:data:`REACH_CLASSES`) of a ``no_grasp_found`` row: *out of reach*, no
+    hook pose of the gripper passes on the true mesh; *candidate set missed*, one passes on the
+    true mesh and on the trial's scan; *lost in the scan*, on the true mesh only; *undecided*,
+    a search did not finish; *not analysed*, no ``reach`` field (a method without GbH, an older
+    row)."""
+    reach = row.get("reach") or {}
+    true, scan = reach.get("true"), reach.get("scan")
+    if true == "out of reach":
+        return "out of reach"
+    if true == "reachable":
+        return "candidate set missed" if scan == "reachable" else \
+            "undecided" if scan == "undecided" else "lost in the scan"
+    return "undecided" if true == "undecided" else "not analysed"
+
+
+def by_reach(data: ReportInput) -> list[str]:
+    """Per method (and protocol): the trials GbH offered no grasp in, by :func:`reach_class`,
+    and the success rate among the trials a loop can reach (all but those *out of reach*)."""
+    rows = []
+    for label, method, protocol in _groups(data):
+        mine = [r for r in _hangable(data) if _of(r, method, protocol)]
+        no_grasp = [r for r in mine if r.get("outcome") == "no_grasp_found"]
+        classes = Counter(reach_class(r) for r in no_grasp)
+        reachable = [r for r in mine if not (r.get("outcome") == "no_grasp_found"
+                                             and reach_class(r) == "out of reach")]
+        tally = Tally.of(reachable)
+        rows.append([label, len(mine), len(no_grasp), *(classes[c] for c in REACH_CLASSES),
+                     f"{tally.success}/{tally.total}", tally.rate(), tally.interval()])
+    return _table(["Method", "Trials", "No grasp", *(c.capitalize() for c in REACH_CLASSES),
+                   "Success / reachable", "Rate", "95 % CI"], rows) + [
+        "", "A trial in which GbH offered no grasp (no_grasp_found) is searched again, densely "
+        "(gbh_drake/core/reach.py: every turn about the hole, the rod within 60 deg of the "
+        "hole's axis or the vertical, the same gripper solid, table rule and closing sweep), on "
+        "the trial's scan and on the true mesh where the object lay (docs/reach.md). *Success / "
+        "reachable*: the method's successes among its trials less those *out of reach* (a loop "
+        "of this gripper cannot hold the object as it lies: the method's limit, not a defect). "
+        "Trials that failed later (IK, planner, carry) are not searched: they count as "
+        "reachable."]
 
 
 def trials_frame(data: ReportInput) -> pd.DataFrame:

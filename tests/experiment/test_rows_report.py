@@ -198,6 +198,25 @@ def test_executed_grasps_are_counted_by_rank_and_value(tmp_path):
     assert "| gbh-10 | 1/1 | 0/1 | 1/1 | 1/1 | 1/1 |" in table
 
 
+def test_the_rate_among_trials_a_loop_can_reach_leaves_out_only_those_out_of_reach():
+    """Four no-grasp trials, one of each reach, and a success: the out-of-reach one leaves the
+    denominator, the others stay (a miss of the candidate set or of the scan is a defect)."""
+    from gbh_drake.experiment.report import ReportInput, by_reach, reach_class
+
+    rows = [make_row("mug_classic", "gbh-10", t, "no_grasp_found") for t in range(4)]
+    rows.append(make_row("mug_classic", "gbh-10", 4))
+    for r, (true, scan) in zip(rows, [("out of reach", "out of reach"),
+                                      ("reachable", "reachable"), ("reachable", "out of reach"),
+                                      ("undecided", "undecided")]):
+        r["reach"] = {"true": true, "scan": scan}
+    assert [reach_class(r) for r in rows[:4]] == ["out of reach", "candidate set missed",
+                                                  "lost in the scan", "undecided"]
+    assert reach_class(make_row("kettle", "gbh-10", 0, "no_grasp_found")) == "not analysed"
+    data = ReportInput(name="x", objects=["mug_classic"], methods=["gbh-10"], trials=5,
+                       paper={}, rows=rows)
+    assert "| gbh-10 | 5 | 4 | 1 | 1 | 1 | 1 | 0 | 1/4 | 25.0 % |" in flat(by_reach(data))
+
+
 def test_outputs_a_researcher_loads(made_up):
     """trials.csv (one row per trial), table1.csv, the paired comparison and the causes, on the
     made-up rows; both plots as PNG and SVG."""
