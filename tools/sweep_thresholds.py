@@ -73,15 +73,19 @@ def _scan_task(args):
     return key, {"vertices": np.asarray(scan.mesh_W.vertices), "faces": np.asarray(
         scan.mesh_W.faces), "empty": bool(scan.empty), "ground": scan.table.as_ground()
         if scan.table is not None else None, "parts": parts, "seed": trial.seeds.sampling,
-        "gbh": scenario.gbh}
+        "gbh": scenario.gbh, "free_space": getattr(scan, "free_space", None)}
 
 
 _SCANS: dict = {}
+#: Parameter values set under every swept value (``--set``).
+_BASE: dict = {}
 
 
-def _load_scans(path: str) -> None:
-    """Worker initializer: the scans, read once per worker (not sent with every job)."""
+def _load_scans(path: str, base: dict) -> None:
+    """Worker initializer: the scans, read once per worker (not sent with every job), and the
+    ``--set`` values."""
     _SCANS.update(pickle.loads(Path(path).read_bytes()))
+    _BASE.update(base)
 
 
 def _gbh_task(args):
@@ -95,10 +99,13 @@ def _gbh_task(args):
     from gbh_drake.core.results import GbhInputError
 
     params = copy.deepcopy(record["gbh"])  # the trial's own, as the trial's GbH systems use it
+    for base_name, base_value in _BASE.items():
+        setattr(params, base_name, base_value)
     setattr(params, name, value)
-    out = {"key": list(key), "param": name, "value": value, "structures": 0, "false": 0,
-           "part_found": False, "grasp_on_part": False, "top_on_part": False, "ranked": 0,
-           "seconds": 0.0}
+    out = {"key": list(key), "param": name, "value": value, "base": dict(_BASE),
+           "structures": 0, "false": 0,
+           "part_found": False, "grasp_on_part": False, "top_on_part": False,
+           "top_false": False, "ranked": 0, "seconds": 0.0}
     if record["empty"] or not len(record["faces"]):
         return out
     mesh = trimesh.Trimesh(record["vertices"], record["faces"], process=False)
@@ -108,7 +115,8 @@ def _gbh_task(args):
 
     start = time.perf_counter()
     try:
-        result = plan_grasps(mesh, params, seed=record["seed"])
+        result = plan_grasps(mesh, params, seed=record["seed"],
+                             free_space=record.get("free_space"))
     except GbhInputError:
         return out
     out["seconds"] = time.perf_counter() - start
@@ -116,7 +124,7 @@ def _gbh_task(args):
     ranked = [on_part(g.structure.c) for g in result.ranked]
     out.update(structures=len(found), false=len(found) - sum(found), part_found=any(found),
                grasp_on_part=any(ranked), top_on_part=bool(ranked and ranked[0]),
-               ranked=len(ranked))
+               top_false=bool(ranked and not ranked[0]), ranked=len(ranked))
     return out
 
 
@@ -134,8 +142,9 @@ def _table(rows: list[dict], controls: set[str]) -> list[str]:
         by.setdefault((r["param"], json.dumps(r["value"]), r["key"][1]), []).append(r)
     for param in dict.fromkeys(r["param"] for r in rows):
         lines += ["", f"### `{param}`", "",
-                  "| value | method | part found | grasp on part | top on part | false "
-                  "structures | controls hit | median s |", "|---|---|---|---|---|---|---|---|"]
+                  "| value | method | part found | grasp on part | top on part | top on a false "
+                  "part | false structures | controls hit | median s |",
+                  "|---|---|---|---|---|---|---|---|---|"]
         for (p, value, method), group in by.items():
             if p != param:
                 continue
@@ -145,6 +154,7 @@ def _table(rows: list[dict], controls: set[str]) -> list[str]:
                 f"| {value} | {method} | {sum(r['part_found'] for r in parts)}/{len(parts)} | "
                 f"{sum(r['grasp_on_part'] for r in parts)}/{len(parts)} | "
                 f"{sum(r['top_on_part'] for r in parts)}/{len(parts)} | "
+                f"{sum(r.get('top_false', False) for r in parts)}/{len(parts)} | "
                 f"{sum(r['false'] for r in group)} | "
                 f"{sum(r['structures'] > 0 for r in ctrl)}/{len(ctrl)} | "
                 f"{statistics.median(r['seconds'] for r in group):.2f} |")
@@ -156,8 +166,14 @@ def main(argv=None) -> int:
     parser.add_argument("experiment")
     parser.add_argument("--out", required=True)
     parser.add_argument("--sweep", action="append", default=[], metavar="NAME=V1,V2")
+    parser.add_argument("--set", dest="base", action="append", default=[],
+                        metavar="NAME=VALUE", help="a GbH parameter set under every swept value "
+                                                   "(JSON value, e.g. unknown_is_occupied=true)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--methods", default="gbh-10,gbh-1")
+    parser.add_argument("--protocols", default="stable",
+                        help="the experiment's protocols to scan (comma-separated); the scans "
+                             "of one protocol per output folder (a trial's key has none)")
     args = parser.parse_args(argv)
 
     from gbh_drake.experiment.config import load_experiment, make_tasks
@@ -168,6 +184,7 @@ def main(argv=None) -> int:
     experiment = load_experiment(args.experiment)
     methods = args.methods.split(",")
     experiment.methods = [m for m in experiment.methods if m.name in methods]
+    experiment.protocols = args.protocols.split(",")
     tasks = make_tasks(experiment)
     controls = {n for n in experiment.objects if make_object(n).is_control}
     cache = out / "scans.pkl"
@@ -183,10 +200,11 @@ def main(argv=None) -> int:
                       file=sys.stderr)
     cache.write_bytes(pickle.dumps(scans))
     sweeps = [_parse_sweep(s) for s in args.sweep]
+    base = {k: json.loads(v) for k, v in (b.split("=", 1) for b in args.base)}
     jobs = [(key, name, value) for name, values in sweeps for value in values
             for key in sorted(scans)]
     with ProcessPoolExecutor(args.workers, initializer=_load_scans,
-                             initargs=(str(cache),)) as pool:
+                             initargs=(str(cache), base)) as pool:
         rows = []
         for i, row in enumerate(pool.map(_gbh_task, jobs, chunksize=4)):
             rows.append(row)

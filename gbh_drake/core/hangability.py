@@ -65,9 +65,16 @@ def detect_hangable_structures(
     through = through_hole(obj, c, v)
     free = active_free_space(obj, params)
     if free is not None:
-        through &= observed_through(obj, free, c, v, params.ground_normal,
-                                    unknown_floor(obj, free, params),
-                                    params.through_proof_length)
+        floor = unknown_floor(obj, free, params)
+        if params.through_proof_angle_deg > 0:
+            if params.ground_clearance < 0:  # no supporting surface: no table band either
+                floor = -np.inf
+            through &= observed_through_line(obj, free, c, v, params.ground_normal, floor,
+                                             params.through_proof_length,
+                                             params.through_proof_angle_deg)
+        else:
+            through &= observed_through(obj, free, c, v, params.ground_normal, floor,
+                                        params.through_proof_length)
     structures = [
         _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
         for i in np.flatnonzero(through)
@@ -264,6 +271,56 @@ def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.nda
     free_mask = np.ones(used.shape, dtype=bool)
     free_mask[used] = free.observed_free(samples[used])
     return free_mask.all(axis=1).reshape(2, -1).all(axis=0)
+
+
+#: Tilts (fractions of the largest angle) and azimuth steps (deg) of the lines tried through c
+#: by :func:`observed_through_line`.
+_LINE_TILTS = (0.0, 0.25, 0.5, 0.75, 1.0)
+_LINE_AZIMUTH_STEP_DEG = 30.0
+
+
+def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
+                          ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
+                          length: float = 0.025, max_angle_deg: float = 60.0) -> np.ndarray:
+    """Mask (P,): some straight line through c (P, 3) within ``max_angle_deg`` of the hole's
+    axis v (P, 3) runs in observed-free space (``free.observed_free`` at its margin) for
+    ``length`` (m) on both sides of c, every sample (half a sample spacing apart) higher than
+    ``floor`` along ``ground_normal`` (:func:`unknown_floor`).
+
+    A camera that saw through the hole saw such a line: the line crosses the loop's plane at c
+    and leaves the loop's slab on both sides (see ``GbhParams.through_proof_angle_deg``).
+    Space no camera saw (the far side of a cup one view looked into) proves nothing, nor does
+    a line that runs into the table band: a hole whose every line within the angle ends in
+    the table (a ring lying flat, a mug resting on its handle, a cup's unseen bottom) is
+    closed by the table. Lines tried: tilts of 0, 1/4 ... 1 x the angle from v, every 30 deg
+    of azimuth."""
+    if len(c) == 0:
+        return np.zeros(0, dtype=bool)
+    v = np.asarray(v, dtype=float)
+    v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    # An orthonormal pair (e1, e2) perpendicular to each v.
+    helper = np.where(np.abs(v[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    e1 = np.cross(v, helper)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(v, e1)
+    tilts = np.radians(max_angle_deg) * np.asarray(_LINE_TILTS)
+    azimuths = np.radians(np.arange(0.0, 360.0, _LINE_AZIMUTH_STEP_DEG))
+    pairs = [(0.0, 0.0)] + [(t, a) for t in tilts[1:] for a in azimuths]
+    ct = np.array([np.cos(t) for t, _ in pairs])
+    st_ca = np.array([np.sin(t) * np.cos(a) for t, a in pairs])
+    st_sa = np.array([np.sin(t) * np.sin(a) for t, a in pairs])
+    d = (ct[None, :, None] * v[:, None] + st_ca[None, :, None] * e1[:, None]
+         + st_sa[None, :, None] * e2[:, None])  # (P, L, 3)
+    step = 0.5 * obj.spacing
+    s = np.arange(-length, length + 0.5 * step, step)  # (S,)
+    samples = c[:, None, None] + s[None, None, :, None] * d[:, :, None]  # (P, L, S, 3)
+    n_g = np.asarray(ground_normal, dtype=float)
+    above = samples @ (n_g / np.linalg.norm(n_g)) > floor
+    ok = above.all(axis=2)  # (P, L): lines that stay out of the table band
+    free_mask = np.zeros(samples.shape[:3], dtype=bool)
+    ask = ok[:, :, None] & np.ones(len(s), dtype=bool)
+    free_mask[ask] = free.observed_free(samples[ask])
+    return (ok & free_mask.all(axis=2)).any(axis=1)
 
 
 def _structure(

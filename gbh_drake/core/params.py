@@ -197,6 +197,17 @@ class GbhParams:
     business (an object's own shadow on one view starts 2-6 cm out on a headband: a longer
     proof refuses real handles)."""
 
+    through_proof_angle_deg: float = ranged(60.0, Range(0.0, 89.0, unit="deg"))
+    """Ours, with ``unknown_is_occupied``: the through-hole proof looks for a straight line
+    through c within this angle of the hole's axis v that runs in observed-free space for
+    ``through_proof_length`` on both sides of c, staying above the table band
+    (:func:`~gbh_drake.core.hangability.observed_through`): a hole a camera saw through
+    obliquely is proven, unseen space and a hole the table closes are not. 60 deg: the line
+    then covers at least half the proof length along v on either side (12.5 mm), more than the
+    half thickness of the object set's loops (<= 10 mm), so it cannot stay inside the hole's
+    own slab. 0: only the axis itself, out of the bounding box, with the table band skipped
+    (the rule measured in docs/experiment/unknown_occupied)."""
+
     # ---- scoring -------------------------------------------------------------------------------
     gamma_alpha: float = ranged(0.04, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""

@@ -136,3 +136,49 @@ def test_a_hole_no_camera_saw_through_is_no_hole(params):
                    for s in detect_hangable_structures(ring, params, free_space=fs))
     paper = dataclasses.replace(params, unknown_is_occupied=False)
     assert detect_hangable_structures(ring, paper, free_space=fs)
+
+
+def _ring_free_space(eye, *, table_z: float | None = None):
+    """A torus (axis z, centre at the origin) and the free space of one camera at ``eye``
+    looking at it, over a table at ``table_z`` when given."""
+    ring = trimesh.creation.torus(0.03, 0.008, major_sections=64, minor_sections=24)
+    scene = ring
+    if table_z is not None:
+        table = trimesh.creation.box((0.6, 0.6, 0.02))
+        table.apply_translation((0.0, 0.0, table_z - 0.01))
+        scene = trimesh.util.concatenate([ring, table])
+    X = camera_X_CW(eye, (0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0) if eye[0] == 0 else (0, 0, 1))
+    depth = rendered_depth(scene, X, 160, 120, 150.0)
+    return ring, X, FreeSpace.from_depth_images([depth], 150.0, 150.0, 79.5, 59.5, [X], 0.0025,
+                                                3.0)
+
+
+@pytest.mark.parametrize(("eye", "angle", "proven"), [
+    ((0.45, 0.0, 0.38), 60.0, True),  # seen 50 deg off the ring's axis
+    ((0.3, 0.0, 0.52), 60.0, True),  # 30 deg off
+    ((0.5, 0.0, 0.2), 60.0, False),  # 68 deg off: no line within 60 deg was seen free
+    ((0.5, 0.0, 0.2), 75.0, True),  # ... one within 75 deg was
+])
+def test_a_hole_is_proven_by_a_line_seen_free_within_the_angle_of_its_axis(params, eye, angle,
+                                                                            proven):
+    """One camera sees through the ring's hole along its own line of sight: the hole is proven
+    when that line lies within ``through_proof_angle_deg`` of the hole's axis."""
+    ring, X, fs = _ring_free_space(eye)
+    q = dataclasses.replace(params, through_proof_angle_deg=angle)
+    found = detect_hangable_structures(front_of(ring, X), q, free_space=fs)
+    assert any(abs(s.v[2]) > 0.9 and np.linalg.norm(s.c[:2]) < 0.01 for s in found) == proven
+
+
+def test_a_ring_lying_on_the_table_is_closed_by_the_table(params):
+    """Seen from above, a ring lying flat has its hole seen free down to the table; but every
+    line through its hole within 60 deg of the axis runs into the table band: the table
+    closes the hole (no bar can pass under material that lies on the table). The axis rule,
+    which skips the table band, calls it a hole."""
+    bottom = -0.008
+    ring, X, fs = _ring_free_space((0.0, 0.02, 0.6), table_z=bottom)
+    on_table = dataclasses.replace(params, ground_height=bottom)
+    scan = front_of(ring, X)
+    assert not any(abs(s.v[2]) > 0.9 for s in
+                   detect_hangable_structures(scan, on_table, free_space=fs))
+    axis = dataclasses.replace(on_table, through_proof_angle_deg=0.0)
+    assert any(abs(s.v[2]) > 0.9 for s in detect_hangable_structures(scan, axis, free_space=fs))
