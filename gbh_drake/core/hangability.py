@@ -298,11 +298,7 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
         return np.zeros(0, dtype=bool)
     v = np.asarray(v, dtype=float)
     v = v / np.linalg.norm(v, axis=1, keepdims=True)
-    # An orthonormal pair (e1, e2) perpendicular to each v.
-    helper = np.where(np.abs(v[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    e1 = np.cross(v, helper)
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    e2 = np.cross(v, e1)
+    e1, e2 = orthonormal_basis(v)
     tilts = np.radians(max_angle_deg) * np.asarray(_LINE_TILTS)
     azimuths = np.radians(np.arange(0.0, 360.0, _LINE_AZIMUTH_STEP_DEG))
     pairs = [(0.0, 0.0)] + [(t, a) for t in tilts[1:] for a in azimuths]
