@@ -39,6 +39,8 @@ from __future__ import annotations
 
 from collections import Counter
 
+from gbh_drake.core.rejections import RULES
+
 #: Every cause class, in pipeline order.
 CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearance",
           "collision N_c", "closing sweep", "no grasp found", "IK", "planner", "lift too low",
@@ -48,8 +50,7 @@ CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearan
 RESERVED: tuple[str, ...] = ()
 
 #: The collision rules of GbH in the order they apply (the keys of a record's ``rejected_by``).
-REJECTION_RULES = ("collision N_c", "closing sweep", "table clearance")
-
+REJECTION_RULES = RULES
 
 
 #: The starts of the scan warnings that the object reaches the edge of what was framed or seen
