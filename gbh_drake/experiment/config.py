@@ -45,6 +45,7 @@ import numpy as np
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
+from gbh_drake.core.ranges import FieldError, Int, check_ranges, format_path, ranged
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -55,6 +56,40 @@ from gbh_drake.scenario import (
     load_scenario,
     validate_scenario,
 )
+from gbh_drake.scenario.loader import apply_overrides
+from gbh_drake.scenario.yaml_text import (
+    YamlFieldError,
+    YamlTextError,
+    check_document,
+    compose,
+    decode,
+    line_of,
+    line_of_node,
+    locate_load_error,
+    node_at,
+    read_text,
+)
+
+#: Most trials an experiment may hold (objects x trials x methods x protocols): its task list
+#: (each trial's scenario text) is built before the first trial runs, 15-30 ms a trial
+#: (measured: 10000 trials take 2.5-5 min), and 10000 trials of 30 s are 3.5 CPU-days.
+MAX_TOTAL_TRIALS = 10_000
+
+#: Fields of a trial's scenario that the experiment sets for every trial (from ``objects``,
+#: ``pose``, the protocol and ``seed``) or clears: a method's overrides or ``base_overrides``
+#: that set them would be silently replaced, so they are refused.
+SET_BY_EXPERIMENT = {
+    ("object", "name"): "each trial's object is one of the experiment's objects",
+    ("object", "mesh"): "each trial's object is one of the experiment's objects (named "
+                        "objects of the set)",
+    ("object", "pose"): "each trial's start pose is drawn from the experiment's pose",
+    ("object", "random_pose"): "each trial's start pose is drawn from the experiment's pose "
+                               "(set it there)",
+    ("seed",): "each trial's seed comes from the experiment's seed, object and trial (set "
+               "the experiment's seed)",
+    ("output_dir",): "the experiment writes into its own folder (its output_dir or --out)",
+    ("source_path",): "is set by the loader",
+}
 
 #: What ``replays`` may say: keep a Meshcat replay of every failed trial, of every trial, or none.
 REPLAY_MODES = ("failures", "all", "none")
@@ -109,9 +144,10 @@ class Experiment:
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
     objects: list[str] = field(default_factory=list)
     """Names of objects of the set (``gbh objects list``), each once."""
-    trials: int = 5
-    """Trials per object and method."""
-    seed: int = 0
+    trials: int = ranged(5, Int(1, 1000, "per object, method and protocol; the paper ran 5"))
+    """Trials per object and method (in each protocol). At most :data:`MAX_TOTAL_TRIALS`
+    trials in all (objects x trials x methods x protocols)."""
+    seed: int = ranged(0, Int(0, 2**64 - 1, "seeds are unsigned 64-bit integers"))
     """With the object's name and the trial's index, seeds each trial (non-negative)."""
     pose: RandomRestingPose = field(default_factory=RandomRestingPose)
     """Where each trial's object starts: a random stable resting pose, a yaw and a position on
@@ -171,38 +207,72 @@ def _name_key(name: str) -> int:
 def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
     """Loads and validates an experiment file; ``overrides`` is YAML applied over it (e.g.
     ``trials: 1``), or a list of such texts applied in order. Raises :class:`ExperimentError`
-    naming the file and field."""
+    naming the file, the field and its line (as the scenario loader does: the file's text is
+    read, composed and checked by :mod:`gbh_drake.scenario.yaml_text`: UTF-8 only, no key given
+    twice, no string where a list is expected). An empty or comment-only file, or one that is
+    only ``---``, is the defaults (which list no objects: refused at ``objects``)."""
     path = Path(filename)
-    if not path.is_file():
-        raise ExperimentError(f"{path}: experiment file not found")
-    experiment = _load_text(path.read_text(), str(path), Experiment())
-    for text in [overrides] if isinstance(overrides, str) else overrides:
-        if text:
-            experiment = _load_text(text, f"{path} (--set {text!r})", experiment)
+    origin = str(path)
+    try:
+        text = read_text(path, "experiment")
+    except YamlTextError as e:
+        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
+    layers = [(origin, text)] + [(f"{path} (--set {t!r})", t)
+                                 for t in ([overrides] if isinstance(overrides, str) else overrides)
+                                 if t.strip()]
+    experiment, roots = Experiment(), []
+    for layer_origin, layer_text in layers:
+        experiment, root = _load_text(layer_text, layer_origin, experiment)
+        roots.append((layer_origin, root))
     experiment.source_path = str(path.resolve())
     if not experiment.name:
         experiment.name = path.stem
-    validate_experiment(experiment, str(path))
+    experiment._roots = roots  # where each field is written (lines in errors; not a field)
+    validate_experiment(experiment, origin)
     return experiment
 
 
-def _load_text(text: str, origin: str, defaults: Experiment) -> Experiment:
-    try:
-        text = _overrides_as_text(text)
-    except yaml.YAMLError as e:
-        raise ExperimentError(f"{origin}: not valid YAML: {e}") from e
-    try:
-        return yaml_load_typed(schema=Experiment, data=text or "{}", defaults=defaults)
-    except Exception as e:  # Drake names the unknown or mistyped key
-        raise ExperimentError(f"{origin}: {e}") from e
+def experiment_error(origin: str, field: str, line: int | None, problem: str,
+                     column: int | None = None) -> ExperimentError:
+    """``<origin>: <field> (line N): <problem>`` (``<origin>: line N, column C: <problem>``
+    for the file as a whole), as a scenario's errors read."""
+    if field:
+        where = f"{field}{f' (line {line})' if line else ''}: "
+    else:
+        where = f"line {line}{f', column {column}' if column else ''}: " if line else ""
+    return ExperimentError(f"{origin}: {where}{problem}")
 
 
-def _overrides_as_text(text: str) -> str:
-    """``text`` with every ``overrides`` mapping (``base_overrides``, ``methods[i].overrides``)
-    turned into a string holding that mapping's YAML, tags kept."""
-    root = yaml.compose(text, Loader=yaml.SafeLoader)  # composing keeps Drake's tags as they are
+def _load_text(text: str, origin: str, defaults: Experiment) -> tuple[Experiment, yaml.Node | None]:
+    """``defaults`` updated by one YAML document, and the document's node tree (None: empty)."""
+    try:
+        if "\0" in text:
+            decode(text.encode("utf-8", "surrogatepass"))  # names the NUL's line and column
+        root = compose(text, "experiment")
+    except YamlTextError as e:
+        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
+    if root is None:  # empty, comments only, or only "---": nothing changes
+        return copy.deepcopy(defaults), None
+    try:
+        check_document(root, Experiment, "experiment")
+    except YamlFieldError as e:
+        raise experiment_error(origin, format_path(e.path), e.line, e.problem) from None
+    loaded = _overrides_as_text(root)
+    data = text if loaded is root else yaml.serialize(loaded)
+    try:
+        return yaml_load_typed(schema=Experiment, data=data, defaults=defaults), root
+    except Exception as e:  # noqa: BLE001  (Drake names the unknown or mistyped key)
+        found = locate_load_error(loaded, Experiment, e, "experiment")
+        raise experiment_error(origin, format_path(found.path), found.line,
+                               found.problem) from None
+
+
+def _overrides_as_text(root: yaml.Node) -> yaml.Node:
+    """``root`` with every ``overrides`` mapping (``base_overrides``, ``methods[i].overrides``)
+    turned into a string holding that mapping's YAML, tags kept (a new tree; ``root`` itself
+    when there is none)."""
     if not isinstance(root, yaml.MappingNode):
-        return text
+        return root
     changed = False
 
     def as_text(node):
@@ -213,37 +283,73 @@ def _overrides_as_text(text: str) -> str:
             return yaml.ScalarNode("tag:yaml.org,2002:str", body, node.start_mark, node.end_mark)
         return node
 
-    for i, (key, value) in enumerate(root.value):
+    def method(node):
+        if not isinstance(node, yaml.MappingNode):
+            return node
+        return yaml.MappingNode(node.tag, [(k, as_text(v) if k.value == "overrides" else v)
+                                           for k, v in node.value],
+                                node.start_mark, node.end_mark, node.flow_style)
+
+    items = []
+    for key, value in root.value:
         if key.value == "base_overrides":
-            root.value[i] = (key, as_text(value))
+            value = as_text(value)
         elif key.value == "methods" and isinstance(value, yaml.SequenceNode):
-            for method in value.value:
-                if isinstance(method, yaml.MappingNode):
-                    method.value = [(k, as_text(v) if k.value == "overrides" else v)
-                                    for k, v in method.value]
-    return yaml.serialize(root) if changed else text
+            value = yaml.SequenceNode(value.tag, [method(m) for m in value.value],
+                                      value.start_mark, value.end_mark, value.flow_style)
+        items.append((key, value))
+    if not changed:
+        return root
+    return yaml.MappingNode(root.tag, items, root.start_mark, root.end_mark, root.flow_style)
+
+
+def _written_at(experiment: Experiment, path: tuple, *, key: bool = False
+                ) -> tuple[str | None, yaml.Node | None]:
+    """(origin, node) of the layer that wrote ``path`` last (a list replaces a list: the layer
+    that wrote its first part), or (None, None); with ``key``, the node of its key."""
+    for origin, root in reversed(getattr(experiment, "_roots", [])):
+        if root is not None and node_at(root, path[:1]) is not None:
+            return origin, node_at(root, path, key=key)
+    return None, None
+
+
+def _line(experiment: Experiment, path: tuple) -> int | None:
+    """The line where ``path`` is written (of its key, or of its list, as the scenario's)."""
+    for end in range(len(path), 0, -1):
+        if end == len(path) or isinstance(path[end], int):
+            _, node = _written_at(experiment, path[:end], key=True)
+            if node is not None:
+                return line_of_node(node)
+    return None
 
 
 def validate_experiment(experiment: Experiment, origin: str) -> None:
     """Checks that the schema cannot express (the scenarios themselves are checked by
-    :func:`method_scenarios`). Raises :class:`ExperimentError`."""
+    :func:`method_scenarios`). Raises :class:`ExperimentError` naming the field and, for an
+    experiment read by :func:`load_experiment`, the file (or ``--set`` text) and line where it
+    is written."""
     from gbh_drake.objects import list_objects
 
-    def fail(field_path: str, message: str):
-        raise ExperimentError(f"{origin}: {field_path}: {message}")
+    def fail(field_path: str | tuple, message: str):
+        path = field_path if isinstance(field_path, tuple) else _parse_path(field_path)
+        where, _ = _written_at(experiment, path)
+        raise experiment_error(where or origin, format_path(path), _line(experiment, path),
+                               message)
 
+    try:
+        check_ranges(experiment)
+        check_ranges(experiment.pose, ("pose",))
+    except FieldError as e:
+        fail(e.path, e.problem)
     if not experiment.objects:
-        fail("objects", "list at least one object of the set (gbh objects list)")
+        fail("objects", "list at least one object of the set (gbh objects list); the "
+                        "defaults (an empty file) have none")
     known = list_objects()
     for i, name in enumerate(experiment.objects):
         if name not in known:
             fail(f"objects[{i}]", f"unknown object {name!r} (known: {', '.join(known)})")
         if experiment.objects.index(name) != i:
             fail(f"objects[{i}]", f"{name!r} is listed twice")
-    if experiment.trials < 1:
-        fail("trials", f"must be at least 1, got {experiment.trials}")
-    if experiment.seed < 0:
-        fail("seed", f"must be >= 0, got {experiment.seed}")
     if not experiment.methods:
         fail("methods", "give at least one method")
     names = [m.name for m in experiment.methods]
@@ -288,33 +394,68 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
                                     "the protocol")
     if experiment.replays not in REPLAY_MODES:
         fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
+    total = len(experiment.objects) * experiment.trials * len(experiment.methods) * \
+        len(experiment.protocols)
+    if total > MAX_TOTAL_TRIALS:
+        fail("trials", f"{len(experiment.objects)} objects x {experiment.trials} trials x "
+                       f"{len(experiment.methods)} methods x {len(experiment.protocols)} "
+                       f"protocols are {total} trials; at most {MAX_TOTAL_TRIALS} in one "
+                       "experiment (split it, or run fewer trials)")
     if not experiment.base:
         fail("base", "give the base scenario file (e.g. default.yaml)")
     if not experiment.base_path.is_file():
         fail("base", f"scenario file not found: {experiment.base_path}")
 
 
+def _parse_path(text: str) -> tuple:
+    """``robot.q_home[3]`` -> ``("robot", "q_home", 3)`` (the inverse of ``format_path``)."""
+    path: list = []
+    for part in text.split(".") if text else []:
+        name, *indices = part.replace("]", "").split("[")
+        path += ([name] if name else []) + [int(i) for i in indices]
+    return tuple(path)
+
+
 def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
-    """Each method's scenario: the base file, ``base_overrides``, the method's overrides, the
-    experiment's pose distribution, validated with the first object. Raises
-    :class:`ExperimentError` naming the method."""
+    """Each method's scenario: the base file, ``base_overrides``, the method's overrides (each
+    loaded and checked as a ``gbh run --set`` text is), the experiment's pose distribution,
+    validated with the first object. Fields the experiment sets for every trial
+    (:data:`SET_BY_EXPERIMENT`) are refused in the overrides, and ``object.mesh`` in the base.
+    Raises :class:`ExperimentError` naming the method, the field and its line."""
     origin = experiment.source_path or "<experiment>"
+    _overrides_root(experiment, ("base_overrides",), experiment.base_overrides, origin)
     try:
         base = load_scenario(experiment.base_path, overrides=experiment.base_overrides)
     except ScenarioError as e:
         raise ExperimentError(f"{origin}: base: {e}") from e
+    if base.object.mesh:
+        line = line_of(_scenario_root(experiment.base_path), ("object", "mesh"))
+        raise experiment_error(origin, "base", _line(experiment, ("base",)),
+                               f"{experiment.base_path}: object.mesh"
+                               f"{f' (line {line})' if line else ''}: an experiment runs the "
+                               "named objects of its objects list, not a mesh file; remove "
+                               "object.mesh from the base scenario")
     scenarios = {}
     for i, method in enumerate(experiment.methods):
-        where = f"{origin}: methods[{i}] ({method.name}).overrides"
+        at = ("methods", i, "overrides")
+        layer, root, in_file = _overrides_root(experiment, at, method.overrides, origin)
         scenario = copy.deepcopy(base)
-        if method.overrides:
+        if method.overrides.strip():
             try:
-                scenario = yaml_load_typed(schema=Scenario, data=method.overrides,
-                                           defaults=scenario)
-            except Exception as e:  # Drake names the unknown or mistyped key
-                raise ExperimentError(f"{where}: {e}") from e
+                scenario = apply_overrides(base, method.overrides, origin=layer)
+            except ScenarioError as e:
+                path = _parse_path(e.field)
+                line = line_of(root, path) if in_file else None
+                if line is None and node_at(root, path) is None:  # judged, not written here
+                    field = f"methods[{i}] ({method.name}): {e.field}" if e.field else \
+                        f"methods[{i}] ({method.name}).overrides"
+                else:
+                    field = format_path(at + path)
+                    line = line or _line(experiment, at)
+                raise experiment_error(layer, field, line, e.problem) from None
         scenario.source_path = base.source_path
         scenario.output_dir = ""
+        where = f"{origin}: methods[{i}] ({method.name})"
         for protocol in reversed(experiment.protocols):  # (the first one is kept)
             _set_trial(scenario, experiment, experiment.objects[0], 0, protocol)
             try:
@@ -322,10 +463,48 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
             except ScenarioError as e:
                 raise ExperimentError(str(e)) from e
         if scenario.task != "pick":
-            raise ExperimentError(f"{where}: task: an experiment picks (task: pick), got "
-                                  f"{scenario.task!r}")
+            raise experiment_error(layer, format_path(at + ("task",)),
+                                   _line(experiment, at + ("task",)) or _line(experiment, at),
+                                   f"an experiment picks (task: pick), got {scenario.task!r}")
         scenarios[method.name] = scenario
     return scenarios
+
+
+def _overrides_root(experiment: Experiment, at: tuple, text: str, origin: str
+                    ) -> tuple[str, yaml.Node | None, bool]:
+    """(origin, node tree, written as a mapping in the file) of the overrides at ``at``;
+    refuses (:class:`ExperimentError`) fields the experiment sets itself
+    (:data:`SET_BY_EXPERIMENT`)."""
+    layer, node = _written_at(experiment, at)
+    layer = layer or origin
+    in_file = isinstance(node, yaml.MappingNode)
+    root = node
+    if not in_file:
+        try:
+            root = compose(text) if text.strip() else None
+        except YamlTextError as e:  # the scenario loader says it again with its line
+            raise experiment_error(layer, format_path(at), _line(experiment, at),
+                                   e.problem) from None
+    for path, why in SET_BY_EXPERIMENT.items():
+        value = node_at(root, path) if root is not None else None
+        if value is None or value.tag == "tag:yaml.org,2002:null":
+            continue
+        if path == ("object", "mesh") and isinstance(value, yaml.ScalarNode) and \
+                not value.value:
+            continue  # mesh: '' clears a mesh
+        line = line_of(root, path) if in_file else None
+        raise experiment_error(layer, format_path(at + path), line or _line(experiment, at),
+                               f"{why}: the experiment sets it for every trial, so this "
+                               "value would be replaced; remove it")
+    return layer, root, in_file
+
+
+def _scenario_root(path: Path) -> yaml.Node | None:
+    """The node tree of a scenario file that has loaded (for a field's line), or None."""
+    try:
+        return compose(read_text(path))
+    except YamlTextError:
+        return None
 
 
 def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int,

@@ -81,27 +81,28 @@ class YamlFieldError(ValueError):
 # ---- reading the file ------------------------------------------------------------------------
 
 
-def read_text(path: Path) -> str:
-    """The text of scenario file ``path``. Raises :class:`YamlTextError` (without the file name)
-    for a missing or unreadable file, a folder or other non-regular file, a file over
-    :data:`MAX_FILE_BYTES`, UTF-16/32, NUL bytes or invalid UTF-8 (with line and column)."""
+def read_text(path: Path, what: str = "scenario") -> str:
+    """The text of scenario file ``path`` (``what``: the kind of file, for messages). Raises
+    :class:`YamlTextError` (without the file name) for a missing or unreadable file, a folder or
+    other non-regular file, a file over :data:`MAX_FILE_BYTES`, UTF-16/32, NUL bytes or invalid
+    UTF-8 (with line and column)."""
     try:
         info = path.stat()
     except FileNotFoundError:
-        raise YamlTextError("scenario file not found") from None
+        raise YamlTextError(f"{what} file not found") from None
     except (OSError, ValueError) as e:  # a loop of links, a name with a NUL byte...
-        raise YamlTextError(f"cannot read the scenario file ({_os_reason(e)})") from None
+        raise YamlTextError(f"cannot read the {what} file ({_os_reason(e)})") from None
     if path.is_dir():
-        raise YamlTextError("is a folder, not a scenario file")
+        raise YamlTextError(f"is a folder, not a {what} file")
     if not path.is_file():
         raise YamlTextError("is not a regular file (a device, socket or pipe?)")
     if info.st_size > MAX_FILE_BYTES:
-        raise YamlTextError(f"is {info.st_size} bytes; a scenario file has at most "
+        raise YamlTextError(f"is {info.st_size} bytes; a {what} file has at most "
                             f"{MAX_FILE_BYTES} bytes")
     try:
         data = path.read_bytes()
     except OSError as e:
-        raise YamlTextError(f"cannot read the scenario file ({_os_reason(e)})") from None
+        raise YamlTextError(f"cannot read the {what} file ({_os_reason(e)})") from None
     return decode(data)
 
 
@@ -139,14 +140,15 @@ def _line_column(data: bytes, offset: int) -> tuple[int, int]:
 # ---- the node tree --------------------------------------------------------------------------
 
 
-def compose(text: str) -> yaml.Node | None:
-    """The YAML node tree of ``text`` (None for an empty, comment-only or whitespace-only text).
+def compose(text: str, what: str = "scenario") -> yaml.Node | None:
+    """The YAML node tree of ``text`` (None for an empty, comment-only or whitespace-only text,
+    and for a document that is only ``---`` or ``null``: nothing, as an empty file).
     Raises :class:`YamlTextError` on bad syntax (with its line), several documents or nesting
     deeper than :data:`MAX_DEPTH`."""
     if _too_deep(text):
-        raise YamlTextError(f"nested deeper than {MAX_DEPTH} levels: not a scenario")
+        raise YamlTextError(f"nested deeper than {MAX_DEPTH} levels: not a {what}")
     try:
-        return yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
     except yaml.MarkedYAMLError as e:
         mark = e.problem_mark or e.context_mark
         problem = " ".join(str(p) for p in (e.context, e.problem) if p)
@@ -155,7 +157,10 @@ def compose(text: str) -> yaml.Node | None:
     except yaml.YAMLError as e:
         raise YamlTextError(f"not valid YAML: {e}") from None
     except RecursionError:
-        raise YamlTextError(f"nested deeper than {MAX_DEPTH} levels: not a scenario") from None
+        raise YamlTextError(f"nested deeper than {MAX_DEPTH} levels: not a {what}") from None
+    if isinstance(root, yaml.ScalarNode) and root.tag == _NULL_TAG:
+        return None  # "---" alone, "~" or "null": no document, the defaults
+    return root
 
 
 def _too_deep(text: str) -> bool:
@@ -192,17 +197,17 @@ def _tag_name(node: yaml.Node) -> str | None:
     return node.tag[1:] if node.tag.startswith("!") and not node.tag.startswith("!!") else None
 
 
-def check_document(root: yaml.Node, schema) -> None:
+def check_document(root: yaml.Node, schema, what: str = "scenario") -> None:
     """Refuses (:class:`YamlFieldError`) what Drake's loader would accept silently: duplicate
     keys, a scalar where the schema has a list or vector (a string would be split into its
     characters), more than :data:`MAX_VALUES` values once aliases are expanded."""
-    _check_size(root)
-    _check_depth(root)
+    _check_size(root, what)
+    _check_depth(root, what)
     _check_duplicates(root, ())
     _check_shapes(root, schema, (), root_level=True)
 
 
-def _check_size(root: yaml.Node) -> None:
+def _check_size(root: yaml.Node, what: str = "scenario") -> None:
     sizes: dict[int, int] = {}
 
     def size(node) -> int:  # memoised on node identity: an alias is the same node object
@@ -220,16 +225,16 @@ def _check_size(root: yaml.Node) -> None:
 
     if size(root) > MAX_VALUES:
         raise YamlFieldError((), None, f"expands to more than {MAX_VALUES} values (YAML "
-                                       "aliases?): not a scenario")
+                                       f"aliases?): not a {what}")
 
 
-def _check_depth(root: yaml.Node) -> None:
+def _check_depth(root: yaml.Node, what: str = "scenario") -> None:
     stack, seen = [(root, 1)], set()
     while stack:
         node, depth = stack.pop()
         if depth > MAX_DEPTH:
             raise YamlFieldError((), line_of_node(node), f"nested deeper than {MAX_DEPTH} "
-                                                         "levels: not a scenario")
+                                                         f"levels: not a {what}")
         if id(node) in seen:
             continue
         seen.add(id(node))
@@ -378,10 +383,11 @@ def _holder(schema):
         "_Holder", [("value", schema, dataclasses.field(default_factory=factory))])
 
 
-def locate_load_error(root: yaml.Node, schema, error: BaseException) -> YamlFieldError:
+def locate_load_error(root: yaml.Node, schema, error: BaseException,
+                      what: str = "scenario") -> YamlFieldError:
     """The field of ``root`` that ``yaml_load_typed`` refused (``error`` is what it raised)."""
     if not isinstance(root, yaml.MappingNode):
-        return YamlFieldError((), line_of_node(root), "a scenario is a mapping of fields "
+        return YamlFieldError((), line_of_node(root), f"a {what} is a mapping of fields "
                               f"(field: value), got {describe(root)}")
     found = _locate(root, schema, (), root_level=True)
     return found or YamlFieldError((), None, _clean(error))

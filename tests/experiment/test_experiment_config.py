@@ -1,6 +1,7 @@
 """The experiment file: methods as overrides of a base scenario, seeds from (seed, object, trial)
 alone, the shipped experiments, and errors that name the field."""
 
+import re
 import textwrap
 from pathlib import Path
 
@@ -205,7 +206,8 @@ def test_protocol_errors_name_the_file_and_field(tmp_path, text, where, words):
     path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
     with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
         load_experiment(path)
-    assert f": {where}: " in str(error.value) and words in str(error.value)
+    assert re.search(rf": {re.escape(where)} \(line \d+\): ", str(error.value)), error.value
+    assert words in str(error.value)
 
 
 def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
@@ -214,7 +216,7 @@ def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
 
     monkeypatch.delitem(catalog._RESTS, "kettle")  # as an object registered without rest=
     path = write(tmp_path, "base: BASE\nobjects: [box, kettle]\nprotocols: [stable, natural]\n")
-    with pytest.raises(ExperimentError, match=r"exp\.yaml: protocols\[1\]: natural: "
+    with pytest.raises(ExperimentError, match=r"exp\.yaml: protocols\[1\] \(line 3\): natural: "
                                               r"objects\[1\] 'kettle' has no natural rest"):
         load_experiment(path)
     load_experiment(path, overrides="protocols: [stable]")  # the stable protocol needs none
