@@ -58,13 +58,18 @@ def run_command(args: argparse.Namespace) -> int:
 
 def _report(folder: Path) -> int:
     from gbh_drake.experiment.report import read_input, table1, write_report
-    from gbh_drake.experiment.rows import ROWS_FILE
+    from gbh_drake.experiment.rows import ROWS_FILE, FolderError
 
     if not (folder / ROWS_FILE).is_file():
         print(f"gbh: {folder}: no {ROWS_FILE} (not an experiment folder)", file=sys.stderr)
         return 2
-    summary, plot = write_report(folder)
-    print("\n".join(table1(read_input(folder))))
+    try:  # everything is read and checked before anything is written
+        summary, plot = write_report(folder, warn=_warn)
+        lines = table1(read_input(folder))
+    except FolderError as e:
+        _say(f"damaged experiment folder: {e}")
+        return 2
+    print("\n".join(lines))
     print(f"wrote {summary} and {plot}")
     return 0
 
@@ -73,6 +78,7 @@ def _experiment(args: argparse.Namespace) -> int:
     from gbh_drake.experiment.config import ExperimentError, load_experiment
     from gbh_drake.experiment.engines import RAY_MISSING, ray_installed
     from gbh_drake.experiment.report import read_input, table1
+    from gbh_drake.experiment.rows import FolderError
     from gbh_drake.experiment.runner import run_experiment
 
     if args.workers < 1:
@@ -87,7 +93,10 @@ def _experiment(args: argparse.Namespace) -> int:
                                 workers=args.workers, ray_address=args.ray,
                                 progress=not args.no_progress)
     except ExperimentError as e:
-        print(f"gbh: invalid experiment: {e}", file=sys.stderr)
+        _say(f"invalid experiment: {e}")
+        return 2
+    except FolderError as e:
+        _say(f"damaged experiment folder: {e}")
         return 2
     except KeyboardInterrupt:
         print("gbh: interrupted; the finished trials are saved: run the same command to "
@@ -97,3 +106,12 @@ def _experiment(args: argparse.Namespace) -> int:
     print(f"{result.ran} trials run, {result.skipped} found done, in {result.wall / 60:.1f} min; "
           f"wrote {result.folder / 'summary.md'}")
     return 0
+
+
+def _say(message: str) -> None:
+    """One line on stderr (a message is never split over lines)."""
+    print(f"gbh: {' '.join(message.split())}", file=sys.stderr, flush=True)
+
+
+def _warn(message: str) -> None:
+    print(f"gbh: warning: {message}", file=sys.stderr, flush=True)

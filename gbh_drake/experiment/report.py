@@ -30,7 +30,6 @@ the tables by method (controls, failures, refusals) have a column per method and
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import os
 from collections import Counter
@@ -44,8 +43,10 @@ from gbh_drake.core.resting import RESTING_POSES, resting_pose
 from gbh_drake.experiment.rows import (
     DEFAULT_PROTOCOL,
     ROWS_FILE,
+    FolderError,
     RowStore,
     protocol_of,
+    read_jsonl,
     row_key,
     sort_key,
 )
@@ -137,14 +138,16 @@ class Tally:
             self.pinch += row.get("held_by") == "pinch"
 
 
-def read_input(folder: Path) -> ReportInput:
-    """The rows of ``folder`` and its saved experiment (when there is one)."""
+def read_input(folder: Path, *, warn=None) -> ReportInput:
+    """The rows of ``folder`` and its saved experiment (when there is one). A last row cut short
+    by an interrupted write is left out (``warn`` is told); any other damage raises
+    :class:`~gbh_drake.experiment.rows.FolderError` naming the file and line."""
     folder = Path(folder)
-    rows = RowStore(folder).load()
+    rows = RowStore(folder).load(warn=warn)
     unique = {row_key(r): r for r in rows}  # a trial run twice: its last row
     saved = folder / EXPERIMENT_FILE
     if saved.is_file():  # written by the runner (yaml_dump_typed of the Experiment: no tags)
-        e = yaml.safe_load(saved.read_text()) or {}
+        e = read_saved_experiment(saved)
         objects, trials = list(e.get("objects", [])), int(e.get("trials", 0))
         methods = [m["name"] for m in e.get("methods", [])]
         protocols = list(e.get("protocols") or [DEFAULT_PROTOCOL])
@@ -169,14 +172,65 @@ def read_input(folder: Path) -> ReportInput:
                        expected=False, protocols=protocols)
 
 
-def write_report(folder: Path) -> tuple[Path, Path]:
+def read_saved_experiment(path: Path) -> dict:
+    """The fields of a folder's ``experiment.yaml`` that reports read (``name``, ``objects``,
+    ``trials``, ``methods`` with their ``name`` and ``paper``, ``protocols``), checked; raises
+    :class:`~gbh_drake.experiment.rows.FolderError` naming the file, the field and the line."""
+    damaged = "the folder's experiment.yaml is damaged (gbh experiment writes it again)"
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except OSError as e:
+        raise FolderError(f"{path}: cannot read it ({e.strerror or e})") from None
+    except UnicodeDecodeError as e:
+        raise FolderError(f"{path}: not UTF-8 text (byte at offset {e.start}); {damaged}") \
+            from None
+    try:
+        e = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}: " if mark else ""
+        raise FolderError(f"{path}: {where}not valid YAML; {damaged}") from None
+    if e is None:
+        e = {}
+    if not isinstance(e, dict):
+        raise FolderError(f"{path}: not a mapping of fields; {damaged}")
+
+    def bad(field: str, expected: str, value) -> FolderError:
+        return FolderError(f"{path}: {field}: expected {expected}, got {value!r}; {damaged}")
+
+    def names(field: str) -> list:
+        value = e.get(field) or []
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise bad(field, "a list of names", value)
+        return value
+
+    names("objects")
+    names("protocols")
+    if e.get("name") is not None and not isinstance(e["name"], str):
+        raise bad("name", "a string", e["name"])
+    trials = e.get("trials", 0)
+    if not isinstance(trials, int) or isinstance(trials, bool) or trials < 0:
+        raise bad("trials", "a whole number", trials)
+    methods = e.get("methods") or []
+    if not isinstance(methods, list):
+        raise bad("methods", "a list", methods)
+    for i, m in enumerate(methods):
+        if not isinstance(m, dict) or not isinstance(m.get("name"), str):
+            raise bad(f"methods[{i}]", "a method with a name", m)
+        if m.get("paper") is not None and not isinstance(m["paper"], str):
+            raise bad(f"methods[{i}].paper", "a string", m["paper"])
+    return e
+
+
+def write_report(folder: Path, *, warn=None) -> tuple[Path, Path]:
     """Writes ``summary.md``, ``trials.csv``, ``table1.csv`` and the plots (``success`` and
     ``causes``, PNG and SVG) into ``folder`` from its rows; returns the summary and
-    ``success.png``."""
+    ``success.png``. Everything is read (and checked) before anything is written."""
     folder = Path(folder)
-    data = read_input(folder)
+    data = read_input(folder, warn=warn)
+    runs = read_runs(folder, warn=warn)
     summary = folder / SUMMARY_FILE
-    write_atomically(summary, summary_markdown(data, runs=read_runs(folder)))
+    write_atomically(summary, summary_markdown(data, runs=runs))
     write_atomically(folder / TRIALS_CSV, trials_frame(data).to_csv(index=False))
     write_atomically(folder / TABLE1_CSV, table1_frame(data).to_csv(index=False))
     plot = folder / PLOT_FILE
@@ -185,11 +239,12 @@ def write_report(folder: Path) -> tuple[Path, Path]:
     return summary, plot
 
 
-def read_runs(folder: Path) -> list[dict]:
-    path = Path(folder) / RUNS_FILE
-    if not path.is_file():
-        return []
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+def read_runs(folder: Path, *, warn=None, repair: bool = False) -> list[dict]:
+    """The runs of ``runs.jsonl`` (one JSON object a line; damage as for the rows:
+    :func:`~gbh_drake.experiment.rows.read_jsonl`)."""
+    return read_jsonl(Path(folder) / RUNS_FILE, warn=warn, repair=repair,
+                      check=lambda v: None if isinstance(v, dict) else
+                      f"not a run (a JSON object), got {type(v).__name__}")
 
 
 def _per_protocol(data: ReportInput) -> list[tuple[str, ReportInput]]:

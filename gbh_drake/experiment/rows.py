@@ -1,9 +1,11 @@
 """The experiment's rows: one JSON object per trial and line in ``trials.jsonl``.
 
 Rows are appended and flushed one by one as trials finish (an interrupted experiment keeps every
-finished trial); on start the rows already there are read and their trials skipped. A line cut
-short by the interruption is dropped. Reports order rows by :func:`sort_key`, never by when they
-finished.
+finished trial); on start the rows already there are read and their trials skipped. A last line
+cut short by an interrupted write is dropped with a warning (its trial runs again); any other
+damaged line (not UTF-8, not JSON, a row without one of :data:`ROW_FIELDS`) is an error naming
+the file and line (:class:`FolderError`), and nothing is run or rewritten. Reports order rows by
+:func:`sort_key`, never by when they finished.
 
 A row (see :func:`gbh_drake.experiment.worker.run_trial_task`): ``experiment``, ``object``,
 ``is_control``, ``method``, ``trial``, ``seed``, ``grasp_method``, ``viewpoints``, ``pose`` (x, y,
@@ -76,41 +78,91 @@ def to_line(row: dict) -> str:
     return json.dumps(row, sort_keys=True, allow_nan=False) + "\n"
 
 
+class FolderError(ValueError):
+    """A file of an experiment folder that cannot be read or is damaged: the message names the
+    file and, where there is one, the line."""
+
+
+#: The fields every row has, with their types (a row without one is damaged): the key of its
+#: trial and what the reports count.
+ROW_FIELDS = {"object": str, "method": str, "trial": int, "seed": int, "outcome": str,
+              "success": bool, "reason": str, "viewpoints": int}
+
+
+def row_problem(row) -> str | None:
+    """What makes ``row`` (a parsed line) not a row, or None."""
+    if not isinstance(row, dict):
+        return f"not a row (a JSON object), got {type(row).__name__}"
+    missing = [name for name in ROW_FIELDS if name not in row]
+    if missing:
+        return f"a row without {', '.join(missing)}"
+    for name, kind in ROW_FIELDS.items():
+        value = row[name]
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            return f"{name} is {value!r}, not {'a' if kind is not int else 'an'} " \
+                   f"{'integer' if kind is int else {str: 'string', bool: 'boolean'}[kind]}"
+    return None
+
+
+def read_jsonl(path: Path, *, check=None, warn=None, repair: bool = False) -> list[dict]:
+    """The JSON objects of ``path``, one a line, in file order ([] without the file). A last
+    line without its newline was cut short by an interrupted write: it is dropped (``warn`` is
+    told which line) and, with ``repair``, cut off the file so that the next line written
+    starts on a line of its own. Any other bad line (not UTF-8, not JSON, ``check(value)``
+    returning a problem) raises :class:`FolderError` naming the file and the line: nothing is
+    dropped that a run wrote whole."""
+    path = Path(path)
+    try:
+        if not path.exists():
+            return []
+        data = path.read_bytes()
+    except OSError as e:
+        raise FolderError(f"{path}: cannot read it ({e.strerror or e})") from None
+    *lines, cut = data.split(b"\n")
+    rows = []
+    for i, line in enumerate(lines):
+        if not line.strip():
+            continue
+        try:
+            value = json.loads(line.decode("utf-8"))
+        except UnicodeDecodeError as e:
+            raise FolderError(f"{path}: line {i + 1}: not UTF-8 text (byte 0x{line[e.start]:02x}"
+                              f"); the file is damaged: fix or remove that line") from None
+        except ValueError as e:
+            raise FolderError(f"{path}: line {i + 1}: not a JSON line ({e}); the file is "
+                              "damaged: fix or remove that line") from None
+        problem = check(value) if check else None
+        if problem:
+            raise FolderError(f"{path}: line {i + 1}: {problem}; the file is damaged: fix or "
+                              "remove that line")
+        rows.append(value)
+    if cut.strip():
+        line = data.count(b"\n") + 1
+        if warn is not None:
+            warn(f"{path}: line {line} was cut short (an interrupted write): "
+                 + ("dropped" if repair else "left out"))
+        if repair:
+            try:
+                with open(path, "r+b") as f:
+                    f.truncate(len(data) - len(cut))
+            except OSError as e:
+                raise FolderError(f"{path}: cannot cut off its damaged last line "
+                                  f"({e.strerror or e})") from None
+    return rows
+
+
 class RowStore:
     """``trials.jsonl`` of one experiment folder."""
 
     def __init__(self, folder: Path):
         self.path = Path(folder) / ROWS_FILE
 
-    def load(self, *, repair: bool = False) -> list[dict]:
-        """The rows in the file, in file order. A last line cut short (an interrupted write) is
-        ignored, and with ``repair`` cut off the file so that new rows start on a line of their
-        own. Raises ``ValueError`` on a bad line elsewhere."""
-        if not self.path.is_file():
-            return []
-        data = self.path.read_bytes()
-        rows, good_end = [], 0
-        lines = data.split(b"\n")
-        for i, line in enumerate(lines):
-            last = i == len(lines) - 1
-            if not line.strip():
-                if not last:
-                    good_end += len(line) + 1
-                continue
-            try:
-                row = json.loads(line)
-                if last:  # no newline after it: the write was cut
-                    raise ValueError("unterminated")
-            except ValueError as e:
-                if last:
-                    break
-                raise ValueError(f"{self.path}: line {i + 1} is not a row: {e}") from e
-            rows.append(row)
-            good_end += len(line) + 1
-        if repair and good_end < len(data):
-            with open(self.path, "r+b") as f:
-                f.truncate(good_end)
-        return rows
+    def load(self, *, repair: bool = False, warn=None) -> list[dict]:
+        """The rows in the file, in file order (:func:`read_jsonl`, each line checked by
+        :func:`row_problem`): a last line cut short is dropped and ``warn`` told (its trial runs
+        again), with ``repair`` cut off the file. Raises :class:`FolderError` on a bad line
+        elsewhere."""
+        return read_jsonl(self.path, check=row_problem, warn=warn, repair=repair)
 
     def append(self, row: dict) -> None:
         """Appends one row and flushes it to the disk."""

@@ -43,7 +43,7 @@ from gbh_drake.experiment.config import (
     trial_scenario_yaml,
 )
 from gbh_drake.experiment.engines import local_results, ray_results
-from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, write_report
+from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, read_runs, write_report
 from gbh_drake.experiment.rows import (
     DEFAULT_PROTOCOL,
     ROWS_FILE,
@@ -98,7 +98,8 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         scenarios = method_scenarios(experiment)
         tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
         store = RowStore(folder)
-        done = _finished(store, tasks)
+        done = _finished(store, tasks, warn=log)
+        read_runs(folder, warn=log, repair=True)  # a damaged log refuses before any trial runs
         pending = [t for t in tasks if t.key not in done]
         _write_definition(folder, experiment, scenarios)
         engine = (f"Ray ({ray_address}" + (f", {workers} CPUs)" if ray_address == "local"
@@ -142,7 +143,7 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                          interrupted=interrupted)
             if not interrupted and len(done) == len(tasks):
                 _sort_rows(store, experiment)
-            write_report(folder)
+            write_report(folder, warn=log)
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
 
 
@@ -153,13 +154,13 @@ def _set_protocol(row: dict, by_digest: dict) -> None:
     row["protocol"] = task.protocol
 
 
-def _finished(store: RowStore, tasks) -> dict:
+def _finished(store: RowStore, tasks, *, warn=None) -> dict:
     """The rows already in the folder that are trials of ``tasks``, by key; a trial that ended
     in an error (a bug, not a result) is not finished: it is run again. Raises
     :class:`ExperimentError` if a row was made with another scenario than its task's."""
     by_key = {t.key: t for t in tasks}
     done, stale = {}, []
-    for row in store.load(repair=True):
+    for row in store.load(repair=True, warn=warn):
         task = by_key.get(row_key(row))
         if task is None:
             continue  # not a trial of this experiment: kept in the file, left out of reports
