@@ -183,6 +183,10 @@ def check_relations(scenario) -> None:
     if s.pick.cage_test_force > s.robot.hand.max_force:
         raise FieldError(("pick", "cage_test_force"),
                          f"must be <= robot.hand.max_force ({s.robot.hand.max_force:g} N)")
+    if s.task == "pick" and s.monitor.lifted_height >= s.pick.max_lift:
+        raise FieldError(("monitor", "lifted_height"),
+                         f"must be < pick.max_lift ({s.pick.max_lift:g} m): the gripper rises "
+                         "at most that far, so no object could ever count as lifted")
     for section in ("gbh", "antipodal"):
         n = np.asarray(getattr(s, section).ground_normal, float)
         if not (np.linalg.norm(n) > 0 and np.allclose(n / np.linalg.norm(n), [0, 0, 1])):

@@ -12,6 +12,11 @@ from gbh_drake.core.ranges import FieldError
 
 #: Largest extent (m) a scaled named object may have.
 NAMED_SIZE = (0.01, 2.0)
+#: The object's mass (kg), named or mesh, from ``object.mass`` or its density: at most the
+#: Franka Panda's payload (3 kg: a heavier object is beyond what the arm may carry; it would
+#: fail every trial), at least 1 g (lighter than a paper clip: not a hand-held object, and
+#: its contact at the plant's step was never measured).
+MASS_RANGE = (0.001, 3.0)
 
 
 def check_object(scenario) -> None:
@@ -31,6 +36,7 @@ def check_object(scenario) -> None:
                                       mass=obj.mass or None, orientation=obj.orientation)
         except MeshImportError as e:
             raise FieldError(("object", "mesh"), str(e)) from None
+        _check_mass(obj, float(loaded.mass_properties.mass), "the mesh", light=False)
         refusal = size_refusal(loaded.mesh, obj.scale)
         if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
             raise FieldError(("object", "scale"), f"{path}: {refusal}")
@@ -61,6 +67,7 @@ def check_object(scenario) -> None:
             raise FieldError(("object", "random_pose", "rest"),
                              f"natural: {obj.name} has no natural rest declared (register it "
                              "with rest=... in the object set); use rest: stable")
+    _check_mass(obj, _named_mass(obj), obj.name)
     size = _named_extent(obj.name) * obj.scale
     if not NAMED_SIZE[0] <= size <= NAMED_SIZE[1]:
         raise FieldError(("object", "scale"), f"makes {obj.name} {size * 1000:.3g} mm across; "
@@ -70,6 +77,51 @@ def check_object(scenario) -> None:
 
 def _natural(obj) -> bool:
     return obj.random_pose is not None and obj.random_pose.rest == "natural"
+
+
+def _check_mass(obj, mass: float, what: str, *, light: bool = True) -> None:
+    """Refuses a mass outside :data:`MASS_RANGE` (with ``light`` False, only above it: a light
+    mesh is warned about by the mesh import's plausibility checks), on the field that gave
+    it."""
+    lo, hi = MASS_RANGE
+    if mass <= hi and (mass >= lo or not light):
+        return
+    if obj.mass > 0:
+        field, how = "mass", ""
+    elif obj.density > 0:
+        field, how = "density", f" (density {obj.density:g} kg/m^3)"
+    else:
+        field, how = "scale", f" (scale {obj.scale:g} at its own density)"
+    figure = f"{mass:.3g} kg" if mass >= 0.1 else f"{mass * 1000:.3g} g"
+    if mass > hi:
+        why = (f"above the Franka's payload ({hi:g} kg): give a lighter object.mass or "
+               "object.density")
+    else:
+        why = (f"under {lo * 1000:g} g, not a hand-held object the simulation was measured "
+               "with: give a larger object.mass or object.density (0: the object's own)")
+    raise FieldError(("object", field), f"makes {what} weigh {figure}{how}, {why}")
+
+
+def _named_mass(obj) -> float:
+    """kg: the named object's mass as the station gives it (``mass``, else its density or
+    ``density`` times its volume at ``scale``)."""
+    if obj.mass > 0:
+        return float(obj.mass)
+    volume, density = _named_volume_density(obj.name)
+    return float((obj.density or density) * volume * obj.scale ** 3)
+
+
+_VOLUMES: dict[str, tuple[float, float]] = {}
+
+
+def _named_volume_density(name: str) -> tuple[float, float]:
+    """(m^3, kg/m^3) of the object set's ``name`` at scale 1 (cached per process)."""
+    if name not in _VOLUMES:
+        from gbh_drake.objects import make_object
+
+        spec = make_object(name)
+        _VOLUMES[name] = (float(spec.mesh.volume), float(spec.density))
+    return _VOLUMES[name]
 
 
 _EXTENTS: dict[str, float] = {}
