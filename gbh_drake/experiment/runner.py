@@ -93,9 +93,9 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
     Raises :class:`ExperimentError` when the folder holds rows of other scenarios."""
     start = time.perf_counter()
     folder = Path(out) if out else experiment.output_path()
+    scenarios = method_scenarios(experiment)  # a bad method is refused before the folder is made
     folder.mkdir(parents=True, exist_ok=True)
     with _folder_lock(folder):
-        scenarios = method_scenarios(experiment)
         tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
         store = RowStore(folder)
         done = _finished(store, tasks, warn=log)
