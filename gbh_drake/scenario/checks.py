@@ -132,11 +132,11 @@ def rule_table(schema=Scenario, at: Path_ = ()) -> dict[Path_, dict[str, Rule]]:
     return {section: rules for section, rules in table.items() if rules}
 
 
-def rules_markdown() -> str:
-    """The table of :func:`rule_table` as Markdown (docs/errors.md includes it; a test keeps
-    the two equal)."""
+def rules_markdown(schema=Scenario) -> str:
+    """The table of :func:`rule_table` of ``schema`` (the scenario's, or the experiment's) as
+    Markdown (docs/errors.md includes both; a test keeps them equal)."""
     rows = ["| field | must be |", "|---|---|"]
-    for section, rules in rule_table().items():
+    for section, rules in rule_table(schema).items():
         rows += [f"| `{format_path(section + (name,))}` | {rule.doc()} |"
                  for name, rule in rules.items()]
     return "\n".join(rows) + "\n"

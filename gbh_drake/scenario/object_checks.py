@@ -36,10 +36,10 @@ def check_object(scenario) -> None:
                                       mass=obj.mass or None, orientation=obj.orientation)
         except MeshImportError as e:
             raise FieldError(("object", "mesh"), str(e)) from None
-        _check_mass(obj, float(loaded.mass_properties.mass), "the mesh", light=False)
         refusal = size_refusal(loaded.mesh, obj.scale)
         if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
             raise FieldError(("object", "scale"), f"{path}: {refusal}")
+        _check_mass(obj, float(loaded.mass_properties.mass), "the mesh", light=False)
         if _natural(obj):
             raise FieldError(("object", "random_pose", "rest"),
                              "natural is the rest declared for each object of the set; a mesh "
@@ -67,12 +67,12 @@ def check_object(scenario) -> None:
             raise FieldError(("object", "random_pose", "rest"),
                              f"natural: {obj.name} has no natural rest declared (register it "
                              "with rest=... in the object set); use rest: stable")
-    _check_mass(obj, _named_mass(obj), obj.name)
     size = _named_extent(obj.name) * obj.scale
     if not NAMED_SIZE[0] <= size <= NAMED_SIZE[1]:
         raise FieldError(("object", "scale"), f"makes {obj.name} {size * 1000:.3g} mm across; "
                                               f"objects of {NAMED_SIZE[0] * 100:g} cm to "
                                               f"{NAMED_SIZE[1]:g} m can be simulated")
+    _check_mass(obj, _named_mass(obj), obj.name)
 
 
 def _natural(obj) -> bool:

@@ -387,7 +387,8 @@ def locate_load_error(root: yaml.Node, schema, error: BaseException,
                       what: str = "scenario") -> YamlFieldError:
     """The field of ``root`` that ``yaml_load_typed`` refused (``error`` is what it raised)."""
     if not isinstance(root, yaml.MappingNode):
-        return YamlFieldError((), line_of_node(root), f"{'an' if what[:1] in 'aeiou' else 'a'} {what} is a mapping of fields "
+        article = "an" if what[:1] in "aeiou" else "a"
+        return YamlFieldError((), line_of_node(root), f"{article} {what} is a mapping of fields "
                               f"(field: value), got {describe(root)}")
     found = _locate(root, schema, (), root_level=True)
     return found or YamlFieldError((), None, _clean(error))
