@@ -205,9 +205,9 @@ def test_the_rate_among_trials_a_loop_can_reach_leaves_out_only_those_out_of_rea
 
     rows = [make_row("mug_classic", "gbh-10", t, "no_grasp_found") for t in range(4)]
     rows.append(make_row("mug_classic", "gbh-10", 4))
-    for r, (true, scan) in zip(rows, [("out of reach", "out of reach"),
+    for r, (true, scan) in zip(rows[:4], [("out of reach", "out of reach"),
                                       ("reachable", "reachable"), ("reachable", "out of reach"),
-                                      ("undecided", "undecided")]):
+                                      ("undecided", "undecided")], strict=True):
         r["reach"] = {"true": true, "scan": scan}
     assert [reach_class(r) for r in rows[:4]] == ["out of reach", "candidate set missed",
                                                   "lost in the scan", "undecided"]
