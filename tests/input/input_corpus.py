@@ -52,6 +52,22 @@ class Case:
     """Other files written beside the scenario."""
 
 
+def write_case(case: Case, folder, substitutions: dict[str, str]):
+    """Writes the case's files and its text (``bad.yaml``) into ``folder``, each key of
+    ``substitutions`` in a text replaced by its value; returns the text's path."""
+    def data(content):
+        if isinstance(content, bytes):
+            return content
+        for key, value in substitutions.items():
+            content = content.replace(key, value)
+        return content.encode()
+    for name, content in case.files.items():
+        (folder / name).write_bytes(data(content))
+    path = folder / "bad.yaml"
+    path.write_bytes(data(case.text))
+    return path
+
+
 def _c(id, text, field, line, expect, **kw) -> Case:
     return Case(id, text, field, line, expect, **kw)
 

@@ -4,21 +4,14 @@ stderr naming the file, the field and its line, nothing written (see input_corpu
 import re
 
 import pytest
-from input_corpus import CASES, Case
+from input_corpus import CASES, Case, write_case
 
 from gbh_drake.cli import main
 
 
 def _write_case(case: Case, folder):
-    """Writes the case's files into ``folder`` (``@DIR@`` in a text: that folder)."""
-    def data(content):
-        return content if isinstance(content, bytes) else \
-            content.replace("@DIR@", str(folder)).encode()
-    for name, content in case.files.items():
-        (folder / name).write_bytes(data(content))
-    path = folder / "bad.yaml"
-    path.write_bytes(data(case.text))
-    return path
+    """The case's files in ``folder`` (``@DIR@`` in a text: that folder)."""
+    return write_case(case, folder, {"@DIR@": str(folder)})
 
 
 def expected_prefix(case: Case, path) -> str:

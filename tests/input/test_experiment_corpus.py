@@ -6,20 +6,13 @@ import re
 
 import pytest
 from experiment_corpus import CASES
-from input_corpus import Case
+from input_corpus import Case, write_case
 
 from gbh_drake.cli import DEFAULT_SCENARIO, main
 
 
 def _write_case(case: Case, folder):
-    def data(content):
-        return content if isinstance(content, bytes) else \
-            content.replace("@BASE@", str(DEFAULT_SCENARIO)).encode()
-    for name, content in case.files.items():
-        (folder / name).write_bytes(data(content))
-    path = folder / "bad.yaml"
-    path.write_bytes(data(case.text))
-    return path
+    return write_case(case, folder, {"@BASE@": str(DEFAULT_SCENARIO)})
 
 
 def test_case_ids_are_unique():
