@@ -51,6 +51,14 @@ class TrialReach:
     def to_dict(self) -> dict:
         return asdict(self)
 
+    def row(self) -> dict:
+        """A row's ``reach`` field: :meth:`to_dict` without ``seconds`` (a measurement of the
+        run, not a result: the row's ``stage_times["reach"]`` has it), so that identical runs
+        give identical rows."""
+        out = self.to_dict()
+        out.pop("seconds")
+        return out
+
 
 def reach_of_trial(scan_mesh: trimesh.Trimesh | ObjectModel | None,
                    true_mesh: trimesh.Trimesh | None, params: GbhParams, *, seed: int = 0,

@@ -125,7 +125,7 @@ def _run(task: TrialTask, start: float) -> TrialResult:
     if record.outcome in REACH_OUTCOMES and done.trial.source.hanging_structures is not None:
         reach_start = time.perf_counter()
         try:
-            row["reach"] = _reach(done).to_dict()
+            row["reach"] = _reach(done).row()
         except Exception as e:  # the analysis, not the trial, failed: recorded, not fatal
             row["reach"] = {"error": f"{type(e).__name__}: {e}"}
         row["stage_times"]["reach"] = time.perf_counter() - reach_start
