@@ -14,7 +14,9 @@ of the wrong type) are in ``tests/scenario/test_every_field.py``.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from gbh_drake.modeling.directives import REMOTE_PACKAGES
 
@@ -66,6 +68,25 @@ def write_case(case: Case, folder, substitutions: dict[str, str]):
     path = folder / "bad.yaml"
     path.write_bytes(data(case.text))
     return path
+
+
+def check_refusal(case: Case, main, argv: list[str], capsys, prefix: str, nothing: Path):
+    """Runs ``main(argv + the case's --set overrides)`` and checks the refusal: exit 2, one line
+    on stderr starting with ``prefix``, the case's words in its problem
+    (a column may follow the line), no traceback, nothing on stdout and no ``nothing`` folder."""
+    for text in case.overrides:
+        argv = [*argv, "--set", text]
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith(prefix), f"\n{lines[0]}\n{prefix}"
+    problem = lines[0][len(prefix):]
+    if not case.field and case.line:  # the column may follow
+        assert re.match(r"(, column \d+)?: ", problem), problem
+    assert case.expect in problem, f"{case.expect!r} not in {problem!r}"
+    assert "Traceback" not in err and out == ""
+    assert not nothing.exists()  # nothing written
 
 
 def _c(id, text, field, line, expect, **kw) -> Case:
