@@ -107,34 +107,29 @@ def _named_mass(obj) -> float:
     ``density`` times its volume at ``scale``)."""
     if obj.mass > 0:
         return float(obj.mass)
-    volume, density = _named_volume_density(obj.name)
+    _, volume, density = _named_facts(obj.name)
     return float((obj.density or density) * volume * obj.scale ** 3)
 
 
-_VOLUMES: dict[str, tuple[float, float]] = {}
+def _named_extent(name: str) -> float:
+    """Largest extent (m) of the object set's ``name`` at scale 1."""
+    return _named_facts(name)[0]
 
 
-def _named_volume_density(name: str) -> tuple[float, float]:
-    """(m^3, kg/m^3) of the object set's ``name`` at scale 1 (cached per process)."""
-    if name not in _VOLUMES:
+_FACTS: dict[str, tuple[float, float, float]] = {}
+
+
+def _named_facts(name: str) -> tuple[float, float, float]:
+    """(largest extent m, volume m^3, density kg/m^3) of the object set's ``name`` at scale 1,
+    from one build of it (cached per process: the set's generators are heavy)."""
+    if name not in _FACTS:
         from gbh_drake.objects import make_object
 
         spec = make_object(name)
-        _VOLUMES[name] = (float(spec.mesh.volume), float(spec.density))
-    return _VOLUMES[name]
-
-
-_EXTENTS: dict[str, float] = {}
-
-
-def _named_extent(name: str) -> float:
-    """Largest extent (m) of the object set's ``name`` at scale 1 (cached per process)."""
-    if name not in _EXTENTS:
-        from gbh_drake.objects import make_object
-
-        bounds = make_object(name).mesh.bounds
-        _EXTENTS[name] = float(np.max(bounds[1] - bounds[0]))
-    return _EXTENTS[name]
+        bounds = spec.mesh.bounds
+        _FACTS[name] = (float(np.max(bounds[1] - bounds[0])), float(spec.mesh.volume),
+                        float(spec.density))
+    return _FACTS[name]
 
 
 def object_model_name(scenario) -> str:
