@@ -19,7 +19,6 @@ import numpy as np
 
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate
-from gbh_drake.core.scoring import collision_free
 
 #: The rules, in the order they apply.
 RULES = ("collision N_c", "closing sweep", "table clearance")
@@ -65,51 +64,50 @@ def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rej
     :func:`gbh_drake.core.pipeline.count_collisions`) by the rule that removed each
     (module docstring). Uncounted candidates (-1, nan) count as removed by the rule whose
     count is missing."""
-    if not candidates:
-        return Rejections(removed=dict.fromkeys(RULES, 0))
-    n_c = np.array([g.n_collisions for g in candidates])
-    n_s = np.array([g.n_sweep_collisions for g in candidates])
+    rule, shortfall = removed_by(candidates, params)
+    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(RULES)}
+    if not (rule >= 0).any():
+        return Rejections(removed, len(candidates))
+    last = int(rule.max())
+    idx = np.flatnonzero(rule == last)
+    best = candidates[idx[int(np.argmin(shortfall[idx]))]]
+    return Rejections(removed, int(np.sum(rule < 0)), RULES[last],
+                      _closest(best, RULES[last], params))
+
+
+def removed_by(candidates: list[GraspCandidate], params: GbhParams
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """(rule, shortfall), each (M,): the index in :data:`RULES` of the rule that removed each
+    candidate (-1: it passed every one), and how far it is from passing that rule (points at
+    or over p_c or p_sweep; metres below the table clearance; inf when uncounted)."""
+    n_c = np.array([g.n_collisions for g in candidates], dtype=float)
+    n_s = np.array([g.n_sweep_collisions for g in candidates], dtype=float)
     height = np.array([g.ground_distance for g in candidates], dtype=float)
-    fails = {
-        "collision N_c": ~((n_c >= 0) & (n_c < params.p_c)),
-        "closing sweep": ~((n_s >= 0) & (n_s < params.p_sweep)),
-        "table clearance": np.zeros(len(candidates), bool) if params.ground_clearance < 0
-        else ~(height >= params.ground_clearance),
-    }
-    left = np.ones(len(candidates), bool)
-    removed, last, last_mask = {}, "", None
-    for rule in RULES:
-        out = left & fails[rule]
-        removed[rule] = int(out.sum())
-        if out.any():
-            last, last_mask = rule, out
-        left &= ~out
-    closest = _closest(candidates, last, last_mask, params) if last else ""
-    return Rejections(removed, int(left.sum()), last, closest)
+    fails = [~((n_c >= 0) & (n_c < params.p_c)),
+             ~((n_s >= 0) & (n_s < params.p_sweep)),
+             np.zeros(len(candidates), bool) if params.ground_clearance < 0
+             else ~(height >= params.ground_clearance)]
+    shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
+                  np.where(np.isnan(height), np.inf, params.ground_clearance - height)]
+    rule = np.full(len(candidates), -1)
+    shortfall = np.zeros(len(candidates))
+    for k in range(len(RULES)):
+        out = (rule < 0) & fails[k]
+        rule[out], shortfall[out] = k, shortfalls[k][out]
+    return rule, shortfall
 
 
-def _closest(candidates: list[GraspCandidate], rule: str, mask: np.ndarray,
-             params: GbhParams) -> str:
-    """The candidate among ``mask`` (those ``rule`` removed) nearest to passing it, in words."""
-    idx = np.flatnonzero(mask)
+def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
+    """``best``, the candidate ``rule`` removed that came nearest to passing it, in words."""
     if rule == "table clearance":
-        d = np.array([candidates[i].ground_distance for i in idx], dtype=float)
-        d = np.where(np.isnan(d), -np.inf, d)
-        best = candidates[idx[int(np.argmax(d))]]
         d_mm, need_mm = best.ground_distance * 1e3, params.ground_clearance * 1e3
         where = f"{-d_mm:.1f} mm below the table" if d_mm < 0 else \
             f"{d_mm:.1f} mm above the table"
         return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
     if rule == "closing sweep":
-        n = np.array([candidates[i].n_sweep_collisions for i in idx])
-        n = np.where(n < 0, np.iinfo(int).max, n)
-        best = candidates[idx[int(np.argmin(n))]]
         return (f"closest: a {best.kind} grasp with {best.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")
-    n = np.array([candidates[i].n_collisions for i in idx])
-    n = np.where(n < 0, np.iinfo(int).max, n)
-    best = candidates[idx[int(np.argmin(n))]]
     return (f"closest: a {best.kind} grasp with {best.n_collisions} points inside the open "
             f"gripper, p_c = {params.p_c}")
 
@@ -119,17 +117,7 @@ def closest_rejected(candidates: list[GraspCandidate], params: GbhParams,
     """The ``k`` refused candidates that came closest to passing: those removed by a later rule
     first (they passed the earlier ones), then by how near they came to that rule (fewest
     points, or least below the table clearance). For drawing what was refused."""
-    keyed = []
-    for i, g in enumerate(candidates):
-        if collision_free(g, params):
-            continue
-        if not 0 <= g.n_collisions < params.p_c:
-            key = (2, g.n_collisions if g.n_collisions >= 0 else np.inf)
-        elif not 0 <= g.n_sweep_collisions < params.p_sweep:
-            key = (1, g.n_sweep_collisions if g.n_sweep_collisions >= 0 else np.inf)
-        else:
-            d = g.ground_distance
-            key = (0, -d if d == d else np.inf)
-        keyed.append((key, i))
-    keyed.sort()
-    return [candidates[i] for _, i in keyed[:k]]
+    rule, shortfall = removed_by(candidates, params)
+    refused = np.flatnonzero(rule >= 0)
+    order = np.lexsort((refused, shortfall[refused], -rule[refused]))
+    return [candidates[i] for i in refused[order[:k]]]
