@@ -171,6 +171,99 @@ def through_axes(v: np.ndarray, ground_normal: np.ndarray | None, tilt_max_deg: 
     return np.stack(kept)
 
 
+@dataclass
+class PoseGroup:
+    """One position, through axis and kind of :func:`reach_poses`: its turns about the axis
+    (and the synthesis' signs), generated on demand by :meth:`poses`. ``one``: the structure
+    the synthesis' pose function is called with (c = the position, v = the axis, H the turns);
+    ``points``: the object points within :data:`SYNTHESIS_REACH` of the position; ``bound``
+    (m): the highest ground distance any of its poses can have (:func:`_height_bound`; +inf
+    with the table rule off); ``seq``: its place in the set's fixed order."""
+
+    kind: str
+    structure: int
+    one: HangingStructure
+    points: np.ndarray
+    bound: float
+    seq: int
+
+    def poses(self, params: GbhParams, gripper: HookGripperGeometry) -> ReachPoses:
+        return _tagged(_group(self.kind, self.one, self.points, params, gripper), self.kind,
+                       self.structure)
+
+
+def _search_params(params: GbhParams) -> GbhParams:
+    """``params`` for the dense set's pose functions. The turns are rows of H (one approach
+    direction w each, normal to the through axis), not approach_rotations_deg: one vectorised
+    call per position instead of one per turn. No snap to the ground normal, no extra
+    direction: the through axes are enumerated by :func:`through_axes`."""
+    return dataclasses.replace(params, approach_rotations_deg=[0.0], p_theta=1.0,
+                               snap_tilt_max_deg=0.0)
+
+
+def pose_groups(
+    obj: ObjectModel,
+    structures: list[HangingStructure],
+    params: GbhParams,
+    gripper: HookGripperGeometry = HOOK_GRIPPER,
+    *,
+    tilt_max_deg: float = 60.0,
+    tilt_step_deg: float = 20.0,
+    turn_step_deg: float = 30.0,
+    n_contacts: int = 3,
+    depth_below: float = DEPTH_BELOW,
+    deadline: float = float("inf"),
+) -> tuple[list[PoseGroup], bool]:
+    """The groups of the dense set of :func:`reach_poses` (same arguments), in its order,
+    without their poses; and whether the listing stopped at ``deadline`` (partial)."""
+    groups: list[PoseGroup] = []
+    turns = np.radians(np.arange(0.0, 360.0 - 1e-9, turn_step_deg))
+    search = _search_params(params)
+    g = unit(np.asarray(params.ground_normal, dtype=float))
+    table = params.ground_clearance >= 0
+    floor = params.ground_clearance - depth_below if table else -np.inf
+    nowhere = np.full((1, 3), 1e3)  # a point no grasp cages: the placement without material
+    for i, s in enumerate(structures):
+        if len(s.H) == 0:
+            continue
+        H = s.H[np.unique(np.linspace(0, len(s.H) - 1, min(n_contacts, len(s.H))).astype(int))]
+        # Parallel: the bar's centre line through these; vertical: the straight rod (q1).
+        anchors = np.concatenate([s.c[None], 0.5 * (H + s.c)])
+        rods = np.concatenate([H + params.d1 * unit(s.c - H), anchors])
+        # Each position's own points: those within SYNTHESIS_REACH of it (the rest cannot be
+        # caged points of its poses), found once for all its axes and turns.
+        near = {kind: [obj.points[np.linalg.norm(obj.points - p, axis=1) <= SYNTHESIS_REACH]
+                       for p in positions]
+                for kind, positions in ((PARALLEL, anchors), (VERTICAL, rods))}
+        # The bar within tilt_max of v; the straight finger within it of v or of the vertical.
+        axes = {PARALLEL: through_axes(s.v, None, tilt_max_deg, tilt_step_deg),
+                VERTICAL: through_axes(s.v, g, tilt_max_deg, tilt_step_deg)}
+        for kind, positions in ((PARALLEL, anchors), (VERTICAL, rods)):
+            if not (params.parallel_grasps if kind == PARALLEL else params.vertical_grasps):
+                continue
+            for a in axes[kind]:
+                e1, e2 = orthonormal_basis(a[None])
+                w = np.cos(turns)[:, None] * e1 + np.sin(turns)[:, None] * e2  # (R, 3), normal
+                if time.perf_counter() > deadline:
+                    return groups, True
+                # Without material the poses at p are those at the origin moved by p (the
+                # pose functions use c - H = d1 w and put the bar or q1 at c), so one call
+                # bounds every position: the highest pose at p is p . g higher.
+                bounds = np.full(len(positions), np.inf)
+                if table:
+                    at_0 = dataclasses.replace(s, c=np.zeros(3), v=a, H=-params.d1 * w)
+                    bounds = _height_bound(_group(kind, at_0, nowhere, search, gripper), kind,
+                                           params, gripper).max() + positions @ g
+                for p, points, bound in zip(positions, near[kind], bounds, strict=True):
+                    if bound < floor:
+                        continue
+                    # c' = p, h' = p - d1 w: the approach (parallel) or the closing axis
+                    # (vertical) along w, the bar or the straight rod (q1 = h' + d1 w) at p.
+                    one = dataclasses.replace(s, c=p, v=a, H=p - params.d1 * w)
+                    groups.append(PoseGroup(kind, i, one, points, float(bound), len(groups)))
+    return groups, False
+
+
 def reach_poses(
     obj: ObjectModel,
     structures: list[HangingStructure],
@@ -184,9 +277,8 @@ def reach_poses(
     depth_below: float = DEPTH_BELOW,
     deadline: float = float("inf"),
 ) -> ReachPoses:
-    """The paper's candidates (:func:`~gbh_drake.core.grasp_synthesis.synthesize_grasps` with
-    ``params``) and the dense set of parallel and vertical hook poses around ``structures``
-    (module docstring): through axes within ``tilt_max_deg`` (deg) of v or of the ground
+    """The dense set of parallel and vertical hook poses around ``structures`` (module
+    docstring), all of it: through axes within ``tilt_max_deg`` (deg) of v or of the ground
     normal, every ``tilt_step_deg`` or so; turns about them every ``turn_step_deg`` (deg) on
     the full circle; positions through c, ``n_contacts`` contact points (evenly spread over H)
     and the midpoints between them and c. Built with the synthesis' own pose functions on
@@ -197,51 +289,16 @@ def reach_poses(
     signs) is left out when even its highest pose (:func:`_height_bound`) stays more than
     ``depth_below`` (m) below ``ground_clearance``: no pose of it clears the table, and its
     margin would be worse than that. Generation stops (``cut``) at ``deadline`` (a
-    ``time.perf_counter()`` value)."""
-    parts = []
-    turns = np.radians(np.arange(0.0, 360.0 - 1e-9, turn_step_deg))
-    # The turns are rows of H (one approach direction w each, normal to the through axis), not
-    # approach_rotations_deg: one vectorised call per position instead of one per turn. No snap
-    # to the ground normal, no extra direction: the through axes are enumerated here.
-    search = dataclasses.replace(params, approach_rotations_deg=[0.0], p_theta=1.0,
-                                 snap_tilt_max_deg=0.0)
-    g = unit(np.asarray(params.ground_normal, dtype=float))
-    floor = (params.ground_clearance - depth_below if params.ground_clearance >= 0
-             else -np.inf)
-    nowhere = np.full((1, 3), 1e3)  # a point no grasp cages: the placement without material
-    for i, s in enumerate(structures):
-        if len(s.H) == 0:
-            continue
-        H = s.H[np.unique(np.linspace(0, len(s.H) - 1, min(n_contacts, len(s.H))).astype(int))]
-        # Parallel: the bar's centre line through these; vertical: the straight rod (q1).
-        anchors = np.concatenate([s.c[None], 0.5 * (H + s.c)])
-        rods = np.concatenate([H + params.d1 * unit(s.c - H), anchors])
-        near = np.linalg.norm(obj.points - s.c, axis=1) <= SYNTHESIS_REACH + np.max(
-            np.linalg.norm(rods - s.c, axis=1))
-        points = obj.points[near]
-        # The bar within tilt_max of v; the straight finger within it of v or of the vertical.
-        axes = {PARALLEL: through_axes(s.v, None, tilt_max_deg, tilt_step_deg),
-                VERTICAL: through_axes(s.v, g, tilt_max_deg, tilt_step_deg)}
-        for kind, positions in ((PARALLEL, anchors), (VERTICAL, rods)):
-            if not (params.parallel_grasps if kind == PARALLEL else params.vertical_grasps):
-                continue
-            for a in axes[kind]:
-                e1, e2 = orthonormal_basis(a[None])
-                w = np.cos(turns)[:, None] * e1 + np.sin(turns)[:, None] * e2  # (R, 3), normal
-                if time.perf_counter() > deadline:
-                    out = ReachPoses.concatenate(parts)
-                    out.cut = True
-                    return out
-                for p in positions:
-                    # c' = p, h' = p - d1 w: the approach (parallel) or the closing axis
-                    # (vertical) along w, the bar or the straight rod (q1 = h' + d1 w) at p.
-                    one = dataclasses.replace(s, c=p, v=a, H=p - params.d1 * w)
-                    if np.isfinite(floor) and _height_bound(
-                            _group(kind, one, nowhere, search, gripper), kind, params,
-                            gripper).max() < floor:
-                        continue
-                    parts.append(_tagged(_group(kind, one, points, search, gripper), kind, i))
-    return ReachPoses.concatenate(parts)
+    ``time.perf_counter()`` value). :func:`search_reach` generates only the groups it needs
+    (:func:`pose_groups`)."""
+    groups, cut = pose_groups(obj, structures, params, gripper, tilt_max_deg=tilt_max_deg,
+                              tilt_step_deg=tilt_step_deg, turn_step_deg=turn_step_deg,
+                              n_contacts=n_contacts, depth_below=depth_below,
+                              deadline=deadline)
+    search = _search_params(params)
+    out = ReachPoses.concatenate([grp.poses(search, gripper) for grp in groups])
+    out.cut = cut
+    return out
 
 
 def _group(kind: str, structure: HangingStructure, points: np.ndarray, params: GbhParams,
@@ -385,13 +442,100 @@ def search_reach(
     first = evaluate_poses(obj, candidates, params, gripper, budget_s=budget_s, start=start)
     if first.reachable:
         return first
-    poses = reach_poses(obj, structures, params, gripper, tilt_max_deg=tilt_max_deg,
-                        tilt_step_deg=tilt_step_deg, turn_step_deg=turn_step_deg,
-                        n_contacts=n_contacts, depth_below=depth_below,
-                        deadline=start + budget_s)
-    both = ReachPoses.concatenate([candidates, poses])
-    result = evaluate_poses(obj, both, params, gripper, budget_s=budget_s,
-                            max_poses=max_poses, start=start)
-    if poses.cut and not result.reachable:
+    groups, cut = pose_groups(obj, structures, params, gripper, tilt_max_deg=tilt_max_deg,
+                              tilt_step_deg=tilt_step_deg, turn_step_deg=turn_step_deg,
+                              n_contacts=n_contacts, depth_below=depth_below,
+                              deadline=start + budget_s)
+    if params.ground_clearance >= 0:
+        result = _evaluate_lazily(obj, candidates, groups, params, gripper, budget_s=budget_s,
+                                  max_poses=max_poses, start=start)
+    else:  # no table order to exploit: every pose, in the set's order
+        search = _search_params(params)
+        both = ReachPoses.concatenate([candidates, *(grp.poses(search, gripper)
+                                                     for grp in groups)])
+        result = evaluate_poses(obj, both, params, gripper, budget_s=budget_s,
+                                max_poses=max_poses, start=start)
+    if cut and not result.reachable:
         result.classification, result.complete = UNDECIDED, False
+    return result
+
+
+def _evaluate_lazily(obj: ObjectModel, candidates: ReachPoses, groups: list[PoseGroup],
+                     params: GbhParams, gripper: HookGripperGeometry, *, budget_s: float,
+                     max_poses: int, start: float) -> ReachResult:
+    """:func:`evaluate_poses` on ``candidates`` and every group's poses (in that order), with
+    the same answer, generating only the groups it needs: the groups are generated from the
+    highest ``bound`` down, and a pose is counted only once its height is above the bound of
+    every group not yet generated, so the poses are still counted from the highest down (ties
+    in the set's order) and the first one that passes is the same. ``poses`` is then the
+    number generated."""
+    search = _search_params(params)
+    g = np.asarray(params.ground_normal)
+    order = sorted(groups, key=lambda grp: (-grp.bound, grp.seq))
+    sweep_margin = params.sweep_margin_spacings * obj.spacing
+
+    def part(poses: ReachPoses, seq: int) -> tuple[ReachPoses, np.ndarray, np.ndarray]:
+        """Poses, their keys (group seq, index in group) and their ground distances."""
+        key = np.stack([np.full(len(poses), seq), np.arange(len(poses))], axis=1)
+        height = ground_distance(poses.X_WG, list(poses.kinds), g, params.ground_height,
+                                 gripper) if len(poses) else np.zeros(0)
+        return poses, key, height
+
+    pool = part(candidates, -1)  # generated, not yet counted
+    result = ReachResult(OUT_OF_REACH)
+    generated, done, k = len(candidates), 0, 0
+    out_of_time = False
+    while True:
+        poses, key, height = pool
+        safe = height > (order[k].bound if k < len(order) else -np.inf)
+        if k < len(order) and safe.sum() < _BATCH:
+            # Not yet a batch above every ungenerated group's bound: generate the next group.
+            if time.perf_counter() - start > budget_s:
+                out_of_time = True
+                break
+            new = part(order[k].poses(search, gripper), order[k].seq)
+            pool = tuple(np.concatenate([x, y]) if i else ReachPoses.concatenate([x, y])
+                         for i, (x, y) in enumerate(zip(pool, new, strict=True)))
+            generated += len(new[0])
+            k += 1
+            continue
+        if not safe.any():
+            break  # every group generated, every pose counted
+        idx = np.flatnonzero(safe)
+        idx = idx[np.lexsort((key[idx, 1], key[idx, 0], -height[idx]))]
+        found, counted = None, 0
+        for b in range(0, len(idx), _BATCH):
+            if (done and time.perf_counter() - start > budget_s) or done >= max_poses:
+                out_of_time = True
+                break
+            batch = idx[b : b + min(_BATCH, max_poses - done)]
+            done += len(batch)
+            counted += len(batch)
+            hit = _first_passing(obj, poses.subset(batch), params, gripper, sweep_margin)
+            if hit is not None:
+                found = batch[hit]
+                break
+        if found is not None:
+            result.best_X_WG = poses.X_WG[found].copy()
+            result.best_kind, result.best_structure = (str(poses.kinds[found]),
+                                                       int(poses.structure[found]))
+            result.best_ground_distance = float(height[found])
+            result.best_margin = float(height[found] - params.ground_clearance)
+            passes = height[found] >= params.ground_clearance
+            result.classification = REACHABLE if passes else OUT_OF_REACH
+            break
+        keep = np.ones(len(poses), dtype=bool)
+        keep[idx[:counted]] = False
+        pool = (poses.subset(np.flatnonzero(keep)), key[keep], height[keep])
+        if out_of_time:
+            break
+    result.poses, result.evaluated = generated, done
+    if result.best_X_WG is None:
+        # Cut short: decided only if every pose not counted is below the clearance.
+        rest = [order[k].bound] if k < len(order) else []
+        rest += [float(pool[2].max())] if len(pool[2]) else []
+        highest = max(rest, default=-np.inf)
+        if out_of_time and highest >= params.ground_clearance:
+            result.classification, result.complete = UNDECIDED, False
+    result.seconds = time.perf_counter() - start
     return result
