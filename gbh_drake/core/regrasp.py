@@ -1,0 +1,115 @@
+"""Where to set an object down so that GbH can hook it (issue 19, ``gbh+regrasp``: its pure part).
+
+When GbH finds a hanging structure but no hook grasp of the object as it lies (a mug resting on
+its handle, out of reach of the gripper), another resting pose may offer one. Given the object's
+mesh where it lies (the scan's, in W) and its resting orientations (``(R, probability)`` pairs:
+R turns the mesh, as it is in W now, into that resting orientation about its own centre, e.g.
+:func:`gbh_drake.objects.stability.stable_poses` of the W mesh), :func:`choose_regrasp_pose`
+puts the mesh in each (the yaw about the vertical that turns it least, the centre of its
+footprint at ``place_xy``, its lowest point on the table), runs the pipeline on it
+(:func:`gbh_drake.core.pipeline.plan_grasps`, the same params) and returns the poses that offer
+a hook grasp, best first:
+
+1. fewest degrees to turn (the hand turns the object with it while it holds a fallback pinch:
+   the smaller the turn, the likelier the arm can do it and the pinch holds);
+2. then the best GbH score of the pose (paper Sec. 2.4);
+3. then the most probable orientation.
+
+Orientations within ``min_turn_deg`` of the present one (the pose that offered nothing) and those
+below ``min_probability`` are skipped. Pure numpy/trimesh: the trial's systems do the pick, the
+place, the re-scan and the hook.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.pipeline import plan_grasps
+from gbh_drake.core.results import GbhInputError
+
+
+@dataclass
+class RegraspPose:
+    """One resting pose that offers a hook grasp. Metres, degrees, W frame."""
+
+    X_WnewWnow: np.ndarray
+    """(4, 4): the rigid motion that takes the mesh from where it lies now to the new pose (apply
+    it to the W mesh; the hand that holds the object makes the same motion)."""
+    turn_deg: float
+    """Angle of the motion's rotation."""
+    probability: float
+    """The resting orientation's probability (as given)."""
+    grasps: int
+    """Hook grasps the pipeline ranks on the mesh in the new pose."""
+    best_score: float
+    """The best of them's score S."""
+    index: int
+    """Which of the given orientations."""
+
+
+def least_turn_yaw(R: np.ndarray) -> float:
+    """rad: the yaw psi about +z for which Rz(psi) R turns least (the largest trace:
+    trace(Rz R) = cos psi (R00 + R11) + sin psi (R01 - R10) + R22)."""
+    return float(np.arctan2(R[0, 1] - R[1, 0], R[0, 0] + R[1, 1]))
+
+
+def rotation_angle_deg(R: np.ndarray) -> float:
+    """deg: the angle of the rotation R (3, 3)."""
+    return float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0))))
+
+
+def resting_motion(mesh_W: trimesh.Trimesh, R: np.ndarray, place_xy: Sequence[float],
+                   ground_height: float = 0.0) -> np.ndarray:
+    """(4, 4) the motion X_WnewWnow that turns ``mesh_W`` by Rz(least_turn_yaw) R about its
+    centroid, puts the centre of its footprint (the bounding box's, in x and y) at ``place_xy``
+    and its lowest vertex at ``ground_height``."""
+    psi = least_turn_yaw(np.asarray(R, dtype=float))
+    c, s = np.cos(psi), np.sin(psi)
+    Rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    X = np.eye(4)
+    X[:3, :3] = Rz @ np.asarray(R, dtype=float)
+    centroid = np.asarray(mesh_W.vertices).mean(axis=0)
+    X[:3, 3] = centroid - X[:3, :3] @ centroid
+    v = np.asarray(mesh_W.vertices) @ X[:3, :3].T + X[:3, 3]
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    X[:2, 3] += np.asarray(place_xy, dtype=float) - 0.5 * (lo[:2] + hi[:2])
+    X[2, 3] += ground_height - lo[2]
+    return X
+
+
+def choose_regrasp_pose(
+    mesh_W: trimesh.Trimesh,
+    orientations: Sequence[tuple[np.ndarray, float]],
+    params: GbhParams,
+    place_xy: Sequence[float],
+    *,
+    seed: int = 0,
+    min_turn_deg: float = 15.0,
+    min_probability: float = 0.02,
+) -> list[RegraspPose]:
+    """The resting poses of ``mesh_W`` (vertices in W, where the object lies now) among
+    ``orientations`` ((R (3, 3), probability) each, see the module docstring) in which the
+    pipeline, with ``params`` and the surface sampler's ``seed``, ranks a hook grasp, best
+    first (module docstring); empty if none does."""
+    out: list[RegraspPose] = []
+    for i, (R, probability) in enumerate(orientations):
+        if probability < min_probability:
+            continue
+        X = resting_motion(mesh_W, R, place_xy, params.ground_height)
+        turn = rotation_angle_deg(X[:3, :3])
+        if turn < min_turn_deg:
+            continue
+        try:
+            result = plan_grasps(mesh_W.copy().apply_transform(X), params, seed=seed)
+        except GbhInputError:
+            continue
+        if result.ranked:
+            out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
+                                   float(result.ranked[0].score), i))
+    out.sort(key=lambda p: (round(p.turn_deg, 6), -p.best_score, -p.probability, p.index))
+    return out

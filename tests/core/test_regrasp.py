@@ -1,0 +1,79 @@
+"""Choosing where to set an object down so that GbH can hook it (core/regrasp.py, pure)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+from gbh_drake.core.params import GbhParams
+from gbh_drake.core.pipeline import plan_grasps
+from gbh_drake.core.regrasp import (
+    choose_regrasp_pose,
+    least_turn_yaw,
+    resting_motion,
+    rotation_angle_deg,
+)
+from gbh_drake.objects import lift_to_table, make_object, stable_poses
+
+PARAMS = GbhParams()
+#: A table rule 6 mm deep: mug_classic resting on its handle and rim then offers no hook grasp
+#: (its best clears the table by 4.5 mm, docs/reach.md: +1.5 mm beyond the default 3 mm), as on
+#: the trials' scans, where the cap under the handle costs those millimetres.
+STRICT = dataclasses.replace(PARAMS, ground_clearance=0.006)
+
+
+def lying(name: str, k: int):
+    """Object ``name``'s mesh in W at its k-th stable pose on the table (yaw 0), and the
+    resting orientations of that W mesh."""
+    mesh = make_object(name).mesh
+    X = np.eye(4)
+    X[:3, :3] = stable_poses(mesh).poses[k].R
+    mesh_W = mesh.copy().apply_transform(lift_to_table(mesh, X))
+    return mesh_W, [(p.R, p.probability) for p in stable_poses(mesh_W).poses]
+
+
+@settings(max_examples=40, deadline=None)
+@given(q=st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4).filter(
+    lambda q: np.linalg.norm(q) > 0.1))
+def test_the_least_turn_yaw_turns_least(q):
+    R = Rotation.from_quat(q).as_matrix()
+    best = rotation_angle_deg(Rotation.from_euler("z", least_turn_yaw(R)).as_matrix() @ R)
+    for psi in np.linspace(-np.pi, np.pi, 73):
+        assert best <= rotation_angle_deg(Rotation.from_euler("z", psi).as_matrix() @ R) + 1e-6
+
+
+def test_the_motion_sets_the_object_on_the_table_at_the_place():
+    mesh_W, orientations = lying("mug_classic", 0)
+    R = orientations[-1][0]
+    X = resting_motion(mesh_W, R, [0.3, -0.2], ground_height=0.01)
+    v = mesh_W.copy().apply_transform(X).vertices
+    assert v[:, 2].min() == pytest.approx(0.01, abs=1e-9)
+    assert 0.5 * (v[:, :2].min(axis=0) + v[:, :2].max(axis=0)) == pytest.approx([0.3, -0.2])
+    np.testing.assert_allclose(X[:3, :3] @ X[:3, :3].T, np.eye(3), atol=1e-12)
+
+
+def test_a_mug_resting_on_its_handle_is_set_down_where_it_can_be_hooked():
+    # mug_classic's stable pose 1 rests on handle and rim: with STRICT the pipeline ranks no
+    # hook grasp there, and some other resting pose offers one.
+    mesh_W, orientations = lying("mug_classic", 1)
+    assert not plan_grasps(mesh_W, STRICT).ranked
+    choices = choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0])
+    assert choices, "no resting pose of the mug offers a hook grasp"
+    best = choices[0]
+    assert best.grasps > 0 and best.turn_deg >= 15.0
+    turns = [round(c.turn_deg, 6) for c in choices]
+    assert turns == sorted(turns)
+    # The chosen pose really offers what it says: the pipeline on the moved mesh ranks grasps.
+    moved = mesh_W.copy().apply_transform(best.X_WnewWnow)
+    assert len(plan_grasps(moved, STRICT).ranked) == best.grasps
+
+
+def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():
+    # Both of its resting poses lie flat: turning it over leaves the loop on the table.
+    mesh_W, orientations = lying("key_ring", 0)
+    assert choose_regrasp_pose(mesh_W, orientations, PARAMS, [0.5, 0.0]) == []
