@@ -79,7 +79,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import open3d as o3d
 import trimesh
 
 from gbh_drake.core.geometry import frame_coordinates, orthonormal_basis, unit
@@ -213,6 +212,7 @@ def plan_antipodal_grasps(
 def _contact_pairs(obj: ObjectModel, params: AntipodalParams, rng: np.random.Generator,
                    gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
     """Antipodal contact pairs (A, B) that fit between the rods, one row per kept sample."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     n = len(obj.points)
     idx = rng.choice(n, size=min(params.n_samples, n), replace=False)
     counts["samples"] = len(idx)

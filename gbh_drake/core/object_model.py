@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import open3d as o3d
 import trimesh
 from scipy.sparse import csr_array
 from scipy.spatial import cKDTree
@@ -21,6 +21,9 @@ from scipy.spatial import cKDTree
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError
+
+if TYPE_CHECKING:
+    import open3d as o3d
 
 #: Ratio r^2 N / A of a maximal random disk packing in the plane (random sequential adsorption
 #: jams at 54.7 % coverage by disks of radius r / 2): the disk radius that yields about N points.
@@ -63,6 +66,7 @@ class ObjectModel:
     def cast(self, origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
         """Distance (n,) along unit ``directions`` (n, 3) from ``origins`` (n, 3) to the first
         hit, metres; ``inf`` where the ray misses."""
+        import open3d as o3d  # lazy: its import takes ~2 s
         rays = np.concatenate([origins, directions], axis=1).astype(np.float32)
         if len(rays) == 0:
             return np.zeros(0)
@@ -71,6 +75,7 @@ class ObjectModel:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         """Unsigned distance (n,) from ``points`` (n, 3) to the surface, metres."""
+        import open3d as o3d  # lazy: its import takes ~2 s
         if len(points) == 0:
             return np.zeros(0)
         q = o3d.core.Tensor(np.asarray(points, dtype=np.float32))
@@ -125,6 +130,7 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
 
 def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:
     """Open3D's Embree scene of ``mesh``, for ray casting and distance queries (metres)."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     scene = o3d.t.geometry.RaycastingScene()
     scene.add_triangles(o3d.core.Tensor(np.asarray(mesh.vertices, dtype=np.float32)),
                         o3d.core.Tensor(np.asarray(mesh.faces, dtype=np.uint32)))

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import open3d as o3d
 import trimesh
 
 
@@ -11,6 +10,7 @@ def simplified(mesh: trimesh.Trimesh, max_faces: int) -> trimesh.Trimesh:
     """``mesh`` itself when it has at most ``max_faces`` triangles, else a quadric decimation
     (Garland and Heckbert 1997, Open3D) to that many: flat regions collapse first, so shape and
     holes a few triangles wide survive."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     if len(mesh.faces) <= max_faces:
         return mesh
     o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(np.asarray(mesh.vertices)),

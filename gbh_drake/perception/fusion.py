@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import open3d as o3d
 import trimesh
 from pydrake.math import RigidTransform
 
@@ -21,8 +20,6 @@ from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.depth import image_window
-
-_NO_COLOR = o3d.pipelines.integration.TSDFVolumeColorType.NoColor
 
 
 @dataclass
@@ -100,8 +97,10 @@ def integrate(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
               X_WCs: Sequence[RigidTransform], config: ScanConfig) -> trimesh.Trimesh:
     """The TSDF of the depth images (m; 0 = no measurement) from cameras at X_WC, as a mesh
     in W (marching cubes, not cleaned)."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     volume = o3d.pipelines.integration.ScalableTSDFVolume(
-        voxel_length=config.voxel_size, sdf_trunc=config.sdf_trunc, color_type=_NO_COLOR)
+        voxel_length=config.voxel_size, sdf_trunc=config.sdf_trunc,
+        color_type=o3d.pipelines.integration.TSDFVolumeColorType.NoColor)
     K = o3d.camera.PinholeCameraIntrinsic(intrinsics.width, intrinsics.height, intrinsics.fx,
                                           intrinsics.fy, *intrinsics.open3d_principal_point())
     color = o3d.geometry.Image(np.zeros((intrinsics.height, intrinsics.width, 3), np.uint8))

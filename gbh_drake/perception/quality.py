@@ -9,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import open3d as o3d
 import trimesh
 
 from gbh_drake.core.object_model import raycasting_scene
@@ -32,6 +31,7 @@ class ScanQuality:
 
 def distances_to_mesh(p_WQ: np.ndarray, mesh: trimesh.Trimesh) -> np.ndarray:
     """Unsigned distance (n,) in metres from each point p_WQ (n, 3) to the surface of ``mesh``."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     query = o3d.core.Tensor(np.asarray(p_WQ, dtype=np.float32))
     return raycasting_scene(mesh).compute_distance(query).numpy().astype(np.float64)
 
@@ -82,6 +82,7 @@ def check_through_hole(mesh_W: trimesh.Trimesh, center_W, axis_W, *, radius: flo
     radius / 2 around it, cast both ways along the axis, all miss. Enclosed: at least
     ``min_surround`` of the rays from the centre across the axis hit the mesh within ``reach``
     (m), so that a missing handle does not count as an open one."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     axis = np.asarray(axis_W, dtype=float)
     axis = axis / np.linalg.norm(axis)
     e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])

@@ -8,11 +8,14 @@ it, so the default scene stays exact and deterministic) or finds a table elsewhe
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import open3d as o3d
 
 from gbh_drake.perception.config import ScanConfig
+
+if TYPE_CHECKING:
+    pass
 
 #: A fitted plane tilted more than this from horizontal is not the table (deg).
 MAX_TILT_DEG = 10.0
@@ -66,6 +69,7 @@ def fit_table_plane(p_WQ: np.ndarray, config: ScanConfig) -> tuple[TablePlane, s
     table if it is within ``MAX_TILT_DEG`` of horizontal, holds ``MIN_INLIER_FRACTION`` of the
     points and has few points below it; otherwise the config's plane is assumed, with a warning.
     A fit within ``table_tolerance`` (and 1 deg) of the config's plane is snapped to it."""
+    import open3d as o3d  # lazy: its import takes ~2 s
     expected = TablePlane.horizontal(config.table_height)
     if len(p_WQ) < 3:
         return expected, (f"no depth data to find the table: assuming it at z = "
