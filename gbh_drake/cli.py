@@ -24,12 +24,10 @@ import argparse
 import functools
 import logging
 import os
-import signal
 import sys
-import threading
 from pathlib import Path
 
-from gbh_drake import SCENARIOS_DIR, __version__
+from gbh_drake import SCENARIOS_DIR, __version__, interrupts
 from gbh_drake.experiment import cli as experiment_cli
 
 #: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
@@ -48,16 +46,14 @@ def _scenario_arg(parser: argparse.ArgumentParser) -> None:
                              "repeated: applied in order)")
 
 
-class Terminated(BaseException):
-    """SIGTERM arrived (raised in the main thread, like KeyboardInterrupt for SIGINT)."""
-
-
 def _input_error(error: BaseException) -> str | None:
     """The one-line message of a known input error, None for anything else (a bug)."""
     from gbh_drake.outputs import OutputError
 
     if isinstance(error, OutputError):
         return f"cannot write outputs: {error}"
+    if isinstance(error, OSError) and (problem := _stdout_fault(error)) is not None:
+        return f"cannot write outputs: stdout: could not write it ({problem})"
     scenario = sys.modules.get("gbh_drake.scenario")
     if scenario is not None and isinstance(error, scenario.ScenarioError):
         return f"invalid scenario: {error}"
@@ -67,54 +63,68 @@ def _input_error(error: BaseException) -> str | None:
     return None
 
 
-def _on_signal(signum, frame):
-    """First SIGINT/SIGTERM: raise in the main thread so that outputs are cleaned up; a second
-    one gets the default action (immediate exit). A forked child (a worker process) that
-    inherited this handler takes the default action at once."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    if os.getpid() != _on_signal.pid:
-        os.kill(os.getpid(), signum)
-        return
-    raise KeyboardInterrupt if signum == signal.SIGINT else Terminated
-
-
 def _handles_errors(command):
-    """Wraps ``main``: known input errors -> one line and exit 2; Ctrl-C -> 130; SIGTERM ->
-    143; a closed stdout (``| head``) -> quiet exit; anything else propagates (a bug: traceback,
-    exit 1)."""
+    """Wraps ``main``: known input errors -> one line and exit 2; SIGINT, SIGTERM, SIGHUP -> one
+    line and 130, 143, 129 (:mod:`gbh_drake.interrupts`: whatever became of the exception, and
+    any error raised while a signal was pending is the signal's doing); a closed stdout (``|
+    head``) -> quiet exit 141; stdout on a full device (``> /dev/full``) -> one line, exit 2;
+    anything else propagates (a bug: traceback, exit 1)."""
 
     @functools.wraps(command)
     def wrapper(argv: list[str] | None = None) -> int:
-        in_main_thread = threading.current_thread() is threading.main_thread()
-        previous = {}
-        if in_main_thread:
-            _on_signal.pid = os.getpid()
-            for signum in (signal.SIGINT, signal.SIGTERM):
-                previous[signum] = signal.signal(signum, _on_signal)
-        try:
-            return command(argv)
-        except KeyboardInterrupt:
-            _say("interrupted (SIGINT); unfinished outputs were discarded")
-            return 130
-        except Terminated:
-            _say("terminated (SIGTERM); unfinished outputs were discarded")
-            return 143
-        except BrokenPipeError:  # the reader of our stdout went away
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            return 141
-        except Exception as e:
-            message = _input_error(e)
-            if message is None:
-                raise
-            _say(message)
-            return 2
-        finally:
-            for signum, handler in previous.items():
-                signal.signal(signum, handler)
+        with interrupts.handled():
+            try:
+                code = command(argv)
+                sys.stdout.flush()  # a full device fails here, not in Python's exit
+            except KeyboardInterrupt:
+                return _interrupted()
+            except BrokenPipeError:  # the reader of our stdout went away
+                _quiet_stdout()
+                return 141
+            except Exception as e:
+                if interrupts.received() is not None:  # e.g. an import the signal broke
+                    return _interrupted()
+                message = _input_error(e)
+                if message is None:
+                    raise
+                _say(message)
+                return 2
+            if interrupts.received() is not None:  # the signal's exception was swallowed
+                return _interrupted()
+            return code
 
     return wrapper
+
+
+def _interrupted() -> int:
+    """Says which signal ended the command (unless the command said it: ``gbh experiment``);
+    returns its exit code."""
+    if not interrupts.said():
+        _say(f"{interrupts.describe()}; unfinished outputs were discarded")
+    return interrupts.exit_code()
+
+
+def _stdout_fault(error: OSError) -> str | None:
+    """The problem of stdout if ``error`` came from writing it (a full device: the text waits
+    in stdout's buffer and a flush fails again), else None."""
+    if error.filename is not None or isinstance(error, BrokenPipeError):
+        return None
+    try:
+        sys.stdout.flush()
+    except OSError as again:
+        from gbh_drake.outputs import reason
+
+        _quiet_stdout()
+        return reason(again)
+    return None
+
+
+def _quiet_stdout() -> None:
+    """Points stdout at /dev/null, its buffer dropped (Python's flush at exit must not fail
+    again)."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    os.close(devnull)
 
 
 def _say(message: str) -> None:
@@ -198,6 +208,7 @@ def _run(scenario, *, live: bool, port: int | None = None) -> int:
         try:  # the run is complete: leaving the live view is not an interruption
             input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
         except (EOFError, KeyboardInterrupt):
+            interrupts.forget()
             print()
     return 0
 

@@ -32,6 +32,8 @@ import shutil
 from collections.abc import Callable
 from pathlib import Path
 
+from gbh_drake import interrupts
+
 #: A run needs this much free space in its output folder (the replay is 5-30 MB).
 MIN_FREE_BYTES = 64 * 2**20
 #: The lock file in every output folder (hidden; it stays, empty of meaning once unlocked).
@@ -53,7 +55,8 @@ class OutputError(OSError):
         return type(self), (self.path, self.problem)
 
 
-def _reason(e: OSError) -> str:
+def reason(e: OSError) -> str:
+    """Why ``e`` happened, in words (``no space left on the disk``)."""
     reasons = {errno.ENOSPC: "no space left on the disk", errno.EDQUOT: "disk quota exceeded",
                errno.EROFS: "read-only file system", errno.EACCES: "permission denied",
                errno.EPERM: "permission denied", errno.ENOTDIR: "a part of the path is a file",
@@ -72,7 +75,7 @@ def prepare_folder(folder: Path, *, min_free: int = MIN_FREE_BYTES) -> Path:
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise OutputError(folder, f"cannot create the folder ({_reason(e)})") from None
+        raise OutputError(folder, f"cannot create the folder ({reason(e)})") from None
     if not os.access(folder, os.W_OK | os.X_OK):
         raise OutputError(folder, "the folder is not writable")
     free = shutil.disk_usage(folder).free
@@ -105,7 +108,7 @@ class FolderLock:
         try:
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as e:
-            raise OutputError(self.path.parent, f"cannot write in the folder ({_reason(e)})") \
+            raise OutputError(self.path.parent, f"cannot write in the folder ({reason(e)})") \
                 from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -120,7 +123,7 @@ class FolderLock:
             os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
         except OSError as e:
             os.close(fd)
-            raise OutputError(self.path.parent, f"cannot write in the folder ({_reason(e)})") \
+            raise OutputError(self.path.parent, f"cannot write in the folder ({reason(e)})") \
                 from None
         self._fd = fd
 
@@ -144,10 +147,10 @@ def write_file(path: Path, data: str | bytes) -> Path:
             f.flush()
             os.fsync(f.fileno())
     except OSError as e:
-        _remove(tmp)
-        raise OutputError(path, f"could not write it ({_reason(e)})") from None
+        remove(tmp)
+        raise OutputError(path, f"could not write it ({reason(e)})") from None
     except BaseException:
-        _remove(tmp)
+        remove(tmp)
         raise
     return tmp
 
@@ -158,11 +161,12 @@ def write_atomically(path: Path, data: str | bytes) -> None:
     try:
         os.replace(tmp, path)
     except OSError as e:
-        _remove(tmp)
-        raise OutputError(path, f"could not write it ({_reason(e)})") from None
+        remove(tmp)
+        raise OutputError(path, f"could not write it ({reason(e)})") from None
 
 
-def _remove(path: Path) -> None:
+def remove(path: Path) -> None:
+    """Removes a file or folder if it is there (errors ignored)."""
     with contextlib.suppress(OSError):
         if path.is_dir() and not path.is_symlink():
             shutil.rmtree(path)
@@ -210,10 +214,10 @@ class RunOutputs:
                 if target.exists() or target.is_symlink():
                     target.unlink()
             for stale in self.folder.glob(f"{_TMP_PREFIX}*"):
-                _remove(stale)
+                remove(stale)
         except OSError as e:
             raise OutputError(self.folder, f"cannot remove the previous run's outputs "
-                                           f"({_reason(e)})") from None
+                                           f"({reason(e)})") from None
 
     def path(self, name: str) -> Path:
         """Where output ``name`` will be once committed."""
@@ -222,19 +226,21 @@ class RunOutputs:
     def stage(self, name: str, data: str | bytes) -> Path:
         """Writes output ``name`` to its temporary file now; returns its final path."""
         if name in self._staged:
-            _remove(self._staged.pop(name))
+            remove(self._staged.pop(name))
         self._staged[name] = write_file(self.folder / name, data)
         return self.folder / name
 
     def commit(self) -> None:
-        """Renames every staged output into place (``summary.yaml`` last)."""
+        """Renames every staged output into place (``summary.yaml`` last). A signal received
+        before (and its exception dropped by some library) stops it here: nothing is kept."""
+        interrupts.check()
         order = sorted(self._staged, key=lambda n: n == "summary.yaml")
         for name in order:
             target = self.folder / name
             try:
                 os.replace(self._staged[name], target)
             except OSError as e:
-                raise OutputError(target, f"could not write it ({_reason(e)})") from None
+                raise OutputError(target, f"could not write it ({reason(e)})") from None
             self._committed.append(target)
         self._staged.clear()
         self.committed = True
@@ -243,9 +249,9 @@ class RunOutputs:
         try:
             if exc_type is not None or not self.committed:
                 for tmp in self._staged.values():
-                    _remove(tmp)
+                    remove(tmp)
                 for done in self._committed:
-                    _remove(done)
+                    remove(done)
                 self._staged.clear()
                 self._committed.clear()
         finally:
@@ -264,23 +270,23 @@ def replace_contents(out: Path, build: Callable[[Path], list], *,
     staging = out / f"{_TMP_PREFIX}{os.getpid()}-staging"
     try:
         for stale in out.glob(f"{_TMP_PREFIX}*"):
-            _remove(stale)
+            remove(stale)
         staging.mkdir()
         try:
             result = build(staging)
         except OSError as e:
             where = e.filename or out
-            raise OutputError(where, f"could not write it ({_reason(e)})") from None
+            raise OutputError(where, f"could not write it ({reason(e)})") from None
         for entry in sorted(staging.iterdir()):
             target = out / entry.name
             old = out / f"{_TMP_PREFIX}{os.getpid()}-old-{entry.name}"
             if target.exists() or target.is_symlink():
                 os.replace(target, old)
             os.replace(entry, target)
-            _remove(old)
+            remove(old)
         return result
     finally:
-        _remove(staging)
+        remove(staging)
         lock.release()
 
 

@@ -29,6 +29,7 @@ from pydrake.math import RollPitchYaw
 from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
 
+from gbh_drake import interrupts
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
@@ -223,6 +224,7 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
     status_port = trial.pick.GetOutputPort("status")
 
     def monitor(root_context):
+        interrupts.check()  # a signal whose exception was dropped ends the run at this step
         status = status_port.Eval(trial.pick.GetMyContextFromRoot(root_context))
         if status.finished and root_context.get_time() >= \
                 status.phase_start[status.mode.value] + AFTERMATH:

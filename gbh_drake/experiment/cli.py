@@ -75,12 +75,26 @@ def _report(folder: Path) -> int:
 
 
 def _experiment(args: argparse.Namespace) -> int:
+    from gbh_drake import interrupts
+
+    try:
+        return _run_experiment(args)
+    except KeyboardInterrupt:  # SIGINT, SIGTERM, SIGHUP (gbh_drake.interrupts)
+        _say(f"experiment {interrupts.describe()}; the finished trials are saved: run the "
+             "same command to resume")
+        interrupts.mark_said()
+        return interrupts.exit_code()
+
+
+def _run_experiment(args: argparse.Namespace) -> int:
+    from gbh_drake import interrupts
     from gbh_drake.experiment.config import ExperimentError, load_experiment
-    from gbh_drake.experiment.engines import RAY_MISSING, ray_installed
+    from gbh_drake.experiment.engines import RAY_MISSING, RayError, ray_installed
     from gbh_drake.experiment.report import read_input, table1
     from gbh_drake.experiment.rows import FolderError
     from gbh_drake.experiment.runner import run_experiment
 
+    interrupts.check()  # a signal during the imports above
     if args.workers < 1:
         print("gbh: --workers must be at least 1", file=sys.stderr)
         return 2
@@ -89,19 +103,20 @@ def _experiment(args: argparse.Namespace) -> int:
         return 2
     try:
         experiment = load_experiment(args.experiment, overrides=args.overrides)
+        interrupts.check()
         result = run_experiment(experiment, out=Path(args.out) if args.out else None,
                                 workers=args.workers, ray_address=args.ray,
                                 progress=not args.no_progress)
+        interrupts.check()
     except ExperimentError as e:
         _say(f"invalid experiment: {e}")
         return 2
     except FolderError as e:
         _say(f"damaged experiment folder: {e}")
         return 2
-    except KeyboardInterrupt:
-        print("gbh: interrupted; the finished trials are saved: run the same command to "
-              "resume", file=sys.stderr)
-        return 130
+    except RayError as e:
+        _say(f"cannot use Ray: {e}")
+        return 2
     print("\n".join(table1(read_input(result.folder))))
     print(f"{result.ran} trials run, {result.skipped} found done, in {result.wall / 60:.1f} min; "
           f"wrote {result.folder / 'summary.md'}")

@@ -63,6 +63,10 @@ class RayMissing(RuntimeError):
         super().__init__(RAY_MISSING)
 
 
+class RayError(RuntimeError):
+    """Ray could not be started or reached (the message names the address and says why)."""
+
+
 def ray_installed() -> bool:
     """Whether ``ray`` can be found, without importing it (a local Ray's environment must be set
     before the import: :func:`init_ray` does that)."""

@@ -28,11 +28,14 @@ from __future__ import annotations
 import contextlib
 import datetime
 import json
+import os
 import re
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from gbh_drake import interrupts
 from gbh_drake.experiment.config import (
     Experiment,
     ExperimentError,
@@ -52,7 +55,14 @@ from gbh_drake.experiment.rows import (
     row_key,
     sort_key,
 )
-from gbh_drake.outputs import FolderLock, OutputError, write_atomically
+from gbh_drake.outputs import (
+    FolderLock,
+    OutputError,
+    reason,
+    remove,
+    write_atomically,
+    write_file,
+)
 
 
 @dataclass
@@ -118,14 +128,12 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         by_digest = {(t.object, t.method, t.trial, t.digest): t for t in pending}
         try:
             for result in results:
+                interrupts.check()  # a signal whose exception some library dropped
                 row = result.row
                 _set_protocol(row, by_digest)
-                if result.replay_html is not None:
-                    name = replay_name(row)
-                    (folder / "replays").mkdir(exist_ok=True)
-                    write_atomically(folder / "replays" / name, result.replay_html)
-                    row["replay"] = f"replays/{name}"
-                store.append(row)
+                with interrupts.deferred():  # the row and its replay, or neither
+                    _save(folder, store, row, result.replay_html,
+                          warn=lambda m: bar.write(m, file=sys.stderr))
                 done[row_key(row)] = row
                 if row["outcome"] == "error":
                     bar.write(f"{experiment.name}: trial {row_key(row)} ended in an error "
@@ -145,6 +153,41 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                 _sort_rows(store, experiment)
             write_report(folder, warn=log)
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
+
+
+def _save(folder: Path, store: RowStore, row: dict, replay_html: str | None, *, warn) -> None:
+    """Appends ``row`` and puts its replay (if any) into ``replays/``. The replay is written
+    first to a temporary file; when that fails (a full disk, a name too long) the row is still
+    written, without the replay and with ``replay_error`` saying why (and ``warn`` told). A row
+    that cannot be appended is an :class:`OutputError` (its trial runs again on resume)."""
+    staged = None
+    if replay_html is not None:
+        name = replay_name(row)
+        target = folder / "replays" / name
+        try:
+            target.parent.mkdir(exist_ok=True)
+            staged = write_file(target, replay_html)
+            row["replay"] = f"replays/{name}"
+        except OSError as e:
+            problem = e.problem if isinstance(e, OutputError) else reason(e)
+            row["replay"] = ""
+            row["replay_error"] = f"{target}: {problem}"
+            warn(f"gbh: warning: trial {row_key(row)}: its replay was not kept: "
+                 f"{row['replay_error']}")
+    try:
+        store.append(row)
+    except OSError as e:
+        if staged is not None:
+            remove(staged)
+        raise OutputError(store.path, f"could not append the row of trial {row_key(row)} "
+                                      f"({reason(e)})") from None
+    if staged is not None:
+        try:
+            os.replace(staged, target)
+        except OSError as e:  # the row says where the replay should be; say why it is not
+            remove(staged)
+            warn(f"gbh: warning: trial {row_key(row)}: its replay was not kept: {target}: "
+                 f"{reason(e)}")
 
 
 def _set_protocol(row: dict, by_digest: dict) -> None:
