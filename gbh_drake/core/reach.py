@@ -171,6 +171,20 @@ def through_axes(v: np.ndarray, ground_normal: np.ndarray | None, tilt_max_deg: 
     return np.stack(kept)
 
 
+@dataclass(frozen=True)
+class DenseSet:
+    """The extent of the dense set (module docstring): through axes within ``tilt_max_deg``
+    (deg) of v or of the ground normal, one every ``tilt_step_deg`` or so; turns every
+    ``turn_step_deg`` (deg); ``n_contacts`` contact points; groups more than ``depth_below``
+    (m) below the table clearance left out."""
+
+    tilt_max_deg: float = 60.0
+    tilt_step_deg: float = 20.0
+    turn_step_deg: float = 30.0
+    n_contacts: int = 3
+    depth_below: float = DEPTH_BELOW
+
+
 @dataclass
 class PoseGroup:
     """One position, through axis and kind of :func:`reach_poses`: its turns about the axis
@@ -207,15 +221,14 @@ def pose_groups(
     params: GbhParams,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
     *,
-    tilt_max_deg: float = 60.0,
-    tilt_step_deg: float = 20.0,
-    turn_step_deg: float = 30.0,
-    n_contacts: int = 3,
-    depth_below: float = DEPTH_BELOW,
+    dense: DenseSet = DenseSet(),
     deadline: float = float("inf"),
 ) -> tuple[list[PoseGroup], bool]:
-    """The groups of the dense set of :func:`reach_poses` (same arguments), in its order,
-    without their poses; and whether the listing stopped at ``deadline`` (partial)."""
+    """The groups of the dense set of :func:`reach_poses` (``dense``: its extent), in its
+    order, without their poses; and whether the listing stopped at ``deadline`` (partial)."""
+    tilt_max_deg, tilt_step_deg, turn_step_deg = (dense.tilt_max_deg, dense.tilt_step_deg,
+                                                  dense.turn_step_deg)
+    n_contacts, depth_below = dense.n_contacts, dense.depth_below
     groups: list[PoseGroup] = []
     turns = np.radians(np.arange(0.0, 360.0 - 1e-9, turn_step_deg))
     search = _search_params(params)
@@ -270,12 +283,8 @@ def reach_poses(
     params: GbhParams,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
     *,
-    tilt_max_deg: float = 60.0,
-    tilt_step_deg: float = 20.0,
-    turn_step_deg: float = 30.0,
-    n_contacts: int = 3,
-    depth_below: float = DEPTH_BELOW,
     deadline: float = float("inf"),
+    **dense,
 ) -> ReachPoses:
     """The dense set of parallel and vertical hook poses around ``structures`` (module
     docstring), all of it: through axes within ``tilt_max_deg`` (deg) of v or of the ground
@@ -290,10 +299,8 @@ def reach_poses(
     ``depth_below`` (m) below ``ground_clearance``: no pose of it clears the table, and its
     margin would be worse than that. Generation stops (``cut``) at ``deadline`` (a
     ``time.perf_counter()`` value). :func:`search_reach` generates only the groups it needs
-    (:func:`pose_groups`)."""
-    groups, cut = pose_groups(obj, structures, params, gripper, tilt_max_deg=tilt_max_deg,
-                              tilt_step_deg=tilt_step_deg, turn_step_deg=turn_step_deg,
-                              n_contacts=n_contacts, depth_below=depth_below,
+    (:func:`pose_groups`). ``dense``: the fields of :class:`DenseSet`."""
+    groups, cut = pose_groups(obj, structures, params, gripper, dense=DenseSet(**dense),
                               deadline=deadline)
     search = _search_params(params)
     out = ReachPoses.concatenate([grp.poses(search, gripper) for grp in groups])
@@ -422,11 +429,7 @@ def search_reach(
     *,
     budget_s: float = 2.5,
     max_poses: int = 100_000,
-    tilt_max_deg: float = 60.0,
-    tilt_step_deg: float = 20.0,
-    turn_step_deg: float = 30.0,
-    n_contacts: int = 3,
-    depth_below: float = DEPTH_BELOW,
+    dense: DenseSet = DenseSet(),
 ) -> ReachResult:
     """Whether any hook pose of ``gripper`` around ``structures`` (of ``obj``, in W) passes
     every rule of the pipeline (module docstring): judges the paper's candidates
@@ -442,9 +445,7 @@ def search_reach(
     first = evaluate_poses(obj, candidates, params, gripper, budget_s=budget_s, start=start)
     if first.reachable:
         return first
-    groups, cut = pose_groups(obj, structures, params, gripper, tilt_max_deg=tilt_max_deg,
-                              tilt_step_deg=tilt_step_deg, turn_step_deg=turn_step_deg,
-                              n_contacts=n_contacts, depth_below=depth_below,
+    groups, cut = pose_groups(obj, structures, params, gripper, dense=dense,
                               deadline=start + budget_s)
     if params.ground_clearance >= 0:
         result = _evaluate_lazily(obj, candidates, groups, params, gripper, budget_s=budget_s,
