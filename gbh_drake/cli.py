@@ -21,6 +21,7 @@ an interrupt during start-up is handled like any other.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
 import logging
 import os
@@ -52,8 +53,6 @@ def _input_error(error: BaseException) -> str | None:
 
     if isinstance(error, OutputError):
         return f"cannot write outputs: {error}"
-    if isinstance(error, OSError) and (problem := _stdout_fault(error)) is not None:
-        return f"cannot write outputs: stdout: could not write it ({problem})"
     scenario = sys.modules.get("gbh_drake.scenario")
     if scenario is not None and isinstance(error, scenario.ScenarioError):
         return f"invalid scenario: {error}"
@@ -72,7 +71,7 @@ def _handles_errors(command):
 
     @functools.wraps(command)
     def wrapper(argv: list[str] | None = None) -> int:
-        with interrupts.handled():
+        with interrupts.handled(), _guarded_stdout():
             try:
                 code = command(argv)
                 sys.stdout.flush()  # a full device fails here, not in Python's exit
@@ -104,24 +103,52 @@ def _interrupted() -> int:
     return interrupts.exit_code()
 
 
-def _stdout_fault(error: OSError) -> str | None:
-    """The problem of stdout if ``error`` came from writing it (a full device: the text waits
-    in stdout's buffer and a flush fails again), else None."""
-    if error.filename is not None or isinstance(error, BrokenPipeError):
-        return None
-    try:
-        sys.stdout.flush()
-    except OSError as again:
-        from gbh_drake.outputs import reason
+class _Stdout:
+    """sys.stdout, whose write errors (a full device: ``gbh run > /dev/full``) are an
+    :class:`~gbh_drake.outputs.OutputError` naming stdout; a closed pipe stays a
+    ``BrokenPipeError``."""
 
-        _quiet_stdout()
-        return reason(again)
-    return None
+    def __init__(self, stream):
+        self._stream = stream
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+    def _guard(self, call, *args):
+        try:
+            return call(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as e:
+            from gbh_drake.outputs import OutputError, reason
+
+            _quiet_stdout()
+            raise OutputError("stdout", f"could not write it ({reason(e)})") from None
+
+    def write(self, text):
+        return self._guard(self._stream.write, text)
+
+    def writelines(self, lines):
+        return self._guard(self._stream.writelines, lines)
+
+    def flush(self):
+        return self._guard(self._stream.flush)
+
+
+@contextlib.contextmanager
+def _guarded_stdout():
+    real = sys.stdout
+    sys.stdout = _Stdout(real)
+    try:
+        yield
+    finally:
+        if sys.stdout.__class__ is _Stdout:
+            sys.stdout = real
 
 
 def _quiet_stdout() -> None:
-    """Points stdout at /dev/null, its buffer dropped (Python's flush at exit must not fail
-    again)."""
+    """Points stdout at /dev/null (what is left in its buffer goes there: Python's flush at
+    exit must not fail again)."""
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, sys.stdout.fileno())
     os.close(devnull)

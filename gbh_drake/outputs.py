@@ -60,7 +60,10 @@ def reason(e: OSError) -> str:
     reasons = {errno.ENOSPC: "no space left on the disk", errno.EDQUOT: "disk quota exceeded",
                errno.EROFS: "read-only file system", errno.EACCES: "permission denied",
                errno.EPERM: "permission denied", errno.ENOTDIR: "a part of the path is a file",
-               errno.EEXIST: "exists and is not a folder"}
+               errno.EEXIST: "exists and is not a folder",
+               errno.ENAMETOOLONG: "a name in the path is too long: at most 255 bytes",
+               errno.EISDIR: "is a folder", errno.EIO: "input/output error",
+               errno.EFBIG: "file too large"}
     return reasons.get(e.errno, e.strerror or str(e))
 
 
@@ -70,7 +73,11 @@ def prepare_folder(folder: Path, *, min_free: int = MIN_FREE_BYTES) -> Path:
     folder = Path(folder)
     if "\0" in str(folder):
         raise OutputError(repr(str(folder)), "holds a NUL character")
-    if folder.exists() and not folder.is_dir():
+    try:
+        is_file = folder.exists() and not folder.is_dir()
+    except OSError as e:  # a name too long, a folder that cannot be looked into
+        raise OutputError(folder, f"cannot be used as a folder ({reason(e)})") from None
+    if is_file:
         raise OutputError(folder, "is a file, not a folder")
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -78,7 +85,10 @@ def prepare_folder(folder: Path, *, min_free: int = MIN_FREE_BYTES) -> Path:
         raise OutputError(folder, f"cannot create the folder ({reason(e)})") from None
     if not os.access(folder, os.W_OK | os.X_OK):
         raise OutputError(folder, "the folder is not writable")
-    free = shutil.disk_usage(folder).free
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError as e:
+        raise OutputError(folder, f"cannot be used as a folder ({reason(e)})") from None
     if free < min_free:
         raise OutputError(folder, f"only {free / 2**20:.1f} MB free on its disk; a run needs "
                                   f"{min_free / 2**20:.0f} MB")
@@ -107,6 +117,8 @@ class FolderLock:
     def acquire(self) -> None:
         try:
             fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+        except IsADirectoryError:
+            raise OutputError(self.path, "is a folder, not gbh's lock file; remove it") from None
         except OSError as e:
             raise OutputError(self.path.parent, f"cannot write in the folder ({reason(e)})") \
                 from None

@@ -99,6 +99,10 @@ REPLAY_MODES = ("failures", "all", "none")
 PROTOCOLS = RESTS
 
 
+#: The longest method name, in bytes (it is part of file names).
+MAX_METHOD_NAME = 80
+
+
 class ExperimentError(ValueError):
     """An experiment file or folder is invalid; the message names the file and the field."""
 
@@ -359,6 +363,10 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
                                        f"{m.name!r}")
         if names.index(m.name) != i:
             fail(f"methods[{i}].name", f"{m.name!r} is used twice")
+        if len(m.name.encode()) > MAX_METHOD_NAME:  # file names are at most 255 bytes
+            fail(f"methods[{i}].name", f"at most {MAX_METHOD_NAME} bytes (it names files: "
+                                       f"scenarios/<name>.yaml, replays/...), got "
+                                       f"{len(m.name.encode())}")
         if m.paper and m.paper not in PAPER_TABLE1:
             fail(f"methods[{i}].paper", f"one of {', '.join(PAPER_TABLE1)}, got {m.paper!r}")
     pose = experiment.pose

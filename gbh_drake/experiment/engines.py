@@ -19,6 +19,8 @@ import contextlib
 import importlib.util
 import multiprocessing
 import os
+import socket
+import threading
 import time
 from collections.abc import Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -125,19 +127,36 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
             process.terminate()
 
 
+#: Seconds ``--ray ADDRESS`` waits for a cluster to answer (``auto`` or an address), and for a
+#: ``local`` Ray to start; then the experiment stops with one line (exit 2).
+RAY_CONNECT_TIMEOUT = 30.0
+RAY_START_TIMEOUT = 120.0
+#: Seconds between two progress lines while Ray starts or connects.
+RAY_PROGRESS_EVERY = 5.0
+
+
 def ray_results(tasks: Sequence[TrialTask], address: str, *, workers: int = 0,
                 log=print) -> Iterator[TrialResult]:
     """Runs ``tasks`` as Ray tasks (see the module docstring for ``address``); ``workers`` is the
-    number of CPUs of a ``local`` Ray (0: this machine's). Yields results as they finish."""
+    number of CPUs of a ``local`` Ray (0: this machine's). Ray is started or reached now (a
+    :class:`RayError` before any trial runs); the results are yielded as they finish."""
     if not tasks:
-        return
+        return iter(())
     started_here = address == "local"
     start = time.perf_counter()
-    ray = init_ray(address, workers=workers)
+    ray = init_ray(address, workers=workers, log=log)
     try:
         log(f"ray: {'started a local Ray' if started_here else 'connected to ' + address} in "
             f"{time.perf_counter() - start:.1f} s; "
             f"{ray.cluster_resources().get('CPU', 0):g} CPUs")
+    except BaseException:
+        ray.shutdown()
+        raise
+    return _ray_results(ray, tasks)
+
+
+def _ray_results(ray, tasks: Sequence[TrialTask]) -> Iterator[TrialResult]:
+    try:
         remote = ray.remote(num_cpus=1, max_retries=1)(run_trial_task)
         pending = [remote.remote(task) for task in tasks]
         try:
@@ -152,13 +171,21 @@ def ray_results(tasks: Sequence[TrialTask], address: str, *, workers: int = 0,
         ray.shutdown()
 
 
-def init_ray(address: str, *, workers: int = 0):
+def init_ray(address: str, *, workers: int = 0, log=None):
     """``ray.init`` for ``address`` (``local``: a Ray on this machine only); returns ``ray``.
-    Raises :class:`RayMissing` when Ray is not installed."""
+    ``log`` is told what happens while Ray starts (every :data:`RAY_PROGRESS_EVERY` s). Raises
+    :class:`RayMissing` when Ray is not installed, :class:`RayError` when no cluster answers at
+    ``address`` (nothing listening, no cluster for ``auto``); a start or connection that takes
+    longer than :data:`RAY_START_TIMEOUT` / :data:`RAY_CONNECT_TIMEOUT` ends the process with one
+    line and exit code 2 (``ray.init`` cannot be stopped from Python while it waits)."""
     if not ray_installed():
         raise RayMissing
+    log = log or (lambda message: None)
     if address == "local":
-        with environment({**LOCAL_RAY_ENV, **WORKER_ENV}):
+        log(f"ray: starting a local Ray (at most {RAY_START_TIMEOUT:.0f} s) ...")
+        with environment({**LOCAL_RAY_ENV, **WORKER_ENV}), \
+                _deadline("local", "starting a local Ray", RAY_START_TIMEOUT, log,
+                          "a local Ray did not start"):
             import ray
 
             ray.init(num_cpus=workers or os.cpu_count(), include_dashboard=False,
@@ -171,8 +198,81 @@ def init_ray(address: str, *, workers: int = 0):
                                "start gbh before anything imports ray")
         return ray
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    log(f"ray: connecting to {address} (at most {RAY_CONNECT_TIMEOUT:.0f} s) ...")
     import ray
 
-    ray.init(address=address, log_to_driver=False, configure_logging=False,
-             namespace="gbh_drake", runtime_env={"env_vars": dict(WORKER_ENV)})
+    _probe(address, _bootstrap_address(address))
+    with _deadline(address, f"connecting to {address}", RAY_CONNECT_TIMEOUT, log,
+                   "something listens there but no Ray cluster answered"):
+        try:
+            ray.init(address=address, log_to_driver=False, configure_logging=False,
+                     namespace="gbh_drake", runtime_env={"env_vars": dict(WORKER_ENV)})
+        except ConnectionError as e:
+            raise RayError(f"{address}: {' '.join(str(e).split())}") from None
     return ray
+
+
+def _bootstrap_address(address: str) -> str:
+    """``host:port`` where the cluster of ``address`` should answer (``auto``: the cluster this
+    machine belongs to, as Ray finds it). :class:`RayError` for ``auto`` without a cluster."""
+    if address.startswith("ray://"):
+        return address[len("ray://"):]
+    if address != "auto" and not os.environ.get("RAY_ADDRESS"):
+        return address
+    from ray._private import services
+
+    try:
+        return services.canonicalize_bootstrap_address_or_die(address)
+    except ConnectionError:
+        raise RayError("auto: no Ray cluster is running on this machine (start one with 'ray "
+                       "start --head', give a cluster's address, or --ray local for a Ray of "
+                       "this experiment only)") from None
+    except ValueError as e:
+        raise RayError(f"{address}: {e}") from None
+
+
+def _probe(address: str, host_port: str, timeout: float = 10.0) -> None:
+    """:class:`RayError` unless something accepts a TCP connection at ``host_port``."""
+    host, sep, port = host_port.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise RayError(f"{address}: not 'local', 'auto' or a cluster's address host:port "
+                       "(e.g. 10.0.0.5:6379 or ray://10.0.0.5:10001)")
+    where = address if host_port == address else f"{address} ({host_port})"
+    try:
+        socket.create_connection((host, int(port)), timeout=timeout).close()
+    except socket.gaierror as e:
+        raise RayError(f"{where}: cannot resolve the host {host!r} ({e.strerror})") from None
+    except ConnectionRefusedError:
+        raise RayError(f"{where}: nothing listens there (connection refused): is the cluster's "
+                       "head running (ray start --head)?") from None
+    except TimeoutError:
+        raise RayError(f"{where}: no answer within {timeout:.0f} s") from None
+    except OSError as e:
+        raise RayError(f"{where}: cannot connect ({e.strerror or e})") from None
+
+
+@contextlib.contextmanager
+def _deadline(address: str, doing: str, timeout: float, log, failure: str):
+    """Says every :data:`RAY_PROGRESS_EVERY` s that ``doing`` goes on; after ``timeout`` s says
+    ``failure`` in one line and ends the process (exit 2): ``ray.init`` waits inside C++ and retries
+    on its own for minutes."""
+    done = threading.Event()
+    start = time.monotonic()
+
+    def watch():
+        while not done.wait(max(0.0, min(RAY_PROGRESS_EVERY,
+                                         timeout - (time.monotonic() - start)))):
+            waited = time.monotonic() - start
+            if waited >= timeout:
+                line = f"gbh: cannot use Ray: {address}: {failure} within {timeout:.0f} s\n"
+                os.write(2, line.encode())
+                os._exit(2)
+            log(f"ray: still {doing} ({waited:.0f} s) ...")
+
+    watcher = threading.Thread(target=watch, name="gbh-ray-deadline", daemon=True)
+    watcher.start()
+    try:
+        yield
+    finally:
+        done.set()

@@ -25,7 +25,6 @@ The folder::
 
 from __future__ import annotations
 
-import contextlib
 import datetime
 import json
 import os
@@ -56,8 +55,10 @@ from gbh_drake.experiment.rows import (
     sort_key,
 )
 from gbh_drake.outputs import (
+    MIN_FREE_BYTES,
     FolderLock,
     OutputError,
+    prepare_folder,
     reason,
     remove,
     write_atomically,
@@ -104,8 +105,8 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
     start = time.perf_counter()
     folder = Path(out) if out else experiment.output_path()
     scenarios = method_scenarios(experiment)  # a bad method is refused before the folder is made
-    folder.mkdir(parents=True, exist_ok=True)
-    with _folder_lock(folder):
+    prepare_folder(folder, min_free=MIN_FREE_BYTES)  # OutputError: exit 2
+    with FolderLock(folder, holder="gbh experiment", hint="give another folder (--out)"):
         tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
         store = RowStore(folder)
         done = _finished(store, tasks, warn=log)
@@ -248,17 +249,3 @@ def _progress_bar(total: int, name: str, *, enabled: bool):
 
     return tqdm(total=total, desc=name, unit="trial", disable=not enabled or total == 0,
                 dynamic_ncols=True, smoothing=0.1)
-
-
-@contextlib.contextmanager
-def _folder_lock(folder: Path):
-    """An exclusive lock on the folder: two experiments never append to the same rows."""
-    lock = FolderLock(folder, holder="gbh experiment", hint="give another folder (--out)")
-    try:
-        lock.acquire()
-    except OutputError as e:
-        raise ExperimentError(str(e)) from None
-    try:
-        yield lock
-    finally:
-        lock.release()
