@@ -386,6 +386,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines.append("")
     lines.append("Commit: " + ", ".join(f"`{c or 'unknown'}` ({n} trials)"
                                         for c, n in sorted(commits.items())))
+    lines += ["", presets_line(data.rows)] if presets_line(data.rows) else []
     if data.left_out:
         lines.append("")
         lines.append(f"{data.left_out} rows of the file are not trials of this experiment "
@@ -501,6 +502,21 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
 
 #: A grasp executed with a score below this fraction of its list's best is of low value.
 LOW_VALUE = 0.1
+
+
+def presets_line(rows: list[dict]) -> str:
+    """Which GbH rules each method's trials ran with (``gbh.preset``: ``paper``, the paper's
+    values alone, or this implementation's defaults); "" without GbH trials (rows without the
+    record field predate it and are left out)."""
+    presets: Counter = Counter()
+    for r in rows:
+        record = r.get("record") or {}
+        if r.get("grasp_method", "gbh") != "antipodal" and "gbh_preset" in record:
+            presets[(r["method"], record["gbh_preset"] or "ours")] += 1
+    if not presets:
+        return ""
+    return "GbH rules (`gbh.preset`; ours: this implementation's defaults, paper: the paper's " \
+        "values): " + "; ".join(f"{m}: {p} ({n} trials)" for (m, p), n in sorted(presets.items()))
 
 
 def by_rank(data: ReportInput) -> list[str]:
