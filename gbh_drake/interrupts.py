@@ -17,23 +17,30 @@ The first signal is recorded (:func:`received`) and turned into an exception in 
 * :func:`exit_code` decides the exit status from the record (128 + the signal: 130, 143, 129),
   whatever became of the exception.
 
-A second signal takes the default action at once (the handler is removed when the first one
-arrives): the process ends without a traceback even inside a long call into C++. A forked child
-that inherited the handler takes the default action too.
+A second signal ends the process at once, without a traceback: the handler is removed when the
+first one arrives (the default action), and a watcher thread (woken through
+``signal.set_wakeup_fd``) exits with the signal's code when the second arrives before Python
+could run the handler, or when the first is not handled within :data:`GRACE` seconds, as while
+the main thread waits inside C++ (``ray.init``). A forked child that inherited the handler takes
+the default action.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import select
 import signal
 import threading
+import time
 
 #: The signals handled, with the words of the one line that says what happened.
 SIGNALS = {signal.SIGINT: "interrupted (SIGINT)", signal.SIGTERM: "terminated (SIGTERM)",
            signal.SIGHUP: "hung up (SIGHUP)"}
 #: Seconds between two looks, while a signal waits for an import to finish.
 RETRY = 0.02
+#: Seconds the main thread has to run the handler before the watcher ends the process.
+GRACE = 5.0
 
 
 class Terminated(KeyboardInterrupt):
@@ -106,12 +113,14 @@ def install() -> bool:
         if current is signal.SIG_IGN:
             continue
         _previous[signum] = signal.signal(signum, _on_signal)
+    _start_watcher()
     return True
 
 
 def uninstall() -> None:
     """Puts back the handlers :func:`install` replaced and stops the retry timer."""
     _stop_timer()
+    _stop_watcher()
     while _previous:
         signum, handler = _previous.popitem()
         signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
@@ -195,3 +204,73 @@ def _stop_timer() -> None:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, _timer_previous)
         _timer_previous = None
+
+
+_watcher: tuple | None = None  # (read fd, write fd, the previous wakeup fd, thread)
+
+
+def _start_watcher() -> None:
+    global _watcher
+    if _watcher is not None:
+        return
+    r, w = os.pipe()
+    os.set_blocking(w, False)
+    try:
+        previous = signal.set_wakeup_fd(w, warn_on_full_buffer=False)
+    except ValueError:
+        os.close(r)
+        os.close(w)
+        return
+    thread = threading.Thread(target=_watch, args=(r,), name="gbh-signals", daemon=True)
+    thread.start()
+    _watcher = (r, w, previous, thread)
+
+
+def _stop_watcher() -> None:
+    global _watcher
+    if _watcher is None:
+        return
+    r, w, previous, thread = _watcher
+    _watcher = None
+    signal.set_wakeup_fd(previous)
+    os.close(w)  # the watcher reads the end of the pipe and returns
+    thread.join(timeout=1.0)
+    os.close(r)
+
+
+def _watch(r: int) -> None:
+    first, since = None, 0.0
+    while True:
+        timeout = None if first is None else max(0.0, since + GRACE - time.monotonic())
+        ready, _, _ = select.select([r], [], [], timeout)
+        if not ready:  # GRACE passed: the main thread is inside a call that does not return
+            if _pending is None:
+                _exit_now(first, f"{SIGNALS[first]}; stopped at once (a call into C++ did not "
+                                 f"return within {GRACE:.0f} s)")
+            first = None
+            continue
+        data = os.read(r, 64)
+        if not data:
+            return
+        for signum in data:
+            if signum not in SIGNALS or os.getpid() != _pid:
+                continue
+            if first is not None:  # the second before the first was handled
+                _exit_now(signum, f"{SIGNALS[signum]} again; stopped at once")
+            first, since = signum, time.monotonic()
+
+
+def _exit_now(signum: int, message: str) -> None:
+    with contextlib.suppress(OSError):
+        os.write(2, f"gbh: {message}\n".encode())
+    os._exit(128 + signum)
+
+
+def _after_fork_in_child() -> None:  # a forked child must not wake this process's watcher
+    global _watcher
+    _watcher = None
+    with contextlib.suppress(ValueError, OSError):
+        signal.set_wakeup_fd(-1)
+
+
+os.register_at_fork(after_in_child=_after_fork_in_child)
