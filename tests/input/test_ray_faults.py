@@ -89,7 +89,7 @@ def test_a_listener_that_is_not_ray_is_given_up(tmp_path):
     """Something accepts connections but never answers as Ray: progress lines, then one line
     at the connect timeout (4 s here; 30 s by default)."""
     with socket.socket() as listener:
-        listener.bind(("0.0.0.0", 0))
+        listener.bind(("127.0.0.1", 0))
         listener.listen(16)
         address = f"127.0.0.1:{listener.getsockname()[1]}"
         done, took = _gbh(tmp_path, address, timeout=6.0)
