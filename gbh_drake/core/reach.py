@@ -384,14 +384,7 @@ def evaluate_poses(
         found = _first_passing(obj, poses.subset(batch), params, gripper, sweep_margin)
         if found is None:
             continue
-        j = batch[found]
-        result.best_X_WG = poses.X_WG[j].copy()
-        result.best_kind, result.best_structure = str(poses.kinds[j]), int(poses.structure[j])
-        result.best_ground_distance = float(height[j])
-        if table:
-            result.best_margin = float(height[j] - params.ground_clearance)
-        passes = not table or height[j] >= params.ground_clearance
-        result.classification = REACHABLE if passes else OUT_OF_REACH
+        _set_best(result, poses, batch[found], height, params)
         break
     result.evaluated = done
     if result.best_X_WG is None and done < n:
@@ -401,6 +394,20 @@ def evaluate_poses(
         result.complete = bool(rest_below)
     result.seconds = time.perf_counter() - start
     return result
+
+
+def _set_best(result: ReachResult, poses: ReachPoses, j: int, height: np.ndarray,
+              params: GbhParams) -> None:
+    """Records pose ``j`` of ``poses`` (ground distances ``height``) as ``result``'s best, and
+    the class it gives: reachable if it clears the table (or the table rule is off)."""
+    table = params.ground_clearance >= 0
+    result.best_X_WG = poses.X_WG[j].copy()
+    result.best_kind, result.best_structure = str(poses.kinds[j]), int(poses.structure[j])
+    result.best_ground_distance = float(height[j])
+    if table:
+        result.best_margin = float(height[j] - params.ground_clearance)
+    passes = not table or height[j] >= params.ground_clearance
+    result.classification = REACHABLE if passes else OUT_OF_REACH
 
 
 def _first_passing(obj: ObjectModel, batch: ReachPoses, params: GbhParams,
@@ -495,8 +502,8 @@ def _evaluate_lazily(obj: ObjectModel, candidates: ReachPoses, groups: list[Pose
                 out_of_time = True
                 break
             new = part(order[k].poses(search, gripper), order[k].seq)
-            pool = tuple(np.concatenate([x, y]) if i else ReachPoses.concatenate([x, y])
-                         for i, (x, y) in enumerate(zip(pool, new, strict=True)))
+            pool = (ReachPoses.concatenate([poses, new[0]]), np.concatenate([key, new[1]]),
+                    np.concatenate([height, new[2]]))
             generated += len(new[0])
             k += 1
             continue
@@ -517,13 +524,7 @@ def _evaluate_lazily(obj: ObjectModel, candidates: ReachPoses, groups: list[Pose
                 found = batch[hit]
                 break
         if found is not None:
-            result.best_X_WG = poses.X_WG[found].copy()
-            result.best_kind, result.best_structure = (str(poses.kinds[found]),
-                                                       int(poses.structure[found]))
-            result.best_ground_distance = float(height[found])
-            result.best_margin = float(height[found] - params.ground_clearance)
-            passes = height[found] >= params.ground_clearance
-            result.classification = REACHABLE if passes else OUT_OF_REACH
+            _set_best(result, poses, found, height, params)
             break
         keep = np.ones(len(poses), dtype=bool)
         keep[idx[:counted]] = False
