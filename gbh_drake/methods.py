@@ -14,7 +14,9 @@ Shipped (``Scenario.grasp_method``):
 * ``gbh`` (:class:`Gbh`): the paper's three stages, the bar deployed;
 * ``antipodal`` (:class:`Antipodal`): the two-straight-rod baseline, the bar folded;
 * ``gbh_fallback`` (:class:`GbhFallback`): GbH, then an antipodal grasp with the bar folded
-  when GbH offers nothing reachable (the revolute joint the paper's Sec. 4 proposes).
+  when GbH offers nothing reachable (the revolute joint the paper's Sec. 4 proposes);
+* ``gbh_scoop`` (:class:`GbhScoop`, beyond the paper): GbH, then a scoop of material lying flat
+  on the table (the wedge gripper's bar slid under it, :mod:`gbh_drake.core.scoop`).
 
 :class:`GivenGrasps` executes grasps of your own through another method's diagram.
 :func:`register_method` adds a method of your own to the registry.
@@ -38,6 +40,7 @@ from gbh_drake.systems.grasp_scorer import GraspScorer
 from gbh_drake.systems.grasp_search import GraspSearchReport
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.hangability_detector import HangabilityDetector
+from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
 
 
 @dataclass
@@ -46,13 +49,15 @@ class GraspSource:
 
     ``grasps``: the grasps to try, best first (lists of objects with ``X_WG`` and ``kind``);
     ``search``: why there are none (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`);
-    ``fallback``: grasps tried when none of ``grasps`` could be planned (None: no fallback);
+    ``scoop``: scoops tried when none of ``grasps`` could be planned (None: no scoop);
+    ``fallback``: grasps tried when none of those could be planned (None: no fallback);
     ``hanging_structures`` and ``candidates``: GbH's detector and synthesizer outputs (None
     for a method without GbH); ``systems``: the added systems by name."""
 
     grasps: OutputPort
     search: OutputPort
     fallback: OutputPort | None = None
+    scoop: OutputPort | None = None
     hanging_structures: OutputPort | None = None
     candidates: OutputPort | None = None
     systems: dict[str, System] = field(default_factory=dict)
@@ -100,16 +105,27 @@ def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return sampler
 
 
+def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopSynthesizer:
+    """Scoops of the GbH detector's flat structures (the wedge gripper's)."""
+    scoop = _add(builder, systems, "scoop_synthesizer",
+                 ScoopSynthesizer(scenario.gbh, scenario.scoop))
+    builder.Connect(systems["hangability_detector"].get_output_port(), scoop.get_input_port())
+    return scoop
+
+
 def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
                 scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+    scoop = systems.get("scoop_synthesizer")
     report = _add(builder, systems, "grasp_search", GraspSearchReport(
-        hook=hook, fallback=fallback, params=scenario.gbh))
+        hook=hook, fallback=fallback, params=scenario.gbh, scoop=scoop is not None))
     builder.Connect(scan, report.GetInputPort("scan"))
     if hook:
         builder.Connect(systems["hangability_detector"].get_output_port(),
                         report.GetInputPort("hanging_structures"))
         builder.Connect(systems["grasp_synthesizer"].get_output_port(),
                         report.GetInputPort("grasp_candidates"))
+    if scoop is not None:
+        builder.Connect(scoop.GetOutputPort("scoops"), report.GetInputPort("scoops"))
     return report
 
 
@@ -160,6 +176,20 @@ class GbhFallback(GraspMethod):
         return _gbh_source(systems, report, fallback=sampler.get_output_port())
 
 
+class GbhScoop(GraspMethod):
+    """GbH first; when it offers nothing reachable, a scoop of material lying flat on the table
+    (beyond the paper; the wedge gripper, ``robot.gripper: wedge``)."""
+
+    name = "gbh_scoop"
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        _add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = _add_scoop(builder, scenario, systems)
+        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
+        return _gbh_source(systems, report, scoop=scoop.GetOutputPort("scoop_grasps"))
+
+
 class GivenGrasps(GraspMethod):
     """Executes ``grasps`` (each with ``X_WG`` and ``kind``), through the diagram of ``method``
     (default GbH: its scan analysis still runs and is recorded), instead of its own grasps: a
@@ -175,7 +205,7 @@ class GivenGrasps(GraspMethod):
         source = self.method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
         given = _add(builder, source.systems, "given_grasps",
                      ConstantValueSource(AbstractValue.Make(self.grasps)))
-        source.grasps, source.fallback = given.get_output_port(), None
+        source.grasps, source.fallback, source.scoop = given.get_output_port(), None, None
         return source
 
 
@@ -206,5 +236,5 @@ def method_names() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-for _method in (Gbh(), Antipodal(), GbhFallback()):
+for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop()):
     register_method(_method)

@@ -188,7 +188,7 @@ def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,
     with ``builder.AddSystem(make_station(scenario))`` and wire to its exported ports."""
     asset = object_asset or load_object_asset(scenario.object, scenario.directory)
     X_WO = initial_object_pose(scenario.object, asset, derive_seeds(scenario.seed).pose)
-    return Station(directives=scenario.directives, plant_config=scenario.plant_config,
+    return Station(directives=scenario.station_directives(), plant_config=scenario.plant_config,
                    robot=scenario.robot, asset=asset, X_WO=X_WO,
                    bar_angle=method_named(scenario.grasp_method).bar_angle,
                    cameras=scenario.cameras, visualization=scenario.visualization,

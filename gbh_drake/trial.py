@@ -168,10 +168,12 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
 
     # Execution: the pick-and-carry machine drives the robot.
     pick = builder.AddNamedSystem("pick_and_carry", PickAndCarry(
-        scenario.directives, scenario.pick, scenario.robot.hand,
+        scenario.station_directives(), scenario.pick, scenario.robot.hand,
         settle_time=scenario.settle_time, ground_clearance=scenario.gbh.ground_clearance,
-        seed=seeds.planner, bar_angle=method.bar_angle))
+        seed=seeds.planner, bar_angle=method.bar_angle, scoop=scenario.scoop))
     builder.Connect(source.grasps, pick.GetInputPort("grasps"))
+    if source.scoop is not None:
+        builder.Connect(source.scoop, pick.GetInputPort("scoop_grasps"))
     if source.fallback is not None:
         builder.Connect(source.fallback, pick.GetInputPort("fallback_grasps"))
     builder.Connect(scan, pick.GetInputPort("scan"))

@@ -44,7 +44,7 @@ import numpy as np
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import frame_coordinates
 from gbh_drake.core.gripper import HOOK_GRIPPER, Box, HookGripperGeometry
-from gbh_drake.core.results import PARALLEL, VERTICAL
+from gbh_drake.core.results import PARALLEL, GraspKind
 
 #: Points x poses processed per chunk (bounds the temporary (chunk, N) arrays to ~50 MB).
 _CHUNK_POINTS = 2_000_000
@@ -58,7 +58,7 @@ def closing_displacements(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER
     travel = gripper.q_open - gripper.q_closed
     if kind == PARALLEL:
         return 0.0, -travel, travel
-    if kind == VERTICAL:
+    if kind in (GraspKind.VERTICAL, GraspKind.SCOOP):  # about the straight rod
         return travel, 0.0, 2.0 * travel
     raise ValueError(f"unknown grasp kind {kind!r}")
 
@@ -155,7 +155,7 @@ def _box_union_masks(x: np.ndarray, y: np.ndarray, z: np.ndarray, box_sets: list
     return out
 
 
-def _chunked_masks(points_W: np.ndarray, X_WG: np.ndarray, box_sets: list[list[Box]],
+def chunked_box_masks(points_W: np.ndarray, X_WG: np.ndarray, box_sets: list[list[Box]],
                    margins: list[float]):
     """Yields (slice of the poses, [mask (chunk, N) per box set]) over chunks of ``X_WG``."""
     # float32 halves the memory traffic; its ~1e-7 relative error is far below any tolerance.
@@ -175,7 +175,7 @@ def count_points_in_boxes(points_W: np.ndarray, X_WG: np.ndarray, box_sets: list
     M = len(np.reshape(X_WG, (-1, 4, 4)))
     counts = np.zeros((len(box_sets), M), dtype=int)
     if len(np.reshape(points_W, (-1, 3))):
-        for sl, masks in _chunked_masks(points_W, X_WG, box_sets, [margin] * len(box_sets)):
+        for sl, masks in chunked_box_masks(points_W, X_WG, box_sets, [margin] * len(box_sets)):
             for s, mask in enumerate(masks):
                 counts[s, sl] = mask.sum(axis=1)
     return counts
@@ -209,7 +209,7 @@ def count_open_and_sweep(points_W: np.ndarray, X_WG: np.ndarray, kind: str, marg
     n_open = np.zeros(len(np.reshape(X_WG, (-1, 4, 4))), dtype=int)
     n_sweep = np.zeros_like(n_open)
     if len(np.reshape(points_W, (-1, 3))):
-        for sl, (inside_open, swept) in _chunked_masks(points_W, X_WG, [open_boxes, moving],
+        for sl, (inside_open, swept) in chunked_box_masks(points_W, X_WG, [open_boxes, moving],
                                                        [margin, margin + sweep_margin]):
             n_open[sl] = inside_open.sum(axis=1)
             n_sweep[sl] = (swept & ~inside_open).sum(axis=1)

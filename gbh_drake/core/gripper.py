@@ -36,6 +36,21 @@ L rod's last ``l_h`` of length (its box inside the L rod's box), so the hand has
 of the same length, the fairness rule of the paper's Sec. 3.1, and the fingers can close until
 the rods touch, at ``q = rod_width / 2`` (:attr:`HookGripperGeometry.q_closed_retracted`). Every
 solid-model method takes ``bar_retracted`` (default False: the hook as above).
+
+The wedge bar (beyond the paper, for the scoop of :mod:`gbh_drake.core.scoop`): with
+``bar_nose > 0`` the bar's outer face (the one away from the palm, ``z = l_f + rod_width/2``)
+runs on ``bar_nose`` past the tip ``p1``, and a ramp ``bar_ramp`` long rises from that edge
+to the bar's inner face (which then ends ``bar_ramp - bar_nose`` short of the tip): a wedge
+whose sharp edge slides along the table and under material lying on it. Its slope matters:
+material pushed up a ramp of angle theta against the straight rod, friction mu on both, rises
+only if tan(theta) < (1 - mu^2) / (2 mu), 46 deg at mu = 0.4; a 45 deg ramp all but jams
+(simulated: a 7 mm wire stayed pinched on it), so the default ramp is 16 mm long, 26.6 deg.
+When the loop closes, the nose passes into a slot of the straight rod (``bar_nose`` is at most
+the rod's width: it ends flush with the rod's outer face; bar and straight rod never collide,
+see :mod:`gbh_drake.modeling.gripper_sdf`), and the ramp still meets the rod's inner face
+half a rod high: the loop is closed.
+:data:`WEDGE_GRIPPER` is that variant; :data:`HOOK_GRIPPER`, the paper's square bar, stays
+the default everywhere.
 """
 
 from __future__ import annotations
@@ -89,6 +104,28 @@ class HookGripperGeometry:
     translation of G in the ``panda_hand`` frame (the fingers' joint origin in Franka's model)."""
     hand_mass: float = 0.73
     finger_mass: float = 0.05
+    bar_nose: float = 0.0
+    """How far (m) the bar's outer face runs on past its tip as a wedge (0: the paper's square
+    bar; at most ``rod_width``: the nose ends flush with the straight rod's outer face when the
+    loop closes)."""
+    bar_ramp: float = 0.0
+    """Length (m, along y_G) of the wedge's ramp, from the nose's edge back to where it meets
+    the bar's inner face (``bar_nose`` <= ``bar_ramp`` <= ``bar_nose`` + ``bar_length`` / 2;
+    ``bar_nose`` when 0)."""
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.bar_nose <= self.rod_width + 1e-12:
+            raise ValueError(f"bar_nose {self.bar_nose} m outside [0, rod_width = "
+                             f"{self.rod_width} m]")
+        if self.bar_ramp and not (self.bar_nose <= self.bar_ramp
+                                  <= self.bar_nose + 0.5 * self.bar_length + 1e-12):
+            raise ValueError(f"bar_ramp {self.bar_ramp} m outside [bar_nose, bar_nose + "
+                             f"bar_length / 2]")
+
+    @property
+    def ramp(self) -> float:
+        """The wedge's ramp length (m): ``bar_ramp``, or ``bar_nose`` when that is 0."""
+        return self.bar_ramp or self.bar_nose
 
     # ---- openings -------------------------------------------------------------------------
     @property
@@ -171,15 +208,30 @@ class HookGripperGeometry:
 
     def l_finger_boxes(self, bar_retracted: bool = False) -> list[Box]:
         """Boxes of the L finger in its own finger frame F (= G shifted by -q along y_G); with
-        ``bar_retracted`` the bar is :meth:`retracted_bar_box` (inside the rod's box)."""
+        ``bar_retracted`` the bar is :meth:`retracted_bar_box` (inside the rod's box). A wedge
+        bar adds its nose's bounding box (``bar_nose``; the ramp inside it, conservative)."""
         r = 0.5 * self.rod_width
         lf, lh = self.finger_length, self.bar_length
-        return [
+        boxes = [
             Box("l_rod", (0.0, 0.0, 0.5 * (lf + r)), (r, r, 0.5 * (lf + r))),
             # From the rod's outer face (y = -r) to the bar tip (y = l_h).
             self.retracted_bar_box() if bar_retracted
             else Box("bar", (0.0, 0.5 * (lh - r), lf), (r, 0.5 * (lh + r), r)),
         ]
+        if self.bar_nose > 0.0 and not bar_retracted:
+            boxes.append(Box("bar_nose", (0.0, lh + 0.5 * self.bar_nose, lf),
+                             (r, 0.5 * self.bar_nose, r)))
+        return boxes
+
+    def bar_profile_pivot(self) -> np.ndarray:
+        """(k, 2) the deployed bar's cross-section in the (y, z) plane of its pivot frame (the
+        bend p3 at the origin, axes of G), counter-clockwise seen from +x: a rectangle from
+        the L rod's outer face to the tip, with the wedge's nose below the tip when
+        ``bar_nose`` > 0 (the bar's solid is this profile extruded over +-rod_width/2 in x)."""
+        r, lh, nose = 0.5 * self.rod_width, self.bar_length, self.bar_nose
+        if nose <= 0.0:
+            return np.array([(-r, -r), (lh, -r), (lh, r), (-r, r)])
+        return np.array([(-r, -r), (lh + nose - self.ramp, -r), (lh + nose, r), (-r, r)])
 
     # ---- the retractable bar (paper Sec. 4) ---------------------------------------------------
     @property
@@ -267,6 +319,12 @@ class HookGripperGeometry:
 
 #: The gripper used throughout the project (paper dimensions).
 HOOK_GRIPPER = HookGripperGeometry()
+#: The same gripper with a wedge bar (its nose as long as the rod is wide, on a ramp twice as
+#: long: 26.6 deg), for the scoop (beyond the paper; ``robot.gripper: wedge``).
+WEDGE_GRIPPER = HookGripperGeometry(bar_nose=HOOK_GRIPPER.rod_width,
+                                   bar_ramp=2.0 * HOOK_GRIPPER.rod_width)
+#: The grippers by name (``RobotConfig.gripper``).
+GRIPPERS = {"paper": HOOK_GRIPPER, "wedge": WEDGE_GRIPPER}
 
 
 def keypoints_W(X_WG: np.ndarray, q: float | None = None, geometry: HookGripperGeometry =

@@ -329,3 +329,39 @@ def _check_at_most_n_points(params, at: tuple, names: tuple[str, ...]) -> None:
     for name in names:
         if getattr(params, name) > params.n_points:
             raise FieldError(at + (name,), f"must be <= {sibling(at, 'n_points')} ({params.n_points})")
+
+
+@dataclass
+class ScoopParams:
+    """The scoop (beyond the paper, :mod:`gbh_drake.core.scoop`): hooking material that lies on
+    the table with the wedge bar (``robot.gripper: wedge``). Its synthesis (which structures,
+    where) and its execution (the press and the close). Lengths in metres, forces in newtons."""
+
+    tilt_max_deg: float = ranged(30.0, Range(0.0, 90.0, unit="deg"))
+    """Degrees: a structure is scooped only when its hole's axis is within this of the ground
+    normal (material lying flat: the straight rod goes down through the hole to the table)."""
+    max_height: float = ranged(0.008, Pos(0.1, "m", "the wedge rises one rod width"))
+    """m: the material in the bar's path must lie this low (its top at most this far above the
+    table): the wedge lifts what it slides under by its own height, one rod width (8 mm), so
+    taller material (a tape roll's 19 mm wall) is pushed, not lifted onto the bar."""
+    rod_gap: float = ranged(0.0015, NonNeg(0.02, "m"))
+    """m: the straight rod goes down this far inside the hole's edge (between its face and the
+    material's inner surface), where it keeps the material from sliding away from the wedge."""
+    hover: float = ranged(0.0005, NonNeg(0.01, "m"))
+    """m: the rods' tips stop this far above the table at the grasp pose; the press goes on down."""
+    press_force: float = ranged(2.0, Pos(50.0, "N"))
+    """N: at the grasp pose the arm goes on down until the table pushes the hand up this hard
+    (the wrist load, as Franka senses it), so the wedge's edge slides along the table ..."""
+    press_depth: float = ranged(0.006, Pos(0.05, "m"))
+    """... at most this far (m) below the grasp pose."""
+    min_lift: float = ranged(0.20, Pos(1.0, "m"))
+    """m: a scoop lifts at least this far (more where the scan says so): the scan loses what
+    lies within ``scan.crop_z_min`` of the table (a key ring's 2 mm keys), which may hang below
+    the scooped material once lifted."""
+    max_per_structure: int = ranged(24, Int(1, 1000))
+    """At most this many scoops per structure (its contact points, evenly spread)."""
+    p_sweep: int = ranged(1, Int(1, 50_000))
+    """Keep scoops whose moving parts (the L rod above the bar, the hand) meet fewer than this
+    many object points while closing (material they would push instead of the wedge lifting it)."""
+    min_scooped: int = ranged(1, Int(1, 50_000))
+    """At least this many object points must lie in the bar's path (something to scoop)."""

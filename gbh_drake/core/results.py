@@ -23,15 +23,26 @@ class GraspKind(enum.StrEnum):
     """The straight finger along v or the ground normal (a hook)."""
     ANTIPODAL = "antipodal"
     """Two straight rods, the bar folded (the antipodal baseline and fallback)."""
+    SCOOP = "scoop"
+    """Beyond the paper (:mod:`gbh_drake.core.scoop`): a vertical hook whose straight rod goes
+    down through a hole in material lying on the table, the wedge bar sliding under the material
+    at table level as the loop closes (a hook)."""
 
     @property
     def hooks(self) -> bool:
         """Whether the grasp closes the hook's loop (the bar deployed)."""
         return self is not GraspKind.ANTIPODAL
 
+    @property
+    def keeps_straight_rod(self) -> bool:
+        """Whether the grasp closes about its straight rod (the arm follows the fingers so that
+        the rod in the hole stays put): vertical grasps and scoops; the others close
+        symmetrically about G."""
+        return self in (GraspKind.VERTICAL, GraspKind.SCOOP)
 
-#: The paper's grasp kinds by their names (Sec. 2.3).
-PARALLEL, VERTICAL = GraspKind.PARALLEL, GraspKind.VERTICAL
+
+#: The paper's grasp kinds by their names (Sec. 2.3), and the scoop's.
+PARALLEL, VERTICAL, SCOOP = GraspKind.PARALLEL, GraspKind.VERTICAL, GraspKind.SCOOP
 
 
 class GbhInputError(ValueError):

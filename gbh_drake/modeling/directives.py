@@ -18,7 +18,7 @@ from pydrake.common.yaml import yaml_dump_typed
 from pydrake.multibody.parsing import ModelDirective
 
 from gbh_drake.core.ranges import FieldError, Path_
-from gbh_drake.modeling.names import ARM, GRIPPER, HAND_ACTUATORS, TABLE
+from gbh_drake.modeling.names import ARM, GRIPPER, GRIPPER_FILES, HAND_ACTUATORS, TABLE
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,32 @@ def check_models(directives: list[ModelDirective], *, q_home: list[float],
             raise FieldError(("robot", "q_home", i), f"{q_home[i]:g} rad is outside {joint}'s "
                                                      f"limits [{lo:.4f}, {hi:.4f}] rad")
     return result
+
+
+def with_gripper(directives: list[ModelDirective], gripper: str) -> list[ModelDirective]:
+    """``directives`` with the hook gripper's model file that of the variant ``gripper``
+    (``robot.gripper``: ``paper`` or ``wedge``, :data:`~gbh_drake.modeling.names.GRIPPER_FILES`)
+    where they add one of the packaged grippers; a gripper file of your own is kept as it is
+    for ``paper`` and refused (``robot.gripper``) for another variant. Returns new directives
+    (the given ones are not changed)."""
+    import copy
+
+    if gripper not in GRIPPER_FILES:
+        raise FieldError(("robot", "gripper"), f"must be one of {', '.join(GRIPPER_FILES)}, "
+                                               f"got {gripper!r}")
+    out = []
+    for d in directives:
+        if d.add_model and d.add_model.name == GRIPPER:
+            if d.add_model.file not in GRIPPER_FILES.values():
+                if gripper != "paper":
+                    raise FieldError(("robot", "gripper"), f"{gripper}: the directives add "
+                                     f"{GRIPPER!r} from {d.add_model.file}, not a packaged "
+                                     "gripper; give the variant's file there instead")
+            elif d.add_model.file != GRIPPER_FILES[gripper]:
+                d = copy.deepcopy(d)
+                d.add_model.file = GRIPPER_FILES[gripper]
+        out.append(d)
+    return out
 
 
 @dataclass

@@ -18,7 +18,13 @@ gripper. Their actuators' effort limit is Franka's peak grasp force; the hand dr
 solid model of the geometry module (boxes), with compliant-hydroelastic properties; visuals add
 Franka's hand and finger meshes.
 
-Run ``python -m gbh_drake.modeling.gripper_sdf`` to rewrite the file; a test checks it is current.
+The wedge variant (:data:`~gbh_drake.core.gripper.WEDGE_GRIPPER`, beyond the paper, for the
+scoop) is written beside it as ``models/hook_gripper_wedge.sdf``: the same model whose bar is
+the wedge prism of :meth:`~gbh_drake.core.gripper.HookGripperGeometry.bar_profile_pivot` (a
+convex mesh, ``models/hook_gripper_wedge_bar.obj``, compliant like the boxes).
+
+Run ``python -m gbh_drake.modeling.gripper_sdf`` to rewrite the files; a test checks they are
+current.
 """
 
 from __future__ import annotations
@@ -28,7 +34,14 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake import MODELS_DIR
-from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER, Box, HookGripperGeometry
+from gbh_drake.core.gripper import (
+    BAR_DEPLOYED,
+    BAR_RETRACTED,
+    HOOK_GRIPPER,
+    WEDGE_GRIPPER,
+    Box,
+    HookGripperGeometry,
+)
 from gbh_drake.modeling.sdf_text import (
     box_geometry,
     box_inertia,
@@ -40,6 +53,9 @@ from gbh_drake.modeling.sdf_text import (
 )
 
 GRIPPER_SDF = MODELS_DIR / "hook_gripper.sdf"
+#: The wedge variant and its bar's mesh (``robot.gripper: wedge``).
+WEDGE_GRIPPER_SDF = MODELS_DIR / "hook_gripper_wedge.sdf"
+WEDGE_BAR_OBJ = MODELS_DIR / "hook_gripper_wedge_bar.obj"
 #: Franka's finger, a copy of pybullet's collision mesh (tools/make_panda_urdf.py).
 FRANKA_FINGER = "package://gbh_drake/franka/finger.obj"
 #: Compliant modulus (Pa) of the rods, bar and hand.
@@ -88,8 +104,10 @@ def _finger_link(name: str, boxes: list[Box], sign: float, mass: float, frame: s
     )
 
 
-def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
-    """The SDFormat text of the hook gripper for ``geometry``."""
+def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER,
+                     bar_mesh: str = f"package://gbh_drake/{WEDGE_BAR_OBJ.name}") -> str:
+    """The SDFormat text of the hook gripper for ``geometry`` (a wedge bar, ``bar_nose`` > 0,
+    is the mesh ``bar_mesh``: :func:`wedge_bar_obj`'s text)."""
     g = geometry
     hand = g.hand_box()
     props = hydroelastic("compliant", modulus=GRIPPER_MODULUS, mu=GRIPPER_MU)
@@ -108,7 +126,7 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
         "</link>",
         f'<frame name="G" attached_to="panda_hand">{pose(palm, relative_to="panda_hand")}</frame>',
     ]
-    l_rod, bar = g.l_finger_boxes()
+    l_rod, bar = g.l_finger_boxes()[:2]  # (a wedge's nose is part of the bar's mesh)
     fingers = (
         ("straight_finger", g.straight_finger_boxes(), +1.0),
         ("l_finger", [l_rod], -1.0),
@@ -124,7 +142,7 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
             f"<effort>{FINGER_EFFORT_LIMIT:g}</effort><velocity>0.2</velocity></limit>"
             "<dynamics><damping>0</damping></dynamics></axis></joint>"
         )
-    parts += _bar(g, bar)
+    parts += _bar(g, bar, bar_mesh)
     # The loop closes where the hand's width command stops the fingers (q_closed, as Franka's
     # grasp(width) does), not through a contact between the bar's tip and the straight rod: that
     # compliant-compliant contact surface had ~46 polygons under the 70 N squeeze and made the
@@ -137,17 +155,25 @@ def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER) -> str:
     return "\n".join(parts)
 
 
-def _bar(g: HookGripperGeometry, bar: Box) -> list[str]:
-    """The bar as its own link on a revolute joint at the bend p3 of the L rod (about +x_G)."""
+def _bar(g: HookGripperGeometry, bar: Box, bar_mesh: str) -> list[str]:
+    """The bar as its own link on a revolute joint at the bend p3 of the L rod (about +x_G): a
+    box, or the wedge's mesh (expressed in the pivot frame, as :func:`wedge_bar_obj`)."""
     pivot = (0.0, 0.0, g.finger_length)  # p3 in the L finger's frame
     in_pivot = Box(bar.name, tuple(np.asarray(bar.center) - pivot), bar.half_extents)
+    if g.bar_nose > 0.0:
+        props = hydroelastic("compliant", modulus=GRIPPER_MODULUS, mu=GRIPPER_MU)
+        shape = mesh_geometry(bar_mesh)
+        elements = (f'<visual name="bar_visual">{shape}{material(ROD_RGBA)}</visual>'
+                    f'<collision name="bar">{shape}{props}</collision>')
+    else:
+        elements = (_box_element("visual", in_pivot, "bar", ROD_RGBA)
+                    + _box_element("collision", in_pivot, "bar", ROD_RGBA))
     return [
         f'<frame name="bar_pivot" attached_to="l_finger">{pose(pivot, relative_to="l_finger")}'
         "</frame>",
         f'<link name="bar">{pose(relative_to="bar_pivot")}'
         f"{inertial(BAR_MASS, in_pivot.center, box_inertia(BAR_MASS, in_pivot.size))}"
-        f'{_box_element("visual", in_pivot, "bar", ROD_RGBA)}'
-        f'{_box_element("collision", in_pivot, "bar", ROD_RGBA)}</link>',
+        f"{elements}</link>",
         '<joint name="bar_joint" type="revolute"><parent>l_finger</parent><child>bar</child>'
         '<pose relative_to="bar_pivot">0 0 0 0 0 0</pose>'
         '<axis><xyz expressed_in="G">1 0 0</xyz>'
@@ -157,10 +183,42 @@ def _bar(g: HookGripperGeometry, bar: Box) -> list[str]:
     ]
 
 
+def wedge_bar_obj(geometry: HookGripperGeometry = WEDGE_GRIPPER) -> str:
+    """OBJ text of the wedge bar in its pivot frame: the prism of
+    :meth:`~gbh_drake.core.gripper.HookGripperGeometry.bar_profile_pivot` over x in
+    +-rod_width/2, outward faces, with normals (Drake's visuals need them)."""
+    profile = geometry.bar_profile_pivot()  # (k, 2) counter-clockwise seen from +x
+    r, k = 0.5 * geometry.rod_width, len(profile)
+    vertices = [(x, y, z) for x in (-r, r) for y, z in profile]
+    faces = [[i for i in reversed(range(k))], [k + i for i in range(k)]]  # -x, +x caps
+    faces += [[i, (i + 1) % k, k + (i + 1) % k, k + i] for i in range(k)]  # the sides
+    lines = ["# Generated by gbh_drake/modeling/gripper_sdf.py: the wedge bar, pivot frame."]
+    lines += [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in vertices]
+    normals = []
+    for face in faces:
+        a, b, c = (np.asarray(vertices[i]) for i in face[:3])
+        n = np.cross(b - a, c - a)
+        normals.append(n / np.linalg.norm(n))
+    lines += [f"vn {x:.9g} {y:.9g} {z:.9g}" for x, y, z in normals]
+    for j, face in enumerate(faces):
+        for t in range(1, len(face) - 1):  # fan triangles
+            tri = (face[0], face[t], face[t + 1])
+            lines.append("f " + " ".join(f"{i + 1}//{j + 1}" for i in tri))
+    return "\n".join(lines) + "\n"
+
+
 def write_gripper_sdf(path: Path = GRIPPER_SDF) -> Path:
     path.write_text(make_gripper_sdf())
     return path
 
 
+def write_gripper_models() -> list[Path]:
+    """Writes the paper's gripper and the wedge variant (SDF and bar mesh)."""
+    WEDGE_GRIPPER_SDF.write_text(make_gripper_sdf(WEDGE_GRIPPER))
+    WEDGE_BAR_OBJ.write_text(wedge_bar_obj())
+    return [write_gripper_sdf(), WEDGE_GRIPPER_SDF, WEDGE_BAR_OBJ]
+
+
 if __name__ == "__main__":
-    print(f"wrote {write_gripper_sdf()}")
+    for written in write_gripper_models():
+        print(f"wrote {written}")

@@ -26,6 +26,7 @@ records how low the hook point goes along it.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -34,7 +35,7 @@ from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance, rest_on_loop
-from gbh_drake.core.results import PARALLEL, VERTICAL, GraspKind
+from gbh_drake.core.results import PARALLEL, GraspKind
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
 from gbh_drake.scenario.schema import PickConfig
@@ -134,7 +135,8 @@ class PickPlan:
 class PickSetup:
     """What planning a pick needs besides the grasp: the planning models (``near``: table and
     robot, padding = the grasp's ground clearance, for the segments near the grasp; ``far``:
-    also the scanned object's hull, for the transfer), the scan's points and their centroid
+    also the scanned object's hull, for the transfer; ``table_level``: no table and no padding,
+    for the segments of a scoop, whose rods go down to the table), the scan's points and their centroid
     (W, m), the pick parameters and the planner's seed."""
 
     near: PlanningModel
@@ -143,20 +145,28 @@ class PickSetup:
     com_W: np.ndarray
     config: PickConfig
     seed: int = 0
+    table_level: PlanningModel | None = None
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
-              bar: float = 0.0) -> PickPlan | Refusal:
+              bar: float = 0.0, min_lift: float = 0.0) -> PickPlan | Refusal:
     """The plan that picks with the open gripper at ``X_WG`` (4, 4) starting from the arm at
     ``q_start`` (7,), or the reason it cannot (see the module docstring). ``bar`` (rad): the
-    bar's angle during the pick. Without ``setup.far`` the transfer is a straight move."""
+    bar's angle during the pick; ``min_lift`` (m): a lift this grasp needs at least, besides
+    the config's ``min_lift``. Without ``setup.far`` the transfer is a straight move."""
     cfg = setup.config
+    if min_lift > cfg.min_lift:
+        cfg = dataclasses.replace(cfg, min_lift=min(min_lift, cfg.max_lift))
     g = HOOK_GRIPPER
     X_WG = RigidTransform(np.asarray(X_WG))
     R = X_WG.rotation()
     approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> tips; +y_G: L rod -> straight rod
-    keep_straight_rod = kind == VERTICAL
+    keep_straight_rod = GraspKind(kind).keeps_straight_rod
     hook = GraspKind(kind).hooks
+    # A scoop's rods go down to the table: its segments near the grasp are checked without the
+    # grasp clearance's padding (the press below the grasp pose is contact by design).
+    check = setup.table_level if kind == GraspKind.SCOOP and setup.table_level is not None \
+        else setup.near
     q_closed = g.q_closed if hook else 0.5 * g.rod_width
     open_hand, closed_hand = HandPose(g.q_open, bar), HandPose(q_closed, bar)
     shift = (g.q_open - g.q_closed) if keep_straight_rod else 0.0
@@ -183,8 +193,14 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # hold it between the rods' pads as it is.
     hook_W = X_closed.translation() + g.finger_length * approach_W
     notes: list[str] = []
-    rest = rest_on_loop(setup.points_W, setup.com_W, X_WG.GetAsMatrix4(), kind, hook_W=hook_W) \
-        if hook else None
+    X_loop = X_WG
+    if kind == GraspKind.SCOOP:
+        # The scooped material rides up the wedge onto the bar: relative to the loop it ends
+        # one rod width higher than the scan saw it, so it is caged by the loop one rod width
+        # lower (the predicted contact is then that much low: the lift errs high).
+        X_loop = _shifted(X_WG, g.rod_width * approach_W)
+    rest = rest_on_loop(setup.points_W, setup.com_W, X_loop.GetAsMatrix4(), kind,
+                        hook_W=hook_W) if hook else None
     if rest is not None:
         need_any = cfg.lift_clearance - rest.lowest_any_turn
         need = cfg.lift_clearance - rest.lowest
@@ -274,7 +290,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     *(("carry", a, b, closed_hand) for a, b in zip(carry[:-1], carry[1:],
                                                                     strict=True)))
         for name, a, b, hand in segments:
-            if not setup.near.edge_free(a, b, hand):
+            if not (check if name in ("descend", "close", "lift") else setup.near).edge_free(
+                    a, b, hand):
                 return refuse("collision", name)
 
     # The approach pose, backed off until clear of the object's hull, and the transfer to it.
@@ -289,7 +306,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         if setup.far is None:
             transfer = [np.asarray(q_start, dtype=float), q_approach]
             break
-        if not setup.near.edge_free(q_approach, q["grasp"], open_hand):
+        if not check.edge_free(q_approach, q["grasp"], open_hand):
             continue
         if not setup.far.free(q_approach, open_hand):
             continue
@@ -445,7 +462,7 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
         return q_from, X_from
 
     q = {"opened": q_place}
-    if kind == VERTICAL:
+    if GraspKind(kind).keeps_straight_rod:
         q["opened"], X = step(q_place, X, [-(g.q_open - g.q_closed) * R.col(1)])
     q["down"], q["slide"] = q["opened"], q["opened"]
     if kind == PARALLEL:

@@ -46,7 +46,7 @@ from gbh_drake.modeling.directives import check_models
 from gbh_drake.scenario.cameras import check_cameras
 from gbh_drake.scenario.object_checks import check_object, object_model_name
 from gbh_drake.scenario.poses import check_poses
-from gbh_drake.scenario.schema import Scenario
+from gbh_drake.scenario.schema import METHOD_GRIPPERS, Scenario
 from gbh_drake.scenario.start_state import check_start_state
 from gbh_drake.scenario.yaml_text import optional_of, struct_fields
 
@@ -99,7 +99,7 @@ def check_scenario(scenario) -> None:
     check_relations(scenario)
     check_poses(scenario)
     check_object(scenario)
-    info = check_models(scenario.directives, q_home=scenario.robot.q_home,
+    info = check_models(scenario.station_directives(), q_home=scenario.robot.q_home,
                         object_model=object_model_name(scenario))
     check_cameras(scenario, info)
     check_start_state(scenario, info)
@@ -183,6 +183,10 @@ def check_relations(scenario) -> None:
     if s.pick.cage_test_force > s.robot.hand.max_force:
         raise FieldError(("pick", "cage_test_force"),
                          f"must be <= robot.hand.max_force ({s.robot.hand.max_force:g} N)")
+    needs = METHOD_GRIPPERS.get(s.grasp_method)
+    if needs and s.gripper != needs:
+        raise FieldError(("robot", "gripper"), f"{s.robot.gripper}: grasp_method "
+                         f"{s.grasp_method} needs the {needs} gripper (give {needs} or auto)")
     if s.task == "pick" and s.monitor.lifted_height >= s.pick.max_lift:
         raise FieldError(("monitor", "lifted_height"),
                          f"must be < pick.max_lift ({s.pick.max_lift:g} m): the gripper rises "

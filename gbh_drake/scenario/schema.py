@@ -21,10 +21,13 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
-from gbh_drake.core.params import AntipodalParams, GbhParams
+from gbh_drake.core.params import AntipodalParams, GbhParams, ScoopParams
 from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
-from gbh_drake.modeling.names import TABLE
+from gbh_drake.modeling.names import GRIPPER_FILES, TABLE
 from gbh_drake.perception.config import ScanConfig
+
+#: The hook gripper's variants (``RobotConfig.gripper``): ``auto`` is the grasp method's.
+GRIPPER_VARIANTS = ("auto", *GRIPPER_FILES)
 
 #: Franka's "ready" pose, the gripper pointing down over the table (rad).
 DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
@@ -50,8 +53,11 @@ directives:
 def default_directives(*, table: bool = True) -> list[ModelDirective]:
     """The station's fixed models (without the table's two directives when not ``table``)."""
     directives = LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
-    if table:
-        return directives
+    return directives if table else without_table(directives)
+
+
+def without_table(directives: list[ModelDirective]) -> list[ModelDirective]:
+    """``directives`` less the ones that add and weld the :data:`TABLE` model."""
     return [d for d in directives
             if not (d.add_model and d.add_model.name == TABLE)
             and not (d.add_weld and d.add_weld.child.startswith(f"{TABLE}::"))]
@@ -64,7 +70,11 @@ def default_directives(*, table: bool = True) -> list[ModelDirective]:
 #:   retracted), the paper's fairness rule for its baseline;
 #: * ``gbh_fallback``: GbH, and when it finds nothing hangable or nothing reachable, an antipodal
 #:   grasp with the bar retracted (the revolute joint the paper proposes in Sec. 4).
-GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback")
+#: * ``gbh_scoop`` (beyond the paper): GbH, then a scoop of material lying flat on the table
+#:   (the wedge bar slid under it at table level, :mod:`gbh_drake.core.scoop`).
+GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop")
+#: The gripper each method needs where it is not the paper's (``robot.gripper: auto``).
+METHOD_GRIPPERS = {"gbh_scoop": "wedge"}
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
@@ -194,6 +204,12 @@ class RobotConfig:
     """Joint PD damping (N m s / rad) of panda_joint1..7."""
     hand: HandConfig = field(default_factory=HandConfig)
     """The fingers' force-limited drive."""
+    gripper: str = ranged("auto", OneOf(GRIPPER_VARIANTS))
+    """The hook gripper's bar: ``paper`` (the paper's square bar), ``wedge`` (beyond the paper:
+    the bar's outer face runs on 8 mm past its tip as a 45 deg wedge, so that it can slide
+    under material lying on the table, as the scoop does) or ``auto``: the grasp method's
+    (:data:`METHOD_GRIPPERS`: the wedge for the methods that scoop, else the paper's). It picks
+    the gripper's model file where the directives add a packaged one."""
 
 
 @dataclass
@@ -326,6 +342,9 @@ class Scenario:
     (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
+    scoop: ScoopParams = field(default_factory=ScoopParams)
+    """The scoop of material lying flat (method ``gbh_scoop``): which structures, the wedge's
+    rules, the press on the table."""
     pick: PickConfig = field(default_factory=PickConfig)
     """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
     monitor: MonitorConfig = field(default_factory=MonitorConfig)
@@ -339,6 +358,21 @@ class Scenario:
     """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
     source_path: str = ""
     """Set by the loader: the scenario file itself (do not write it in YAML)."""
+
+    @property
+    def gripper(self) -> str:
+        """The gripper variant this scenario runs: ``robot.gripper``, or the grasp method's
+        (:data:`METHOD_GRIPPERS`) when that is ``auto``."""
+        if self.robot.gripper != "auto":
+            return self.robot.gripper
+        return METHOD_GRIPPERS.get(self.grasp_method, "paper")
+
+    def station_directives(self) -> list[ModelDirective]:
+        """The directives the station and the planner build from: ``directives`` with the
+        gripper variant of :attr:`gripper` (:func:`gbh_drake.modeling.directives.with_gripper`)."""
+        from gbh_drake.modeling.directives import with_gripper
+
+        return with_gripper(self.directives, self.gripper)
 
     @property
     def directory(self) -> Path:

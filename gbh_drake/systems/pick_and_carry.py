@@ -10,9 +10,13 @@ state and time. Modes, in order::
 
 PLAN reads the ranked grasps (evaluating them runs the scan and the grasp pipeline once) and
 tries them in order from the measured configuration (:func:`gbh_drake.planning.pick.plan_pick`),
-keeping each refusal's reason; with a ``fallback_grasps`` input connected, those are tried when
-no primary grasp could be planned (GbH first, an antipodal grasp with the bar folded next). When
-nothing can be planned the machine ends in NO_GRASP or NO_REACHABLE_GRASP. CLOSE drives the
+keeping each refusal's reason; with a ``scoop_grasps`` input connected, those are tried next
+(beyond the paper: the wedge bar slid under material lying on the table), then, with a
+``fallback_grasps`` input connected, those (GbH first, an antipodal grasp with the bar folded
+last). When nothing can be planned the machine ends in NO_GRASP or NO_REACHABLE_GRASP. A scoop's
+INSERT goes on down past the grasp pose until the table pushes the hand up with the scoop's
+``press_force`` (the wrist load, as Franka senses it; at most ``press_depth``) and it closes
+from there, at table level. CLOSE drives the
 fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
@@ -34,6 +38,7 @@ from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
+from gbh_drake.core.params import ScoopParams
 from gbh_drake.core.results import GraspKind
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.planning.model import HandPose, PlanningModel
@@ -45,7 +50,7 @@ from gbh_drake.planning.pick import (
     release_path,
 )
 from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
-from gbh_drake.scenario.schema import HandConfig, PickConfig
+from gbh_drake.scenario.schema import HandConfig, PickConfig, without_table
 from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
 
@@ -137,6 +142,7 @@ class PickAndCarry(LeafSystem):
         name: PickAndCarry
         input_ports:
         - grasps
+        - scoop_grasps (optional)
         - fallback_grasps (optional)
         - scan
         - panda.state
@@ -147,9 +153,10 @@ class PickAndCarry(LeafSystem):
         - hook_gripper.command
         - status
 
-    ``grasps``, ``fallback_grasps``: lists of grasps, best first, each with ``X_WG`` (4, 4, the
-    open gripper's pose in W) and ``kind`` (``parallel``, ``vertical`` or ``antipodal``; an
-    antipodal grasp is executed with the bar folded). ``scan``: the
+    ``grasps``, ``scoop_grasps``, ``fallback_grasps``: lists of grasps, best first, tried in that
+    order, each with ``X_WG`` (4, 4, the open gripper's pose in W) and ``kind`` (``parallel``,
+    ``vertical``, ``scoop`` or ``antipodal``; an antipodal grasp is executed with the bar
+    folded). ``scan``: the
     :class:`~gbh_drake.perception.scan.ScanResult` (its points set the lift height and its convex
     hull is an obstacle for the transfer). ``panda.state`` (14) and ``hook_gripper.state`` (6):
     the measured robot; ``hook_gripper.load`` (3, N, W): the force the flange exerts on the
@@ -161,21 +168,25 @@ class PickAndCarry(LeafSystem):
 
     def __init__(self, directives: Sequence[ModelDirective], config: PickConfig,
                  hand: HandConfig, *, settle_time: float, ground_clearance: float = 0.003,
-                 seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01):
+                 seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01,
+                 scoop: ScoopParams | None = None):
         """``directives``: the scenario's fixed models (the planning model is built from them);
         ``settle_time`` (s): when planning starts (the scan is taken then); ``ground_clearance``
         (m): the clearance grasps keep from the table, kept by the segments near the grasp too
         (less the IK's 1 mm tolerance); ``seed``: the planner's seed; ``bar_angle`` (rad): the
-        bar's angle before a grasp is chosen; ``period`` (s): how often the machine updates."""
+        bar's angle before a grasp is chosen; ``period`` (s): how often the machine updates;
+        ``scoop``: how a scoop presses on the table (its ``press_force`` and ``press_depth``)."""
         super().__init__()
         self._directives = list(directives)
         self._config = config
         self._hand = hand
+        self._scoop = scoop or ScoopParams()
         self._settle_time = float(settle_time)
         self._seed = int(seed)
         self._bar = float(bar_angle)
         self._near = PlanningModel(self._directives, padding=max(ground_clearance - 1e-3, 0.0))
         self._grasps = self.DeclareAbstractInputPort("grasps", AbstractValue.Make([]))
+        self._scoops = self.DeclareAbstractInputPort("scoop_grasps", AbstractValue.Make([]))
         self._fallback = self.DeclareAbstractInputPort("fallback_grasps", AbstractValue.Make([]))
         self._scan = self.DeclareAbstractInputPort(
             "scan", AbstractValue.Make(no_scan("not scanned yet")))
@@ -266,10 +277,42 @@ class PickAndCarry(LeafSystem):
 
     def _after_approach(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
-        self._move(s, Mode.INSERT, t, [plan.q["approach"], plan.q["grasp"]],
-                   velocity_scale=0.15, min_duration=1.0)
+        waypoints = [plan.q["approach"], plan.q["grasp"]]
+        if plan.kind == GraspKind.SCOOP:  # on down until the table pushes back (_during_insert)
+            waypoints.append(self._press_pose(plan))
+        self._move(s, Mode.INSERT, t, waypoints, velocity_scale=0.15, min_duration=1.0)
+
+    def _press_pose(self, plan: PickPlan) -> np.ndarray:
+        """The arm where a scoop's press ends at the latest: ``press_depth`` below the grasp."""
+        hand = HandPose(HOOK_GRIPPER.q_open, plan.bar)
+        X = self._near.X_WG(plan.q["grasp"], hand)
+        X_down = RigidTransform(X.rotation(), X.translation() - [0.0, 0.0, self._scoop.press_depth])
+        q = self._near.ik(X_down, plan.q["grasp"], hand)
+        return plan.q["grasp"] if q is None else q
+
+    def _during_insert(self, context, s: _State, t: float) -> bool:
+        """A scoop stops pressing once the table pushes the hand up with ``press_force`` (the
+        hand's load points down) and closes from there."""
+        plan = s.status.plan
+        if plan.kind != GraspKind.SCOOP or t < s.arm.end_time() - self._press_time(s) or \
+                -self._load.Eval(context)[2] < self._scoop.press_force:
+            return False
+        self._close(s, t, sample(s.arm, t)[0])
+        return True
+
+    def _press_time(self, s: _State) -> float:
+        """Seconds of the insert's last segment (the press) in its trajectory."""
+        breaks = s.arm.get_segment_times()
+        return breaks[-1] - breaks[-2] if len(breaks) >= 3 else 0.0
 
     def _after_insert(self, context, s: _State, t: float) -> None:
+        plan = s.status.plan
+        self._close(s, t, s.arm.value(s.arm.end_time()).ravel() if plan.kind == GraspKind.SCOOP
+                    else plan.q["grasp"])
+
+    def _close(self, s: _State, t: float, q_from: np.ndarray) -> None:
+        """CLOSE from the arm at ``q_from``: the planned close, or a scoop's from where its
+        press stopped (the hand moving along +y_G as each finger travels, at that height)."""
         plan = s.status.plan
         g = HOOK_GRIPPER
         # Hooks: close to the loop's closure (q_closed), squeezing with the force whatever stops
@@ -277,7 +320,14 @@ class PickAndCarry(LeafSystem):
         q_stop = g.q_closed if GraspKind(plan.kind).hooks else 0.5 * g.rod_width
         duration = (g.q_open - q_stop) / self._hand.speed
         s.command[:2] = [q_stop, self._hand.force]
-        arm = linear_move(plan.q["grasp"], plan.q["closed"], t, duration)
+        q_to = plan.q["closed"]
+        if plan.kind == GraspKind.SCOOP:
+            X = self._near.X_WG(q_from, HandPose(g.q_open, plan.bar))
+            X_to = RigidTransform(X.rotation(), X.translation() +
+                                  (g.q_open - g.q_closed) * X.rotation().col(1))
+            q_to = self._near.ik(X_to, q_from, HandPose(g.q_closed, plan.bar))
+            q_to = plan.q["closed"] if q_to is None else q_to
+        arm = linear_move(q_from, q_to, t, duration)
         self._enter(s, Mode.CLOSE, t, arm=arm, until=t + duration + 0.3)
 
     def _after_close(self, context, s: _State, t: float) -> None:
@@ -353,10 +403,10 @@ class PickAndCarry(LeafSystem):
         scan: ScanResult = self._scan.Eval(context)
         q_start = self._arm_state.Eval(context)[:7]
         setup = None
-        for fallback in (False, True):
-            port = self._fallback if fallback else self._grasps
-            if fallback and not port.HasValue(context):
-                break
+        for port in (self._grasps, self._scoops, self._fallback):
+            fallback = port is self._fallback
+            if port is not self._grasps and not port.HasValue(context):
+                continue
             start = time.perf_counter()
             grasps = port.Eval(context)  # runs GbH (or the sampler) on the scan, once
             s.status.grasps_seconds += time.perf_counter() - start
@@ -365,9 +415,15 @@ class PickAndCarry(LeafSystem):
             if grasps and setup is None:
                 setup = self._setup(scan)
             for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
+                if grasp.kind == GraspKind.SCOOP and setup.table_level is None:
+                    # A scoop touches the table by design: its last segments are checked
+                    # against everything else (the arm's own links, other models).
+                    setup.table_level = PlanningModel(without_table(self._directives),
+                                                      padding=0.0)
                 bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
                 start = time.perf_counter()
-                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar)
+                min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
+                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift)
                 s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
                 if isinstance(result, PickPlan):
                     return result, float(getattr(grasp, "score", float("nan"))), fallback

@@ -29,12 +29,14 @@ def test_an_unknown_method_names_the_known_ones():
     ("gbh", GBH, {"antipodal_sampler"}, BAR_DEPLOYED),
     ("antipodal", {"antipodal_sampler"}, GBH, BAR_RETRACTED),
     ("gbh_fallback", GBH | {"antipodal_sampler"}, set(), BAR_DEPLOYED),
+    ("gbh_scoop", GBH | {"scoop_synthesizer"}, {"antipodal_sampler"}, BAR_DEPLOYED),
 ])
 def test_each_method_adds_its_own_systems(name, present, absent, bar):
     trial = build_trial(Scenario(grasp_method=name))
     names = {s.get_name() for s in trial.diagram.GetSystems()}
     assert present <= names and not absent & names and "grasp_search" in names
     assert (trial.source.fallback is not None) == (name == "gbh_fallback")
+    assert (trial.source.scoop is not None) == (name == "gbh_scoop")
     plant = trial.station.plant
     bar_joint = plant.GetJointByName("bar_joint", plant.GetModelInstanceByName(GRIPPER))
     assert bar_joint.get_default_angle() == pytest.approx(bar)
@@ -77,3 +79,30 @@ def test_a_wrongly_wired_method_fails_when_the_trial_is_built():
     with pytest.raises(TypeError, match=r"scanner\.mesh_W \(ScanResult\) is connected to input "
                                         r"pick_and_carry\.grasps, which takes list"):
         build_trial(Scenario(), method=MisWired())
+
+
+def _bar_shape(trial):
+    plant = trial.station.plant
+    bar = plant.GetBodyByName("bar", plant.GetModelInstanceByName(GRIPPER))
+    (gid,) = plant.GetCollisionGeometriesForBody(bar)
+    return type(trial.station.scene_graph.model_inspector().GetShape(gid)).__name__
+
+
+def test_the_scoop_runs_with_the_wedge_gripper_and_the_others_with_the_papers():
+    assert _bar_shape(build_trial(Scenario(grasp_method="gbh_scoop"))) == "Mesh"
+    assert _bar_shape(build_trial(Scenario())) == "Box"
+    wedge = Scenario()
+    wedge.robot.gripper = "wedge"
+    assert _bar_shape(build_trial(wedge)) == "Mesh"
+
+
+@pytest.mark.trial
+def test_a_key_ring_lying_flat_is_scooped_and_caged():
+    """GbH has no grasp of a key ring lying flat (the bar cannot pass under it); the scoop slides
+    the wedge under the ring and the cage test finds it held on the closed loop."""
+    from gbh_drake.scenario.loader import apply_overrides
+
+    scenario = apply_overrides(Scenario(), "{grasp_method: gbh_scoop, object: {name: key_ring}}")
+    _, record = simulate_trial(build_trial(scenario))
+    assert record.grasp_kind == "scoop" and record.n_ranked == 0
+    assert record.outcome is Outcome.SUCCESS and record.held_by == "cage", record.reason

@@ -8,12 +8,15 @@ from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.systems.framework import DiagramBuilder
 
 from gbh_drake import MODELS_DIR, REPO_ROOT
-from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER, HookGripperGeometry
 from gbh_drake.modeling.gripper_sdf import (
     BAR_DEPLOYED,
     BAR_RETRACTED,
     GRIPPER_SDF,
+    WEDGE_BAR_OBJ,
+    WEDGE_GRIPPER_SDF,
     make_gripper_sdf,
+    wedge_bar_obj,
 )
 from gbh_drake.modeling.package_map import make_parser
 
@@ -22,6 +25,19 @@ def test_sdf_on_disk_is_generated_from_the_geometry_module():
     assert GRIPPER_SDF.read_text() == make_gripper_sdf(), (
         "models/hook_gripper.sdf is stale: run python -m gbh_drake.modeling.gripper_sdf"
     )
+
+
+def test_wedge_variant_on_disk_is_generated_from_the_geometry_module():
+    assert WEDGE_GRIPPER_SDF.read_text() == make_gripper_sdf(WEDGE_GRIPPER)
+    assert WEDGE_BAR_OBJ.read_text() == wedge_bar_obj()
+
+
+def test_wedge_nose_is_bounded_by_the_rod_width():
+    with pytest.raises(ValueError, match="bar_nose"):
+        HookGripperGeometry(bar_nose=0.009)
+    assert HOOK_GRIPPER.bar_nose == 0.0
+    assert {b.name for b in HOOK_GRIPPER.solid_boxes_G()} == \
+        {"hand", "straight_rod", "l_rod", "bar"}
 
 
 def test_arm_urdf_is_current():
@@ -33,10 +49,10 @@ def test_arm_urdf_is_current():
     assert (MODELS_DIR / "panda_arm.urdf").read_text() == module.make_urdf()
 
 
-def _gripper_plant():
+def _gripper_plant(sdf=GRIPPER_SDF):
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, 0.001)
-    (gripper,) = make_parser(plant).AddModels(str(GRIPPER_SDF))
+    (gripper,) = make_parser(plant).AddModels(str(sdf))
     plant.WeldFrames(plant.world_frame(), plant.GetFrameByName("panda_hand"))
     plant.Finalize()
     diagram = builder.Build()
@@ -117,3 +133,42 @@ def test_closed_gripper_closes_the_loop():
     bar_tip = boxes["bar"].center[1] + boxes["bar"].half_extents[1]
     rod_face = boxes["straight_rod"].center[1] - boxes["straight_rod"].half_extents[1]
     assert bar_tip == pytest.approx(rod_face)
+
+
+@pytest.mark.parametrize("q", [WEDGE_GRIPPER.q_open, WEDGE_GRIPPER.q_closed])
+def test_wedge_bar_in_the_model_is_the_geometry_modules(q):
+    """The wedge model's bar is a compliant convex mesh whose points lie in the solid model's
+    bar and nose boxes and fill their extent; the rest of the model is the paper's."""
+    import trimesh
+    from pydrake.geometry import Mesh
+
+    diagram, plant, scene_graph, gripper = _gripper_plant(WEDGE_GRIPPER_SDF)
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyContextFromRoot(context)
+    plant.SetPositions(plant_context, gripper, [q, q, BAR_DEPLOYED])
+    inspector = scene_graph.model_inspector()
+    G = plant.GetFrameByName("G")
+    bar = plant.GetBodyByName("bar")
+    (gid,) = plant.GetCollisionGeometriesForBody(bar)
+    assert isinstance(inspector.GetShape(gid), Mesh)
+    props = inspector.GetProximityProperties(gid)
+    assert props.HasProperty("hydroelastic", "compliance_type")
+    assert props.GetProperty("hydroelastic", "hydroelastic_modulus") > 0
+    X_GGeom = plant.CalcRelativeTransform(plant_context, G, bar.body_frame()) @ \
+        inspector.GetPoseInFrame(gid)
+    mesh = trimesh.load(str(WEDGE_BAR_OBJ), process=False)
+    p_G = trimesh.transform_points(mesh.vertices, X_GGeom.GetAsMatrix4())
+    boxes = [b for b in WEDGE_GRIPPER.solid_boxes_G(q) if b.name in ("bar", "bar_nose")]
+    lo = np.min([np.subtract(b.center, b.half_extents) for b in boxes], axis=0)
+    hi = np.max([np.add(b.center, b.half_extents) for b in boxes], axis=0)
+    np.testing.assert_allclose(p_G.min(axis=0), lo, atol=1e-9)
+    np.testing.assert_allclose(p_G.max(axis=0), hi, atol=1e-9)
+    # The nose's sharp edge is the bar's outer face (farthest from the palm), past the tip p1.
+    tip = p_G[np.argmax(p_G[:, 1])]
+    assert tip[2] == pytest.approx(WEDGE_GRIPPER.finger_length + 0.5 * WEDGE_GRIPPER.rod_width)
+    p1 = WEDGE_GRIPPER.keypoints_G(q)["p1"]
+    assert tip[1] == pytest.approx(p1[1] + WEDGE_GRIPPER.bar_nose)
+    # Closed, the nose ends flush with the straight rod's outer face (it passes into its slot).
+    if q == WEDGE_GRIPPER.q_closed:
+        rod = {b.name: b for b in WEDGE_GRIPPER.solid_boxes_G(q)}["straight_rod"]
+        assert tip[1] == pytest.approx(rod.center[1] + rod.half_extents[1])
