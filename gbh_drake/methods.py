@@ -16,7 +16,12 @@ Shipped (``Scenario.grasp_method``):
 * ``gbh_fallback`` (:class:`GbhFallback`): GbH, then an antipodal grasp with the bar folded
   when GbH offers nothing reachable (the revolute joint the paper's Sec. 4 proposes);
 * ``gbh_scoop`` (:class:`GbhScoop`, beyond the paper): GbH, then a scoop of material lying flat
-  on the table (the wedge gripper's bar slid under it, :mod:`gbh_drake.core.scoop`).
+  on the table (the wedge gripper's bar slid under it, :mod:`gbh_drake.core.scoop`);
+* ``gbh_regrasp`` (:class:`GbhRegrasp`, beyond the paper): GbH, then, when it finds a structure
+  but no hook grasp of the object as it lies, a regrasp: a pinch sets the object down in a
+  resting pose in which GbH can hook it, a re-scan, and GbH on the new scan;
+* ``gbh_plus`` (:class:`GbhPlus`, beyond the paper): all of it in one: GbH, the scoop, the
+  regrasp, then the antipodal fallback.
 
 :class:`GivenGrasps` executes grasps of your own through another method's diagram.
 :func:`register_method` adds a method of your own to the registry.
@@ -40,6 +45,7 @@ from gbh_drake.systems.grasp_scorer import GraspScorer
 from gbh_drake.systems.grasp_search import GraspSearchReport
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.hangability_detector import HangabilityDetector
+from gbh_drake.systems.regrasp_planner import RegraspPlanner
 from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
 
 
@@ -50,6 +56,8 @@ class GraspSource:
     ``grasps``: the grasps to try, best first (lists of objects with ``X_WG`` and ``kind``);
     ``search``: why there are none (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`);
     ``scoop``: scoops tried when none of ``grasps`` could be planned (None: no scoop);
+    ``regrasp_poses`` and ``regrasp_grasps``: resting poses to set the object down in and the
+    pinches to do it with, when none of those could be planned (None: no regrasp);
     ``fallback``: grasps tried when none of those could be planned (None: no fallback);
     ``hanging_structures`` and ``candidates``: GbH's detector and synthesizer outputs (None
     for a method without GbH); ``systems``: the added systems by name."""
@@ -58,6 +66,8 @@ class GraspSource:
     search: OutputPort
     fallback: OutputPort | None = None
     scoop: OutputPort | None = None
+    regrasp_poses: OutputPort | None = None
+    regrasp_grasps: OutputPort | None = None
     hanging_structures: OutputPort | None = None
     candidates: OutputPort | None = None
     systems: dict[str, System] = field(default_factory=dict)
@@ -111,6 +121,15 @@ def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> Scoop
                  ScoopSynthesizer(scenario.gbh, scenario.scoop))
     builder.Connect(systems["hangability_detector"].get_output_port(), scoop.get_input_port())
     return scoop
+
+
+def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
+                 systems: dict[str, System]) -> RegraspPlanner:
+    """The resting poses in which GbH can hook the scanned object."""
+    planner = _add(builder, systems, "regrasp_planner", RegraspPlanner(
+        scenario.gbh, scenario.regrasp, seed=seeds.sampling))
+    builder.Connect(systems["hangability_detector"].get_output_port(), planner.get_input_port())
+    return planner
 
 
 def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
@@ -190,6 +209,43 @@ class GbhScoop(GraspMethod):
         return _gbh_source(systems, report, scoop=scoop.GetOutputPort("scoop_grasps"))
 
 
+class GbhRegrasp(GraspMethod):
+    """GbH first; when it finds a structure but no hook grasp can be executed, a pinch (the bar
+    folded) sets the object down in a resting pose in which GbH can hook it, the object is
+    scanned again and GbH hooks it there (beyond the paper). Only a hook carries the object."""
+
+    name = "gbh_regrasp"
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        _add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = _add_regrasp(builder, scenario, seeds, systems)
+        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
+        return _gbh_source(systems, report, regrasp_poses=planner.get_output_port(),
+                           regrasp_grasps=sampler.get_output_port())
+
+
+class GbhPlus(GraspMethod):
+    """Everything in one (beyond the paper): GbH; then a scoop of material lying flat; then a
+    regrasp into a pose GbH can hook; then the antipodal fallback, bar folded."""
+
+    name = "gbh_plus"
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        _add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = _add_scoop(builder, scenario, systems)
+        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = _add_regrasp(builder, scenario, seeds, systems)
+        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+                             fallback=True)
+        return _gbh_source(systems, report, scoop=scoop.GetOutputPort("scoop_grasps"),
+                           regrasp_poses=planner.get_output_port(),
+                           regrasp_grasps=sampler.get_output_port(),
+                           fallback=sampler.get_output_port())
+
+
 class GivenGrasps(GraspMethod):
     """Executes ``grasps`` (each with ``X_WG`` and ``kind``), through the diagram of ``method``
     (default GbH: its scan analysis still runs and is recorded), instead of its own grasps: a
@@ -206,6 +262,7 @@ class GivenGrasps(GraspMethod):
         given = _add(builder, source.systems, "given_grasps",
                      ConstantValueSource(AbstractValue.Make(self.grasps)))
         source.grasps, source.fallback, source.scoop = given.get_output_port(), None, None
+        source.regrasp_poses = source.regrasp_grasps = None
         return source
 
 
@@ -236,5 +293,5 @@ def method_names() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop()):
+for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhPlus()):
     register_method(_method)

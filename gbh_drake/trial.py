@@ -25,7 +25,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from pydrake.geometry import Meshcat
-from pydrake.math import RollPitchYaw
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
 
@@ -111,6 +111,13 @@ class TrialRecord:
     """The best offered grasp's score (rank 0 of the list the executed grasp came from): a
     grasp executed far below it is counted in the report."""
     fallback: bool = False
+    grasp_source: str = ""
+    """The list the executed grasp came from: ``grasps`` (the method's, e.g. GbH's ranked),
+    ``scoop_grasps`` or ``fallback_grasps``; "" if none was executed."""
+    regrasps: list[dict] = field(default_factory=list)
+    """Each regrasp done before the judged pick (beyond the paper): the pinch's rank, the
+    resting pose's turn (deg), probability and GbH's best score there, the extra yaw (deg),
+    where it was set down (W, m) and when it began and ended (simulated s)."""
     refusals: dict[str, int] = field(default_factory=dict)
     """How many tried grasps were refused for each reason (``ik:lift``, ``planner:transfer``)."""
     refusal_texts: list[str] = field(default_factory=list)
@@ -170,10 +177,15 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     pick = builder.AddNamedSystem("pick_and_carry", PickAndCarry(
         scenario.station_directives(), scenario.pick, scenario.robot.hand,
         settle_time=scenario.settle_time, ground_clearance=scenario.gbh.ground_clearance,
-        seed=seeds.planner, bar_angle=method.bar_angle, scoop=scenario.scoop))
+        seed=seeds.planner, bar_angle=method.bar_angle, scoop=scenario.scoop,
+        regrasp=scenario.regrasp, scan_height=scenario.scan_target[2]))
     builder.Connect(source.grasps, pick.GetInputPort("grasps"))
-    if source.scoop is not None:
-        builder.Connect(source.scoop, pick.GetInputPort("scoop_grasps"))
+    for port, name in ((source.scoop, "scoop_grasps"), (source.regrasp_poses, "regrasp_poses"),
+                       (source.regrasp_grasps, "regrasp_grasps")):
+        if port is not None:
+            builder.Connect(port, pick.GetInputPort(name))
+    # A regrasp sets the object down anew and asks the Scanner for a new scan.
+    builder.Connect(pick.GetOutputPort("scan_request"), scanner.GetInputPort("scan_request"))
     if source.fallback is not None:
         builder.Connect(source.fallback, pick.GetInputPort("fallback_grasps"))
     builder.Connect(scan, pick.GetInputPort("scan"))
@@ -310,13 +322,19 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
     offered = _port_value(source.grasps, context)
     search = _port_value(source.search, context) if not offered else None
     X = station.X_WO_initial
+    if verdict.planned_poses:  # where it was scanned last (after a regrasp: set down anew)
+        x, y, z, roll, pitch, yaw = verdict.planned_poses[-1]
+        X = RigidTransform(RollPitchYaw(roll, pitch, yaw), [x, y, z])
     refusals: dict[str, int] = {}
     for r in status.refusals:
         refusals[r.key] = refusals.get(r.key, 0) + 1
     plan = status.plan
     on_part = _on_true_part(station.asset, X)
-    executed = offered[plan.rank] if plan and not status.fallback and \
-        plan.rank < len(offered) and hasattr(offered[plan.rank], "structure") else None
+    port = {"grasps": source.grasps, "scoop_grasps": source.scoop,
+            "fallback_grasps": source.fallback}.get(status.source)
+    chosen = _port_value(port, context) if port is not None else []
+    executed = chosen[plan.rank] if plan and plan.rank < len(chosen) and \
+        hasattr(chosen[plan.rank], "structure") else None
     known = bool(station.asset.hangable_parts) and hangability is not None
     return TrialRecord(
         object=station.asset.name, source=station.asset.source,
@@ -336,9 +354,9 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         grasped_true_part=None if not station.asset.hangable_parts or executed is None else
         on_part(executed.structure.c),
         grasp_rank=plan.rank if plan else -1, grasp_kind=plan.kind if plan else "",
-        grasp_score=status.score, best_score=_best_score(
-            _port_value(source.fallback, context) if status.fallback else offered),
-        fallback=status.fallback, refusals=refusals,
+        grasp_score=status.score, best_score=_best_score(chosen),
+        fallback=status.fallback, grasp_source=status.source,
+        regrasps=[_regrasp_entry(r, status) for r in status.regrasps], refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),
         lift_needed=float(getattr(plan, "lift_needed", float("nan"))) if plan else float("nan"),
@@ -355,6 +373,16 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
                  "simulate": wall},
         warnings=list(station.asset.warnings),
     )
+
+
+def _regrasp_entry(plan, status: PickStatus) -> dict:
+    """A regrasp's record entry (see :attr:`TrialRecord.regrasps`)."""
+    return {"pinch_rank": plan.rank, "turn_deg": float(plan.pose.turn_deg),
+            "probability": float(plan.pose.probability),
+            "best_score": float(plan.pose.best_score), "yaw_deg": float(plan.yaw_deg),
+            "place": [float(v) for v in plan.place_W],
+            "started": float(status.phase_start.get("regrasp_approach", float("nan"))),
+            "rescanned": float(status.phase_start.get("rescan", float("nan")))}
 
 
 def _best_score(grasps) -> float:

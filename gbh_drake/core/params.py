@@ -365,3 +365,21 @@ class ScoopParams:
     many object points while closing (material they would push instead of the wedge lifting it)."""
     min_scooped: int = ranged(1, Int(1, 50_000))
     """At least this many object points must lie in the bar's path (something to scoop)."""
+
+
+@dataclass
+class RegraspParams:
+    """The regrasp (beyond the paper, :mod:`gbh_drake.core.regrasp`): when GbH finds a hanging
+    structure but no hook grasp of the object as it lies, pick it with a pinch (the bar folded),
+    set it down in a resting pose in which GbH can hook it, re-scan and hook it."""
+
+    max_regrasps: int = ranged(1, Int(0, 3, "each regrasp is a pick-and-place and a re-scan"))
+    """How many times an object may be set down anew before the trial gives up (0: never)."""
+    min_turn_deg: float = ranged(15.0, Range(0.0, 180.0, unit="deg"))
+    """Degrees: resting poses this close to the present one are not offered (the same pose)."""
+    min_probability: float = ranged(0.02, Range(0.0, 1.0))
+    """Resting poses less probable than this are not offered (they tip over at a touch)."""
+    max_poses: int = ranged(3, Int(1, 20))
+    """At most this many resting poses are planned for, best first."""
+    max_pinches: int = ranged(5, Int(1, 100))
+    """At most this many of the fallback's pinches are planned for each resting pose."""

@@ -10,8 +10,10 @@ footprint at ``place_xy``, its lowest point on the table), runs the pipeline on 
 (:func:`gbh_drake.core.pipeline.plan_grasps`, the same params) and returns the poses that offer
 a hook grasp, best first:
 
-1. fewest degrees to turn (the hand turns the object with it while it holds a fallback pinch:
-   the smaller the turn, the likelier the arm can do it and the pinch holds);
+1. fewest degrees to turn, in steps of :data:`TURN_STEP_DEG` (the hand turns the object with it
+   while it holds a fallback pinch: the smaller the turn, the likelier the arm can do it and
+   the pinch holds; turns a few degrees apart are alike: a scan's resting poses of one object
+   differ by that much);
 2. then the best GbH score of the pose (paper Sec. 2.4);
 3. then the most probable orientation.
 
@@ -31,6 +33,9 @@ import trimesh
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.results import GbhInputError
+
+#: Degrees: turns are compared in steps of this (a 85 deg turn is not preferred to a 90 deg one).
+TURN_STEP_DEG = 30.0
 
 
 @dataclass
@@ -111,5 +116,6 @@ def choose_regrasp_pose(
         if result.ranked:
             out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
                                    float(result.ranked[0].score), i))
-    out.sort(key=lambda p: (round(p.turn_deg, 6), -p.best_score, -p.probability, p.index))
+    out.sort(key=lambda p: (int(round(p.turn_deg, 6) // TURN_STEP_DEG), -p.best_score,
+                            -p.probability, p.index))
     return out

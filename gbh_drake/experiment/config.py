@@ -576,6 +576,26 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
     return tasks
 
 
+def trial_scenario(experiment: Experiment | str | Path, object_name: str, method: str,
+                   trial: int, protocol: str = "stable") -> Scenario:
+    """The scenario of one trial of ``experiment`` (or of the experiment file at that path):
+    ``method``'s scenario with the object, pose distribution and seed of (object, trial,
+    protocol): the trial :func:`make_tasks` runs, to run again alone or to change (another
+    ``grasp_method`` on the same pose). Raises :class:`ExperimentError` for an unknown method."""
+    if not isinstance(experiment, Experiment):
+        experiment = load_experiment(experiment)
+    experiment = copy.copy(experiment)
+    experiment.objects = [object_name]
+    by_name = {m.name: m for m in experiment.methods}
+    if method not in by_name:
+        raise ExperimentError(f"{experiment.source_path or '<experiment>'}: methods: no method "
+                              f"{method!r} (known: {', '.join(by_name)})")
+    experiment.methods = [by_name[method]]
+    scenario = copy.deepcopy(method_scenarios(experiment)[method])
+    _set_trial(scenario, experiment, object_name, trial, protocol)
+    return scenario
+
+
 def experiment_yaml(experiment: Experiment) -> str:
     """The resolved experiment as YAML (written into its folder; ``gbh report`` reads it)."""
     experiment = copy.copy(experiment)

@@ -101,6 +101,9 @@ class ScanResult:
     taken_at: float = float("nan")
     """Simulated time (s) at which the ``Scanner`` took the scan; nan for a scan taken outside a
     simulation and for the Scanner's "not scanned yet" placeholder."""
+    request: int = 0
+    """Which scan request this answers: 0 for the Scanner's first scan, n for the scan taken on
+    its ``scan_request`` input's n-th request (a re-scan after the object was set down anew)."""
     reframes: int = 0
     """How many times the views were re-framed because the object reached the edge of the
     region framed by the first look (see ``ScanConfig.reframe_tries``)."""

@@ -198,7 +198,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         # The scooped material rides up the wedge onto the bar: relative to the loop it ends
         # one rod width higher than the scan saw it, so it is caged by the loop one rod width
         # lower (the predicted contact is then that much low: the lift errs high).
-        X_loop = _shifted(X_WG, g.rod_width * approach_W)
+        X_loop = shifted(X_WG, g.rod_width * approach_W)
     rest = rest_on_loop(setup.points_W, setup.com_W, X_loop.GetAsMatrix4(), kind,
                         hook_W=hook_W) if hook else None
     if rest is not None:
@@ -214,7 +214,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     tries += [dz for dz in np.linspace(floor, max(cfg.min_lift, 0.5 * top), 3)[1:] if dz < floor]
     q["lift"], lift, failed = None, top, top
     for dz in tries:
-        q["lift"] = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
+        q["lift"] = ik(shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
         if q["lift"] is not None:
             lift = float(dz)
             break
@@ -223,7 +223,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         # Short of the need: as high as the arm reaches (bisection between the heights tried).
         while failed - lift > LIFT_RESOLUTION:
             dz = 0.5 * (lift + failed)
-            q_up = ik(_shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
+            q_up = ik(shifted(X_closed, [0.0, 0.0, dz]), q["closed"], closed_hand)
             if q_up is None:
                 failed = dz
             else:
@@ -274,7 +274,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         carry_height - hook_W[2]
     q["place"] = None
     for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
-        q_place = ik(_shifted(X_carry, [0.0, 0.0, -max(down, 0.0)]), q["carry"], closed_hand)
+        q_place = ik(shifted(X_carry, [0.0, 0.0, -max(down, 0.0)]), q["carry"], closed_hand)
         if q_place is not None and (not cfg.plan_paths or
                                     setup.near.edge_free(q["carry"], q_place, closed_hand)):
             q["place"] = q_place
@@ -294,29 +294,9 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     a, b, hand):
                 return refuse("collision", name)
 
-    # The approach pose, backed off until clear of the object's hull, and the transfer to it.
-    distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
-    transfer, blocked = None, "approach"
-    for distance in distances if setup.far is not None else distances[:1]:
-        q_approach = ik(_shifted(X_WG, -distance * approach_W), q["grasp"], open_hand,
-                        restarts=1)
-        if q_approach is None:
-            blocked = "approach"
-            continue
-        if setup.far is None:
-            transfer = [np.asarray(q_start, dtype=float), q_approach]
-            break
-        if not check.edge_free(q_approach, q["grasp"], open_hand):
-            continue
-        if not setup.far.free(q_approach, open_hand):
-            continue
-        transfer = plan_rrt_connect(setup.far, q_start, q_approach, open_hand, seed=setup.seed,
-                                    max_iterations=cfg.planner_iterations)
-        if transfer is not None:
-            break
-        blocked = "planner"
-    if transfer is None:
-        return refuse(blocked, "transfer" if blocked == "planner" else "grasp")
+    transfer = approach_transfer(setup, X_WG, q["grasp"], open_hand, q_start, check)
+    if isinstance(transfer, str):
+        return refuse(transfer, "transfer" if transfer == "planner" else "grasp")
     q["approach"] = transfer[-1]
     place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
         X_closed.inverse().multiply(hook_W))  # the hook point at the release
@@ -324,6 +304,40 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     keep_straight_rod, carry=carry, carry_low=carry_low, lift_needed=need,
                     drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
                     notes=notes)
+
+
+def approach_transfer(setup: PickSetup, X_WG: RigidTransform, q_grasp: np.ndarray,
+                      open_hand: HandPose, q_start: np.ndarray, check: PlanningModel | None = None
+                      ) -> list[np.ndarray] | str:
+    """The transfer from ``q_start`` to the approach pose of the grasp at ``X_WG`` (arm at
+    ``q_grasp`` there): the pre-grasp pose backed off along -z_G from ``approach_distance``
+    in :data:`APPROACH_STEP` steps until it is clear of the object's hull (``setup.far``) and
+    its descent is free (``check``, default ``setup.near``), reached by RRT-Connect (a straight
+    move without ``setup.far``). Returns the waypoints (``q_start`` first, the approach last),
+    or why there is none: ``approach`` (no clear, reachable pre-grasp pose) or ``planner``."""
+    cfg = setup.config
+    check = check or setup.near
+    approach_W = X_WG.rotation().col(2)
+    distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
+    blocked = "approach"
+    for distance in distances if setup.far is not None else distances[:1]:
+        q_approach = setup.near.ik(shifted(X_WG, -distance * approach_W), q_grasp, open_hand,
+                                   restarts=1)
+        if q_approach is None:
+            blocked = "approach"
+            continue
+        if setup.far is None:
+            return [np.asarray(q_start, dtype=float), q_approach]
+        if not check.edge_free(q_approach, q_grasp, open_hand):
+            continue
+        if not setup.far.free(q_approach, open_hand):
+            continue
+        transfer = plan_rrt_connect(setup.far, q_start, q_approach, open_hand, seed=setup.seed,
+                                    max_iterations=cfg.planner_iterations)
+        if transfer is not None:
+            return transfer
+        blocked = "planner"
+    return blocked
 
 
 def hook_heights(model: PlanningModel, q_a, q_b, hand: HandPose, hook_G,
@@ -455,7 +469,7 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     def step(q_from, X_from, moves, hand=open_hand):
         """The first of ``moves`` (W offsets) with an IK solution and a free edge."""
         for d_W in moves:
-            X_to = _shifted(X_from, d_W)
+            X_to = shifted(X_from, d_W)
             q = model.ik(X_to, q_from, hand)
             if q is not None and model.edge_free(q_from, q, hand):
                 return q, X_to
@@ -474,5 +488,5 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     return q
 
 
-def _shifted(X: RigidTransform, d_W) -> RigidTransform:
+def shifted(X: RigidTransform, d_W) -> RigidTransform:
     return RigidTransform(X.rotation(), X.translation() + np.asarray(d_W, dtype=float))

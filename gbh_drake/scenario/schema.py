@@ -21,7 +21,7 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
-from gbh_drake.core.params import AntipodalParams, GbhParams, ScoopParams
+from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams, ScoopParams
 from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
 from gbh_drake.modeling.names import GRIPPER_FILES, TABLE
 from gbh_drake.perception.config import ScanConfig
@@ -71,10 +71,14 @@ def without_table(directives: list[ModelDirective]) -> list[ModelDirective]:
 #: * ``gbh_fallback``: GbH, and when it finds nothing hangable or nothing reachable, an antipodal
 #:   grasp with the bar retracted (the revolute joint the paper proposes in Sec. 4).
 #: * ``gbh_scoop`` (beyond the paper): GbH, then a scoop of material lying flat on the table
-#:   (the wedge bar slid under it at table level, :mod:`gbh_drake.core.scoop`).
-GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop")
+#:   (the wedge bar slid under it at table level, :mod:`gbh_drake.core.scoop`);
+#: * ``gbh_regrasp`` (beyond the paper): GbH, then, when it finds a structure but no hook grasp
+#:   of the object as it lies, a pinch sets it down in a resting pose GbH can hook, a re-scan,
+#:   GbH again (:mod:`gbh_drake.core.regrasp`);
+#: * ``gbh_plus`` (beyond the paper): GbH, the scoop, the regrasp, then the antipodal fallback.
+GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop", "gbh_regrasp", "gbh_plus")
 #: The gripper each method needs where it is not the paper's (``robot.gripper: auto``).
-METHOD_GRIPPERS = {"gbh_scoop": "wedge"}
+METHOD_GRIPPERS = {"gbh_scoop": "wedge", "gbh_plus": "wedge"}
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
@@ -343,8 +347,11 @@ class Scenario:
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
     scoop: ScoopParams = field(default_factory=ScoopParams)
-    """The scoop of material lying flat (method ``gbh_scoop``): which structures, the wedge's
-    rules, the press on the table."""
+    """The scoop of material lying flat (methods ``gbh_scoop``, ``gbh_plus``): which structures,
+    the wedge's rules, the press on the table."""
+    regrasp: RegraspParams = field(default_factory=RegraspParams)
+    """The regrasp (methods ``gbh_regrasp``, ``gbh_plus``): how often, which resting poses, how
+    many pinches are planned for."""
     pick: PickConfig = field(default_factory=PickConfig)
     """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
     monitor: MonitorConfig = field(default_factory=MonitorConfig)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
@@ -135,6 +135,9 @@ class Verdict:
     """Whether the bar was out (a hook) during the cage test; folded: two straight rods."""
     settled_at: list[float] = field(default_factory=list)
     """The object's position (W) when planning began (after settling, when it was scanned)."""
+    planned_poses: list[list[float]] = field(default_factory=list)
+    """The object's pose (W: x, y, z m, roll, pitch, yaw rad) each time planning began: once,
+    or once more after each regrasp (where it was set down anew and scanned again)."""
     released_at: list[float] = field(default_factory=list)
     """The object's position (W) at the end, after release."""
     released_on_table: bool = False
@@ -266,7 +269,9 @@ class CageMonitor(LeafSystem):
         w = observe(w, status, Observation(
             t=context.get_time(), p_WO=X_WO.translation().tolist(),
             low=self.lowest_point(X_WO), gripper=gripper, table=table,
-            hand=np.asarray(self._hand.Eval(context)), squeeze=squeeze),
+            hand=np.asarray(self._hand.Eval(context)), squeeze=squeeze,
+            pose=[*X_WO.translation().tolist(),
+                  *RollPitchYaw(X_WO.rotation()).vector().tolist()]),
             self._config, self._bar_max, search)
         state.get_mutable_abstract_state(self._watch).set_value(w)
 
@@ -274,7 +279,8 @@ class CageMonitor(LeafSystem):
 class Observation:
     """One look at the scene: time (s), the object's origin p_WO (m), its lowest point's height
     above the table ``low`` (m), the gripper bodies touching it, whether the table does, the
-    gripper's state ``hand`` (6) and the fingers' squeeze (N, positive closing)."""
+    gripper's state ``hand`` (6) and the fingers' squeeze (N, positive closing); ``pose``: the
+    object's x, y, z (m), roll, pitch, yaw (rad)."""
 
     t: float
     p_WO: list[float]
@@ -283,6 +289,7 @@ class Observation:
     table: bool
     hand: np.ndarray
     squeeze: float
+    pose: list[float] = field(default_factory=list)
 
 
 def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
@@ -300,8 +307,9 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     if gripper:
         seen = set(v.touching.get(mode.value, [])) | gripper
         v.touching = {**v.touching, mode.value: sorted(seen)}
-    if mode == Mode.PLAN and not v.settled_at:
-        v.settled_at = list(o.p_WO)
+    if mode == Mode.PLAN and w.last_phase != Mode.PLAN.value:
+        v.settled_at = v.settled_at or list(o.p_WO)
+        v.planned_poses = [*v.planned_poses, list(o.pose)]
     if mode in _AIRBORNE and not w.dropped:
         if not w.lifted and low >= cfg.lifted_height and mode in _CARRIED:
             w.lifted, v.lifted_at = True, t
@@ -349,9 +357,10 @@ def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
     grasp to try, ``search`` says why."""
     v = w.verdict
     mode = status.mode
+    regrasp = f"; regrasp: {status.regrasp_note}" if status.regrasp_note else ""
     if mode == Mode.NO_GRASP:
         search = search or GraspSearch()
-        v.outcome, v.reason = search.outcome, search.reason
+        v.outcome, v.reason = search.outcome, search.reason + regrasp
         return
     if mode == Mode.NO_REACHABLE_GRASP:
         counts: dict[str, int] = {}
@@ -359,7 +368,8 @@ def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
             counts[r.key] = counts.get(r.key, 0) + 1
         why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
         v.outcome = Outcome.NO_REACHABLE_GRASP
-        v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
+        v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})" \
+            + regrasp
         return
     order = [m.value for m in Mode]
     reached = order.index(mode.value)

@@ -8,6 +8,11 @@ state and time. Modes, in order::
     SETTLE -> PLAN -> APPROACH -> INSERT -> CLOSE -> LIFT -> CARRY -> HOLD -> CAGE_TEST
            -> LOWER -> RELEASE -> RETREAT -> DONE
 
+and, for a regrasp (beyond the paper), before the pick::
+
+    PLAN -> REGRASP_APPROACH -> REGRASP_INSERT -> REGRASP_CLOSE -> REGRASP_LIFT -> REGRASP_TURN
+         -> REGRASP_LOWER -> REGRASP_RELEASE -> REGRASP_RETREAT -> REGRASP_HOME -> RESCAN -> PLAN
+
 PLAN reads the ranked grasps (evaluating them runs the scan and the grasp pipeline once) and
 tries them in order from the measured configuration (:func:`gbh_drake.planning.pick.plan_pick`),
 keeping each refusal's reason; with a ``scoop_grasps`` input connected, those are tried next
@@ -16,7 +21,13 @@ keeping each refusal's reason; with a ``scoop_grasps`` input connected, those ar
 last). When nothing can be planned the machine ends in NO_GRASP or NO_REACHABLE_GRASP. A scoop's
 INSERT goes on down past the grasp pose until the table pushes the hand up with the scoop's
 ``press_force`` (the wrist load, as Franka senses it; at most ``press_depth``) and it closes
-from there, at table level. CLOSE drives the
+from there, at table level. When no grasp of ``grasps`` or ``scoop_grasps`` can be planned and
+the ``regrasp_poses`` and ``regrasp_grasps`` inputs are connected (beyond the paper), the machine
+plans a regrasp (:func:`gbh_drake.planning.regrasp.plan_regrasp`): it picks the object with one
+of ``regrasp_grasps`` (a pinch, the bar folded), turns it into the first of ``regrasp_poses`` the
+arm reaches, lowers it until the hand's load drops, lets go, backs off, goes home, asks the
+Scanner for a new scan (its ``scan_request`` output) and, once it has it, plans again from the
+new scan's grasps; at most ``RegraspParams.max_regrasps`` times. CLOSE drives the
 fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
@@ -38,7 +49,7 @@ from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
-from gbh_drake.core.params import ScoopParams
+from gbh_drake.core.params import RegraspParams, ScoopParams
 from gbh_drake.core.results import GraspKind
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.planning.model import HandPose, PlanningModel
@@ -49,6 +60,7 @@ from gbh_drake.planning.pick import (
     plan_pick,
     release_path,
 )
+from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
 from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
 from gbh_drake.scenario.schema import HandConfig, PickConfig, without_table
 from gbh_drake.systems.scanner import no_scan, scan_pending
@@ -63,6 +75,17 @@ MIN_SENSED_LOAD = 0.3
 class Mode(enum.Enum):
     SETTLE = "settle"
     PLAN = "plan"
+    # A regrasp (pick with a pinch, set down anew, re-scan), before the pick that is judged.
+    REGRASP_APPROACH = "regrasp_approach"
+    REGRASP_INSERT = "regrasp_insert"
+    REGRASP_CLOSE = "regrasp_close"
+    REGRASP_LIFT = "regrasp_lift"
+    REGRASP_TURN = "regrasp_turn"
+    REGRASP_LOWER = "regrasp_lower"
+    REGRASP_RELEASE = "regrasp_release"
+    REGRASP_RETREAT = "regrasp_retreat"
+    REGRASP_HOME = "regrasp_home"
+    RESCAN = "rescan"
     APPROACH = "approach"
     INSERT = "insert"
     CLOSE = "close"
@@ -97,6 +120,9 @@ class PickStatus:
     """The executed grasp's score."""
     fallback: bool = False
     """Whether the executed grasp came from ``fallback_grasps``."""
+    source: str = ""
+    """The input port the executed grasp came from (``grasps``, ``scoop_grasps``,
+    ``fallback_grasps``; "" until one is planned)."""
     refusals: list[Refusal] = field(default_factory=list)
     """Every grasp that was tried and could not be planned, with its reason."""
     plan_seconds: float = 0.0
@@ -105,6 +131,10 @@ class PickStatus:
     """Wall seconds planning each grasp tried, in order."""
     grasps_seconds: float = 0.0
     """Wall seconds the grasps' evaluation took (GbH or the antipodal sampler on the scan)."""
+    regrasps: list[RegraspPlan] = field(default_factory=list)
+    """The regrasps executed (each a pick-and-place into a resting pose, then a re-scan)."""
+    regrasp_note: str = ""
+    """Why a regrasp the method offered was not executed ("" if it was, or none was offered)."""
 
     @property
     def phase(self) -> str:
@@ -132,6 +162,10 @@ class _State(CopiedShallowly):
     release: dict | None = None
     """The release's configurations (``place``, ``opened``, ``down``, ``slide``, ``retreat``)
     when the object was set down before the planned place pose."""
+    q_home: np.ndarray = field(default_factory=lambda: np.zeros(7))
+    """The arm where it started (where it goes before a re-scan)."""
+    scan_request: np.ndarray = field(default_factory=lambda: np.zeros(4))
+    """The ``scan_request`` output: [n, x, y, z] (n: scans asked for since the first)."""
 
 
 class PickAndCarry(LeafSystem):
@@ -143,6 +177,8 @@ class PickAndCarry(LeafSystem):
         input_ports:
         - grasps
         - scoop_grasps (optional)
+        - regrasp_poses (optional)
+        - regrasp_grasps (optional)
         - fallback_grasps (optional)
         - scan
         - panda.state
@@ -152,11 +188,15 @@ class PickAndCarry(LeafSystem):
         - panda.desired_state
         - hook_gripper.command
         - status
+        - scan_request
 
     ``grasps``, ``scoop_grasps``, ``fallback_grasps``: lists of grasps, best first, tried in that
     order, each with ``X_WG`` (4, 4, the open gripper's pose in W) and ``kind`` (``parallel``,
     ``vertical``, ``scoop`` or ``antipodal``; an antipodal grasp is executed with the bar
-    folded). ``scan``: the
+    folded). ``regrasp_poses`` (``list[RegraspPose]``, the
+    :class:`~gbh_drake.systems.regrasp_planner.RegraspPlanner`'s) and ``regrasp_grasps`` (pinches,
+    bar folded): a regrasp (module docstring). ``scan_request`` (4): [n, x, y, z], the n-th
+    re-scan asked for and where (connect it to the Scanner's ``scan_request``). ``scan``: the
     :class:`~gbh_drake.perception.scan.ScanResult` (its points set the lift height and its convex
     hull is an obstacle for the transfer). ``panda.state`` (14) and ``hook_gripper.state`` (6):
     the measured robot; ``hook_gripper.load`` (3, N, W): the force the flange exerts on the
@@ -169,24 +209,32 @@ class PickAndCarry(LeafSystem):
     def __init__(self, directives: Sequence[ModelDirective], config: PickConfig,
                  hand: HandConfig, *, settle_time: float, ground_clearance: float = 0.003,
                  seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01,
-                 scoop: ScoopParams | None = None):
+                 scoop: ScoopParams | None = None, regrasp: RegraspParams | None = None,
+                 scan_height: float = 0.06):
         """``directives``: the scenario's fixed models (the planning model is built from them);
         ``settle_time`` (s): when planning starts (the scan is taken then); ``ground_clearance``
         (m): the clearance grasps keep from the table, kept by the segments near the grasp too
         (less the IK's 1 mm tolerance); ``seed``: the planner's seed; ``bar_angle`` (rad): the
         bar's angle before a grasp is chosen; ``period`` (s): how often the machine updates;
-        ``scoop``: how a scoop presses on the table (its ``press_force`` and ``press_depth``)."""
+        ``scoop``: how a scoop presses on the table (its ``press_force`` and ``press_depth``);
+        ``regrasp``: how often the object may be set down anew (``max_regrasps``) and how
+        many pinches are planned for per resting pose; ``scan_height`` (m): the height of a
+        re-scan's target (the scenario's ``scan_target`` z)."""
         super().__init__()
         self._directives = list(directives)
         self._config = config
         self._hand = hand
         self._scoop = scoop or ScoopParams()
+        self._regrasp = regrasp or RegraspParams()
+        self._scan_height = float(scan_height)
         self._settle_time = float(settle_time)
         self._seed = int(seed)
         self._bar = float(bar_angle)
         self._near = PlanningModel(self._directives, padding=max(ground_clearance - 1e-3, 0.0))
         self._grasps = self.DeclareAbstractInputPort("grasps", AbstractValue.Make([]))
         self._scoops = self.DeclareAbstractInputPort("scoop_grasps", AbstractValue.Make([]))
+        self._regrasp_poses = self.DeclareAbstractInputPort("regrasp_poses", AbstractValue.Make([]))
+        self._pinches = self.DeclareAbstractInputPort("regrasp_grasps", AbstractValue.Make([]))
         self._fallback = self.DeclareAbstractInputPort("fallback_grasps", AbstractValue.Make([]))
         self._scan = self.DeclareAbstractInputPort(
             "scan", AbstractValue.Make(no_scan("not scanned yet")))
@@ -204,6 +252,10 @@ class PickAndCarry(LeafSystem):
         self.DeclareAbstractOutputPort("status", lambda: AbstractValue.Make(PickStatus()),
                                        self._calc_status,
                                        prerequisites_of_calc={self.all_state_ticket()})
+        self.DeclareVectorOutputPort(
+            "scan_request", 4, lambda context, output: output.SetFromVector(
+                context.get_abstract_state(self._state).get_value().scan_request),
+            prerequisites_of_calc={self.all_state_ticket()})
 
     # ---- outputs ------------------------------------------------------------------------------
     def _calc_arm(self, context, output: BasicVector) -> None:
@@ -223,7 +275,7 @@ class PickAndCarry(LeafSystem):
     def _initialize(self, context, state) -> None:
         q = self._arm_state.Eval(context)[:7]
         q_fingers = self._hand_state.Eval(context)[:2]
-        s = _State(q_hold=q.copy(),
+        s = _State(q_hold=q.copy(), q_home=q.copy(),
                    command=np.array([float(np.mean(q_fingers)), self._hand.force, self._bar]))
         s.status.phase_start[Mode.SETTLE.value] = context.get_time()
         state.get_mutable_abstract_state(self._state).set_value(s)
@@ -266,6 +318,12 @@ class PickAndCarry(LeafSystem):
         start = time.perf_counter()
         plan, score, fallback = self._plan(context, s)
         s.status.plan_seconds += time.perf_counter() - start
+        if isinstance(plan, RegraspPlan):
+            s.status.regrasps = [*s.status.regrasps, plan]
+            s.command[2] = BAR_RETRACTED
+            q_now = self._arm_state.Eval(context)[:7]
+            self._move(s, Mode.REGRASP_APPROACH, t, [q_now, *plan.transfer[1:]])
+            return
         if plan is None:
             none = s.status.n_grasps == 0
             self._enter(s, Mode.NO_GRASP if none else Mode.NO_REACHABLE_GRASP, t)
@@ -274,6 +332,77 @@ class PickAndCarry(LeafSystem):
         s.command[2] = plan.bar
         q_now = self._arm_state.Eval(context)[:7]
         self._move(s, Mode.APPROACH, t, [q_now, *plan.transfer[1:]])
+
+    # The regrasp: pick with a pinch, turn, set down, let go, go home, re-scan.
+    def _after_regrasp_approach(self, context, s: _State, t: float) -> None:
+        q = s.status.regrasps[-1].q
+        self._move(s, Mode.REGRASP_INSERT, t, [q["approach"], q["grasp"]],
+                   velocity_scale=0.15, min_duration=1.0)
+
+    def _after_regrasp_insert(self, context, s: _State, t: float) -> None:
+        g = HOOK_GRIPPER
+        duration = (g.q_open - 0.5 * g.rod_width) / self._hand.speed
+        s.command[:2] = [0.5 * g.rod_width, self._hand.force]
+        self._enter(s, Mode.REGRASP_CLOSE, t, until=t + duration + 0.3)
+
+    def _after_regrasp_close(self, context, s: _State, t: float) -> None:
+        if not self._fingers_stopped(context, s, t, Mode.REGRASP_CLOSE):
+            return
+        q = s.status.regrasps[-1].q
+        self._move(s, Mode.REGRASP_LIFT, t, [q["grasp"], q["lift"]], velocity_scale=0.2)
+
+    def _after_regrasp_lift(self, context, s: _State, t: float) -> None:
+        plan = s.status.regrasps[-1]
+        move = plan.move or [plan.q["lift"], plan.q["above"]]
+        self._enter(s, Mode.REGRASP_TURN, t, arm=polyline_path(move, t, velocity_scale=0.25))
+
+    def _after_regrasp_turn(self, context, s: _State, t: float) -> None:
+        s.load = float(self._load.Eval(context)[2])
+        q = s.status.regrasps[-1].q
+        self._move(s, Mode.REGRASP_LOWER, t, [q["above"], q["place"]], velocity_scale=0.1)
+
+    def _during_regrasp_lower(self, context, s: _State, t: float) -> bool:
+        """Stops lowering once the object stands (the hand's load drops) and lets go there."""
+        if s.load < MIN_SENSED_LOAD or \
+                self._load.Eval(context)[2] > self._config.unloaded_fraction * s.load:
+            return False
+        self._let_go(s, t, sample(s.arm, t)[0])
+        return True
+
+    def _after_regrasp_lower(self, context, s: _State, t: float) -> None:
+        self._let_go(s, t, s.status.regrasps[-1].q["place"])
+
+    def _let_go(self, s: _State, t: float, q_at: np.ndarray) -> None:
+        g = HOOK_GRIPPER
+        s.q_hold, s.arm = np.asarray(q_at, dtype=float), None
+        s.command[:2] = [g.q_open, self._hand.force]
+        self._enter(s, Mode.REGRASP_RELEASE, t,
+                    until=t + (g.q_open - 0.5 * g.rod_width) / self._hand.speed + 0.3)
+
+    def _after_regrasp_release(self, context, s: _State, t: float) -> None:
+        back = release_path(self._near, s.q_hold, GraspKind.ANTIPODAL, self._config,
+                            BAR_RETRACTED)["retreat"]
+        self._move(s, Mode.REGRASP_RETREAT, t, [s.q_hold, back], velocity_scale=0.2)
+
+    def _after_regrasp_retreat(self, context, s: _State, t: float) -> None:
+        self._move(s, Mode.REGRASP_HOME, t, [sample(s.arm, t)[0], s.q_home])
+
+    def _after_regrasp_home(self, context, s: _State, t: float) -> None:
+        x, y = s.status.regrasps[-1].place_W[:2]
+        s.scan_request = np.array([len(s.status.regrasps), x, y, self._scan_height])
+        s.command[2] = self._bar
+        s.q_hold, s.arm = s.q_home.copy(), None
+        self._enter(s, Mode.RESCAN, t)
+
+    def _after_rescan(self, context, s: _State, t: float) -> None:
+        if getattr(self._scan.Eval(context), "request", 0) >= len(s.status.regrasps):
+            self._enter(s, Mode.PLAN, t)
+
+    def _fingers_stopped(self, context, s: _State, t: float, mode: Mode) -> bool:
+        """Whether the fingers closing since ``mode`` began have stopped (or timed out)."""
+        v_fingers = self._hand_state.Eval(context)[3:5]
+        timeout = s.status.phase_start[mode.value] + HOOK_GRIPPER.q_open / self._hand.speed + 0.5
+        return not (np.max(np.abs(v_fingers)) > 2e-3 and t < timeout)
 
     def _after_approach(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
@@ -331,10 +460,7 @@ class PickAndCarry(LeafSystem):
         self._enter(s, Mode.CLOSE, t, arm=arm, until=t + duration + 0.3)
 
     def _after_close(self, context, s: _State, t: float) -> None:
-        v_fingers = self._hand_state.Eval(context)[3:5]
-        started = s.status.phase_start[Mode.CLOSE.value]
-        timeout = started + (HOOK_GRIPPER.q_open / self._hand.speed) + 0.5
-        if np.max(np.abs(v_fingers)) > 2e-3 and t < timeout:
+        if not self._fingers_stopped(context, s, t, Mode.CLOSE):
             return  # still closing
         plan = s.status.plan
         self._move(s, Mode.LIFT, t, [plan.q["closed"], plan.q["lift"]], velocity_scale=0.2)
@@ -397,14 +523,51 @@ class PickAndCarry(LeafSystem):
         self._enter(s, Mode.DONE, t)
 
     # ---- planning -------------------------------------------------------------------------------
-    def _plan(self, context, s: _State) -> tuple[PickPlan | None, float, bool]:
-        """The first plannable grasp: the primary grasps, then (only if none could be planned)
-        the fallback ones; every refusal is recorded."""
-        scan: ScanResult = self._scan.Eval(context)
+    def _plan(self, context, s: _State) -> tuple[PickPlan | RegraspPlan | None, float, bool]:
+        """The first plannable grasp: the primary grasps, the scoops, then a regrasp, then
+        (only if none of those could be planned) the fallback grasps; every refusal is
+        recorded."""
         q_start = self._arm_state.Eval(context)[:7]
-        setup = None
-        for port in (self._grasps, self._scoops, self._fallback):
-            fallback = port is self._fallback
+        plan, score, setup = self._plan_ports(context, s, (self._grasps, self._scoops), q_start)
+        if plan is None and len(s.status.regrasps) < self._regrasp.max_regrasps and \
+                self._regrasp_poses.HasValue(context) and self._pinches.HasValue(context):
+            setup = setup or self._setup(self._scan.Eval(context))
+            regrasp = self._plan_regrasp(context, s, setup, q_start)
+            if regrasp is not None:
+                return regrasp, float("nan"), False
+        if plan is None and self._fallback.HasValue(context):
+            plan, score, _ = self._plan_ports(context, s, (self._fallback,), q_start, setup)
+            return plan, score, plan is not None
+        return plan, score, False
+
+    def _plan_regrasp(self, context, s: _State, setup: PickSetup, q_start) -> RegraspPlan | None:
+        """The first regrasp the arm can do: resting poses best first, each with the pinches
+        best first; refusals recorded (``regrasp_note`` says why none)."""
+        start = time.perf_counter()
+        poses = self._regrasp_poses.Eval(context)  # GbH on each resting pose of the scan
+        pinches = self._pinches.Eval(context)[: self._regrasp.max_pinches]
+        s.status.grasps_seconds += time.perf_counter() - start
+        if not poses or not pinches:
+            s.status.regrasp_note = ("no resting pose offers a hook grasp" if not poses else
+                                     "no pinch to turn the object with")
+            return None
+        for pose in poses:
+            for rank, pinch in enumerate(pinches):
+                start = time.perf_counter()
+                result = plan_regrasp(setup, pinch.X_WG, pose, rank, q_start, s.q_home)
+                s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
+                if isinstance(result, RegraspPlan):
+                    return result
+                s.status.refusals = [*s.status.refusals, result]
+        s.status.regrasp_note = (f"none of {len(poses)} resting poses x {len(pinches)} pinches "
+                                 "could be planned")
+        return None
+
+    def _plan_ports(self, context, s: _State, ports, q_start, setup: PickSetup | None = None
+                    ) -> tuple[PickPlan | None, float, PickSetup | None]:
+        """The first plannable grasp of ``ports`` (in order; unconnected ones skipped)."""
+        scan: ScanResult = self._scan.Eval(context)
+        for port in ports:
             if port is not self._grasps and not port.HasValue(context):
                 continue
             start = time.perf_counter()
@@ -426,9 +589,10 @@ class PickAndCarry(LeafSystem):
                 result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift)
                 s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
                 if isinstance(result, PickPlan):
-                    return result, float(getattr(grasp, "score", float("nan"))), fallback
+                    s.status.source = port.get_name()
+                    return result, float(getattr(grasp, "score", float("nan"))), setup
                 s.status.refusals = [*s.status.refusals, result]
-        return None, float("nan"), False
+        return None, float("nan"), setup
 
     def _setup(self, scan: ScanResult) -> PickSetup:
         """Planning models and the scan's points for this pick."""

@@ -20,6 +20,7 @@ class Scanner(LeafSystem):
         input_ports:
         - query_object
         - object.state (optional; only with scan_time)
+        - scan_request (optional; only with scan_time)
         output_ports:
         - mesh_W
 
@@ -39,6 +40,12 @@ class Scanner(LeafSystem):
     (:func:`still_decision`): slower than ``still_speed`` and ``still_angular_speed_deg`` for
     ``still_dwell`` s, not before ``scan_time``, and at ``scan_time + still_max_wait`` at the
     latest (then with a warning in the scan's warnings). ``ScanResult.taken_at`` says when.
+
+    Scanning again: ``scan_request`` (4: [n, x, y, z]), when connected, asks for the n-th scan
+    since the first, around the target (x, y, z) m in W (a pick-and-place set the object down
+    there anew). Once n exceeds the requests answered so far, the Scanner scans again by the
+    same stillness rule, counted from the moment it saw the request, and holds the new scan
+    (``ScanResult.request`` = n; everything fed by ``mesh_W`` then computes anew).
     """
 
     def __init__(self, config: ScanConfig, p_WT, *, scan_time: float | None = None,
@@ -60,9 +67,11 @@ class Scanner(LeafSystem):
                                            prerequisites_of_calc={self._query.ticket()})
         else:
             self._object_state = self.DeclareVectorInputPort("object.state", 13)
+            self._request = self.DeclareVectorInputPort("scan_request", 4)
             self._held = self.DeclareAbstractState(model)
-            # When the object became still (s; nan: moving or not watched yet).
-            self._still_since = self.DeclareDiscreteState([np.nan])
+            # When the object became still (s; nan: moving or not watched yet); the requests
+            # answered; when the unanswered one was first seen (s; nan: none).
+            self._still_since = self.DeclareDiscreteState([np.nan, 0.0, np.nan])
             # Unconnected object.state: one scan at scan_time, as before the watch existed.
             self.DeclarePeriodicUnrestrictedUpdateEvent(1e9, self._scan_time, self._take_scan)
             self.DeclarePeriodicUnrestrictedUpdateEvent(config.still_period, 0.0, self._watch)
@@ -76,9 +85,11 @@ class Scanner(LeafSystem):
     def p_WT(self) -> np.ndarray:
         return self._p_WT.copy()
 
-    def scan(self, context) -> ScanResult:
-        """A scan of the scene as ``context`` has it now."""
-        return scan_object(self._query.Eval(context), self._config, self._p_WT,
+    def scan(self, context, p_WT=None) -> ScanResult:
+        """A scan of the scene as ``context`` has it now, around ``p_WT`` (default: the
+        constructor's)."""
+        return scan_object(self._query.Eval(context), self._config,
+                           self._p_WT if p_WT is None else np.asarray(p_WT, dtype=float),
                            noise_seed=self._noise_seed)
 
     def _calc_scan(self, context, output) -> None:
@@ -89,9 +100,10 @@ class Scanner(LeafSystem):
     def _taken(self, context) -> bool:
         return not scan_pending(context.get_abstract_state(self._held).get_value())
 
-    def _latch(self, context, state, warnings: list[str]) -> None:
-        result = self.scan(context)
+    def _latch(self, context, state, warnings: list[str], p_WT=None, request: int = 0) -> None:
+        result = self.scan(context, p_WT)
         result.taken_at = context.get_time()
+        result.request = request
         result.warnings = warnings + result.warnings
         state.get_mutable_abstract_state(self._held).set_value(result)
 
@@ -100,16 +112,27 @@ class Scanner(LeafSystem):
             self._latch(context, state, [])
 
     def _watch(self, context, state) -> None:
-        if not self._object_state.HasValue(context) or self._taken(context):
+        if not self._object_state.HasValue(context):
             return
-        x = self._object_state.Eval(context)
         t = context.get_time()
-        still_since = float(context.get_discrete_state(self._still_since).GetAtIndex(0))
+        still_since, answered, seen_at = context.get_discrete_state(self._still_since).value()
+        scan_time, request, p_WT = self._scan_time, 0, None
+        if self._taken(context):
+            if not self._request.HasValue(context):
+                return
+            wanted = self._request.Eval(context)
+            if wanted[0] <= answered:
+                return
+            seen_at = t if np.isnan(seen_at) else seen_at
+            scan_time, request, p_WT = seen_at, int(wanted[0]), wanted[1:4]
+        x = self._object_state.Eval(context)
         scan, still_since, warning = still_decision(
-            t, x[10:13], x[7:10], still_since, scan_time=self._scan_time, config=self._config)
-        state.get_mutable_discrete_state(self._still_since).SetAtIndex(0, still_since)
+            t, x[10:13], x[7:10], still_since, scan_time=scan_time, config=self._config)
         if scan:
-            self._latch(context, state, [warning] if warning else [])
+            self._latch(context, state, [warning] if warning else [], p_WT, request)
+            answered, seen_at = float(request), np.nan
+        state.get_mutable_discrete_state(self._still_since).set_value(
+            [still_since, answered, seen_at])
 
 
 #: The message of the Scanner's placeholder output until its scan is taken.

@@ -220,3 +220,18 @@ def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
                                               r"objects\[1\] 'kettle' has no natural rest"):
         load_experiment(path)
     load_experiment(path, overrides="protocols: [stable]")  # the stable protocol needs none
+
+
+def test_one_trials_scenario_is_the_one_the_experiment_runs():
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.experiment.config import ExperimentError, trial_scenario, trial_scenario_yaml
+
+    experiment = load_experiment(SCENARIOS_DIR / "experiment.yaml")
+    experiment.objects = ["mug_classic", "key_ring", "box"]
+    tasks = {(t.object, t.method, t.trial, t.protocol): t for t in make_tasks(experiment)}
+    for key in (("mug_classic", "gbh-10", 0, "stable"), ("key_ring", "gbh-1", 3, "natural"),
+                ("box", "antipodal", 4, "stable")):
+        scenario = trial_scenario(experiment, *key)
+        assert trial_scenario_yaml(scenario) == tasks[key].scenario_yaml
+    with pytest.raises(ExperimentError, match="no method 'graspnet'"):
+        trial_scenario(experiment, "mug_classic", "graspnet", 0)

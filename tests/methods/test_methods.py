@@ -30,13 +30,18 @@ def test_an_unknown_method_names_the_known_ones():
     ("antipodal", {"antipodal_sampler"}, GBH, BAR_RETRACTED),
     ("gbh_fallback", GBH | {"antipodal_sampler"}, set(), BAR_DEPLOYED),
     ("gbh_scoop", GBH | {"scoop_synthesizer"}, {"antipodal_sampler"}, BAR_DEPLOYED),
+    ("gbh_regrasp", GBH | {"antipodal_sampler", "regrasp_planner"}, {"scoop_synthesizer"},
+     BAR_DEPLOYED),
+    ("gbh_plus", GBH | {"antipodal_sampler", "regrasp_planner", "scoop_synthesizer"}, set(),
+     BAR_DEPLOYED),
 ])
 def test_each_method_adds_its_own_systems(name, present, absent, bar):
     trial = build_trial(Scenario(grasp_method=name))
     names = {s.get_name() for s in trial.diagram.GetSystems()}
     assert present <= names and not absent & names and "grasp_search" in names
-    assert (trial.source.fallback is not None) == (name == "gbh_fallback")
-    assert (trial.source.scoop is not None) == (name == "gbh_scoop")
+    assert (trial.source.fallback is not None) == (name in ("gbh_fallback", "gbh_plus"))
+    assert (trial.source.scoop is not None) == (name in ("gbh_scoop", "gbh_plus"))
+    assert (trial.source.regrasp_poses is not None) == (name in ("gbh_regrasp", "gbh_plus"))
     plant = trial.station.plant
     bar_joint = plant.GetJointByName("bar_joint", plant.GetModelInstanceByName(GRIPPER))
     assert bar_joint.get_default_angle() == pytest.approx(bar)
@@ -90,6 +95,8 @@ def _bar_shape(trial):
 
 def test_the_scoop_runs_with_the_wedge_gripper_and_the_others_with_the_papers():
     assert _bar_shape(build_trial(Scenario(grasp_method="gbh_scoop"))) == "Mesh"
+    assert _bar_shape(build_trial(Scenario(grasp_method="gbh_plus"))) == "Mesh"
+    assert _bar_shape(build_trial(Scenario(grasp_method="gbh_regrasp"))) == "Box"
     assert _bar_shape(build_trial(Scenario())) == "Box"
     wedge = Scenario()
     wedge.robot.gripper = "wedge"
@@ -106,3 +113,21 @@ def test_a_key_ring_lying_flat_is_scooped_and_caged():
     _, record = simulate_trial(build_trial(scenario))
     assert record.grasp_kind == "scoop" and record.n_ranked == 0
     assert record.outcome is Outcome.SUCCESS and record.held_by == "cage", record.reason
+
+
+@pytest.mark.trial
+def test_a_mug_resting_on_its_handle_is_set_upright_and_hooked():
+    """The experiment's mug_classic, stable protocol, trial 0: it rests on its side and handle,
+    GbH has no grasp; a pinch sets it upright, the Scanner scans it again, GbH hooks it there
+    and the cage test finds it caged. The record keeps the regrasp and the final hook."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.experiment.config import trial_scenario
+
+    scenario = trial_scenario(SCENARIOS_DIR / "experiment.yaml", "mug_classic", "gbh-10", 0)
+    scenario.grasp_method = "gbh_regrasp"
+    _, record = simulate_trial(build_trial(scenario))
+    assert len(record.regrasps) == 1 and record.regrasps[0]["turn_deg"] > 45.0
+    assert "rescan" in record.phases and record.phases["rescan"] < record.phases["approach"]
+    assert record.grasp_kind in ("parallel", "vertical") and record.grasp_source == "grasps"
+    assert record.outcome is Outcome.SUCCESS and record.held_by == "cage", record.reason
+    assert len(record.verdict.planned_poses) == 2  # scanned where it lay, then set down anew

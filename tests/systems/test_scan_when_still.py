@@ -141,3 +141,44 @@ def test_an_object_dropped_from_a_few_cm_is_scanned_once_still():
     assert abs(scan.mesh_W.bounds[0][2]) < 0.01
     assert scan.mesh_W.bounds[1][2] == pytest.approx(
         station.asset.mesh.bounds[1][2] + p_W[2], abs=0.01)
+
+
+@pytest.mark.sim
+def test_a_scan_request_is_answered_by_a_new_scan_around_its_target():
+    """The first scan at scan_time, then the request [1, x, y, z] (seen at 0.8 s) gets a second
+    scan, aimed at the request's target: at once, the object having been still for longer than
+    the dwell (stillness before the request counts, as before scan_time)."""
+    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+    from pydrake.systems.primitives import TrajectorySource
+    from pydrake.trajectories import PiecewisePolynomial
+
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, 0.0)
+    plant.Finalize()
+    scene_graph.AddRenderer("default", MakeRenderEngineVtk(RenderEngineVtkParams()))
+    scanner = builder.AddSystem(Scanner(ScanConfig(num_views=1), [0.55, 0.0, 0.06],
+                                        scan_time=0.5))
+    builder.Connect(scene_graph.get_query_output_port(), scanner.GetInputPort("query_object"))
+    x = np.zeros(13)
+    x[0] = 1.0
+    builder.Connect(builder.AddSystem(ConstantVectorSource(x)).get_output_port(),
+                    scanner.GetInputPort("object.state"))
+    request = PiecewisePolynomial.ZeroOrderHold(
+        [0.0, 0.8, 5.0], np.array([[0, 0, 0, 0], [1, 0.5, 0.1, 0.06], [1, 0.5, 0.1, 0.06]]).T)
+    builder.Connect(builder.AddSystem(TrajectorySource(request)).get_output_port(),
+                    scanner.GetInputPort("scan_request"))
+    simulator = Simulator(builder.Build())
+    context = scanner.GetMyContextFromRoot(simulator.get_context())
+    simulator.AdvanceTo(0.7)
+    first = scanner.GetOutputPort("mesh_W").Eval(context)
+    assert first.request == 0 and first.taken_at == pytest.approx(0.5)
+    simulator.AdvanceTo(1.5)
+    second = scanner.GetOutputPort("mesh_W").Eval(context)
+    assert second.request == 1 and second.taken_at == pytest.approx(0.8, abs=0.011)
+    # Its first look looks from around the request's target, the first scan's from around T.
+    distance = ScanConfig().first_look_distance
+    for scan, target in ((first, [0.55, 0.0, 0.06]), (second, [0.5, 0.1, 0.06])):
+        for X_WC in scan.first_look_X_WCs:
+            assert np.linalg.norm(X_WC.translation() - target) == pytest.approx(distance)
+    simulator.AdvanceTo(2.0)  # answered: no third scan
+    assert scanner.GetOutputPort("mesh_W").Eval(context).taken_at == second.taken_at

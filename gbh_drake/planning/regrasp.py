@@ -1,0 +1,146 @@
+"""Plans a regrasp (beyond the paper, issue 19): pick the object with a pinch (the bar folded),
+turn it into a resting pose in which GbH can hook it, set it down, let go and go home.
+
+:func:`plan_regrasp` takes a pinch (an antipodal grasp's open pose X_WG) and a resting pose
+(:class:`~gbh_drake.core.regrasp.RegraspPose`: the motion that takes the object, as it lies now,
+to that pose) and returns the arm configurations of the whole pick-and-place, or a
+:class:`~gbh_drake.planning.pick.Refusal`:
+
+* ``approach``/``grasp``: the transfer and descent of :func:`~gbh_drake.planning.pick.approach_transfer`;
+* ``lift``: straight up until the object, held rigidly and turned any way about the pinch,
+  clears the table by ``lift_clearance`` (the scan's farthest point from the pinch), at least
+  ``min_lift``, as the arm reaches;
+* ``above`` and ``place``: the hand moved as the object moves (``X_WG_place = M X_WG``, M the
+  resting pose's motion, turned about the vertical through the place by the first of
+  :data:`PLACE_YAWS_DEG` the arm reaches), ``above`` the same height over the place as the lift;
+  the move from ``lift`` to ``above`` keeps the pinch point that high (Cartesian waypoints where
+  a joint move would dip, :func:`~gbh_drake.planning.pick.carry_path`), and the descent goes on
+  ``place_depth`` below the predicted resting pose (the machine stops once the hand's load
+  drops: the object stands);
+* ``opened``, ``retreat``: the fingers open in place and the hand backs off
+  (:func:`~gbh_drake.planning.pick.release_path`), then goes ``home`` (out of the cameras' way
+  for the re-scan).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydrake.math import RigidTransform, RotationMatrix
+
+from gbh_drake.core.gripper import BAR_RETRACTED, HOOK_GRIPPER
+from gbh_drake.core.regrasp import RegraspPose
+from gbh_drake.core.results import GraspKind
+from gbh_drake.planning.model import HandPose
+from gbh_drake.planning.pick import (
+    PickSetup,
+    Refusal,
+    approach_transfer,
+    carry_path,
+    release_path,
+    shifted,
+)
+
+#: Degrees the placed object may also be turned about the vertical through the place, in the
+#: order tried (its resting pose is the same; the arm may reach one and not another).
+PLACE_YAWS_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
+
+
+@dataclass
+class RegraspPlan:
+    """Arm configurations (rad, 7 each) of a regrasp and what they came from."""
+
+    rank: int
+    """The pinch's rank among the offered fallback grasps."""
+    pose: RegraspPose
+    """The resting pose the object is set down in."""
+    yaw_deg: float
+    """Extra turn (deg) about the vertical through the place."""
+    transfer: list[np.ndarray]
+    q: dict[str, np.ndarray] = field(default_factory=dict)
+    """``approach``, ``grasp``, ``lift``, ``above``, ``place``, ``opened``, ``retreat``,
+    ``home``."""
+    move: list[np.ndarray] = field(default_factory=list)
+    """Waypoints from ``lift`` to ``above`` (the pinch point kept at the lift height)."""
+    X_WG_place: np.ndarray = field(default_factory=lambda: np.eye(4))
+    """(4, 4) where the gripper sets the object down."""
+    place_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    """(3,) m: the centre of the object's footprint where it is set down (the re-scan's aim)."""
+    lift: float = 0.0
+
+
+def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: int,
+                 q_start: np.ndarray, q_home: np.ndarray) -> RegraspPlan | Refusal:
+    """The regrasp with the pinch at ``X_WG`` (4, 4, open) into ``pose``, from the arm at
+    ``q_start``, ending at ``q_home`` (module docstring); or why not."""
+    cfg, near, g = setup.config, setup.near, HOOK_GRIPPER
+    kind = GraspKind.ANTIPODAL
+    open_hand, held = HandPose(g.q_open, BAR_RETRACTED), HandPose(0.5 * g.rod_width, BAR_RETRACTED)
+    X = RigidTransform(np.asarray(X_WG, dtype=float))
+
+    def refuse(reason: str, where: str, detail: str = "") -> Refusal:
+        return Refusal(rank, "regrasp", reason, where, detail)
+
+    q = {"grasp": near.ik(X, q_start, open_hand, restarts=3)}
+    if q["grasp"] is None:
+        return refuse("ik", "grasp")
+    # The pinch point (between the fingertips) and how far the held object reaches from it.
+    pinch_G = np.array([0.0, 0.0, g.finger_length])
+    pinch_W = X.multiply(pinch_G)
+    reach = float(np.linalg.norm(setup.points_W - pinch_W, axis=1).max()) \
+        if len(setup.points_W) else 0.0
+    height = reach + cfg.lift_clearance  # the pinch point this high: any turn clears the table
+    lift = float(np.clip(height - pinch_W[2], cfg.min_lift, cfg.max_lift))
+    q["lift"] = None
+    for dz in np.linspace(lift, cfg.min_lift, 4):
+        q["lift"] = near.ik(shifted(X, [0.0, 0.0, dz]), q["grasp"], held)
+        if q["lift"] is not None:
+            lift = float(dz)
+            break
+    if q["lift"] is None:
+        return refuse("ik", "lift")
+    if not near.edge_free(q["grasp"], q["lift"], held):
+        return refuse("collision", "lift")
+    carry_height = pinch_W[2] + lift
+
+    M = np.asarray(pose.X_WnewWnow, dtype=float)
+    placed = setup.points_W @ M[:3, :3].T + M[:3, 3]
+    place_W = np.array([*(0.5 * (placed.min(axis=0) + placed.max(axis=0)))[:2], 0.0])
+    refusal = refuse("ik", "place")
+    for yaw in PLACE_YAWS_DEG:
+        turn = RigidTransform(place_W) @ RigidTransform(
+            RotationMatrix.MakeZRotation(np.radians(yaw)), np.zeros(3)) @ \
+            RigidTransform(-place_W)
+        X_place = turn @ RigidTransform(M) @ X
+        X_above = RigidTransform(X_place.rotation(), X_place.translation() +
+                                 [0.0, 0.0, max(carry_height - X_place.multiply(pinch_G)[2],
+                                                0.0)])
+        q_above = near.ik(X_above, q["lift"], held, restarts=2)
+        if q_above is None:
+            continue
+        q_place = None
+        for down in (cfg.place_depth, 0.5 * cfg.place_depth, 0.0):
+            q_place = near.ik(shifted(X_place, [0.0, 0.0, -down]), q_above, held)
+            if q_place is not None and near.edge_free(q_above, q_place, held):
+                break
+            q_place = None
+        if q_place is None:
+            refusal = refuse("collision", "place")
+            continue
+        move, low = carry_path(near, q["lift"], q_above, held, pinch_G, carry_height - 0.02,
+                               check_edges=cfg.plan_paths)
+        if low < reach * 0.5:  # the move would sweep the object through the table
+            refusal = refuse("collision", "turn", f"the pinch point sinks to {low:.2f} m")
+            continue
+        q.update(above=q_above, place=q_place)
+        q.update(release_path(near, q_place, kind, cfg, BAR_RETRACTED))
+        q["home"] = np.asarray(q_home, dtype=float)
+        transfer = approach_transfer(setup, X, q["grasp"], open_hand, q_start)
+        if isinstance(transfer, str):
+            return refuse(transfer, "transfer" if transfer == "planner" else "grasp")
+        q["approach"] = transfer[-1]
+        return RegraspPlan(rank, pose, float(yaw), transfer, q, move,
+                           X_place.GetAsMatrix4(), place_W, lift)
+    return refusal
+
