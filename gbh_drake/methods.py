@@ -127,7 +127,8 @@ def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
                  systems: dict[str, System]) -> RegraspPlanner:
     """The resting poses in which GbH can hook the scanned object."""
     planner = _add(builder, systems, "regrasp_planner", RegraspPlanner(
-        scenario.gbh, scenario.regrasp, seed=seeds.sampling))
+        scenario.gbh, scenario.regrasp, seed=seeds.sampling, antipodal=scenario.antipodal,
+        pinch_seed=seeds.grasps))
     builder.Connect(systems["hangability_detector"].get_output_port(), planner.get_input_port())
     return planner
 

@@ -381,5 +381,5 @@ class RegraspParams:
     """Resting poses less probable than this are not offered (they tip over at a touch)."""
     max_poses: int = ranged(3, Int(1, 20))
     """At most this many resting poses are planned for, best first."""
-    max_pinches: int = ranged(5, Int(1, 100))
+    max_pinches: int = ranged(10, Int(1, 100))
     """At most this many of the fallback's pinches are planned for each resting pose."""

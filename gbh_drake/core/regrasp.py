@@ -18,8 +18,15 @@ a hook grasp, best first:
 3. then the most probable orientation.
 
 Orientations within ``min_turn_deg`` of the present one (the pose that offered nothing) and those
-below ``min_probability`` are skipped. Pure numpy/trimesh: the trial's systems do the pick, the
-place, the re-scan and the hook.
+below ``min_probability`` are skipped.
+
+Which pinch can turn the object into a pose? One that is a good pinch *there* (from above, the
+hand clear of the table once the object stands in the new pose) and that the arm can take
+*here*: :func:`pinches_for_pose` samples antipodal pinches of the object as it will stand and
+keeps those that, moved back to where it lies now, keep the gripper (open, closing, closed, bar
+folded) clear of the table. (A mug lying on its handle pinched from above would be held from
+below once upright, its hand in the table.) Pure numpy/trimesh: the trial's systems do the
+pick, the place, the re-scan and the hook.
 """
 
 from __future__ import annotations
@@ -30,11 +37,15 @@ from dataclasses import dataclass
 import numpy as np
 import trimesh
 
-from gbh_drake.core.params import GbhParams
+from gbh_drake.core.antipodal import sample_antipodal_grasps
+from gbh_drake.core.collision import box_corners
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.params import AntipodalParams, GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.results import GbhInputError
 
-#: Degrees: turns are compared in steps of this (a 85 deg turn is not preferred to a 90 deg one).
+#: Degrees: turns are compared rounded to steps of this (85 and 90 deg alike: a scan's resting
+#: poses of one orientation differ by a few degrees).
 TURN_STEP_DEG = 30.0
 
 
@@ -55,6 +66,9 @@ class RegraspPose:
     """The best of them's score S."""
     index: int
     """Which of the given orientations."""
+    pinches: list[np.ndarray] | None = None
+    """(4, 4) X_WG each, where the object lies now: pinches that hold it from above in this
+    pose (:func:`pinches_for_pose`); None until asked for."""
 
 
 def least_turn_yaw(R: np.ndarray) -> float:
@@ -87,6 +101,39 @@ def resting_motion(mesh_W: trimesh.Trimesh, R: np.ndarray, place_xy: Sequence[fl
     return X
 
 
+def pinch_clearance(X_WG: np.ndarray, q_lo: float, ground_height: float = 0.0,
+                    gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(M,) m: how high above the table plane z = ``ground_height`` (W z up) the lowest corner of
+    the bar-folded gripper stays while it closes from open to each finger at ``q_lo`` (the
+    rods on the material), at poses X_WG (M, 4, 4)."""
+    X = np.asarray(X_WG, dtype=float).reshape(-1, 4, 4)
+    corners = np.concatenate([box_corners(gripper.solid_boxes_G(q, bar_retracted=True))
+                              for q in (gripper.q_open, max(q_lo, gripper.q_closed_retracted))])
+    return (np.einsum("mj,cj->mc", X[:, 2, :3], corners) + X[:, 2, 3:4]).min(axis=1) - \
+        ground_height
+
+
+def pinches_for_pose(mesh_W: trimesh.Trimesh, pose: RegraspPose, params: AntipodalParams,
+                     *, seed: int = 0, clearance: float = 0.003) -> list[np.ndarray]:
+    """Pinches (X_WG (4, 4) each, where ``mesh_W`` lies now) that hold the object from above
+    once it stands in ``pose``: the antipodal sampler's best pinches of the mesh moved into the
+    pose (``params``, the sampler's ``seed``; its table rule there), moved back by the pose's
+    inverse motion, kept where the gripper clears the table by ``clearance`` (m) here too (the
+    same pinch, from the other side: the object lies otherwise), best first."""
+    M = np.asarray(pose.X_WnewWnow, dtype=float)
+    try:
+        grasps = sample_antipodal_grasps(mesh_W.copy().apply_transform(M), params, rng=seed)
+    except GbhInputError:
+        return []
+    back = np.linalg.inv(M)
+    out = []
+    for g in grasps:
+        X_now = back @ g.X_WG
+        if pinch_clearance(X_now[None], g.q, params.ground_height)[0] >= clearance:
+            out.append(X_now)
+    return out
+
+
 def choose_regrasp_pose(
     mesh_W: trimesh.Trimesh,
     orientations: Sequence[tuple[np.ndarray, float]],
@@ -116,6 +163,6 @@ def choose_regrasp_pose(
         if result.ranked:
             out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
                                    float(result.ranked[0].score), i))
-    out.sort(key=lambda p: (int(round(p.turn_deg, 6) // TURN_STEP_DEG), -p.best_score,
+    out.sort(key=lambda p: (round(p.turn_deg / TURN_STEP_DEG), -p.best_score,
                             -p.probability, p.index))
     return out

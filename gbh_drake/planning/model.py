@@ -59,6 +59,8 @@ class PlanningModel:
                 plant.world_body(), RigidTransform(), _convex(mesh, f"obstacle_{i}"),
                 f"obstacle_{i}", ProximityProperties())
         plant.Finalize()
+        self.padding = float(padding)
+        """m: the clearance kept between the robot and the environment."""
         self.plant = plant
         self.arm = plant.GetModelInstanceByName(ARM)
         self.gripper = plant.GetModelInstanceByName(GRIPPER)

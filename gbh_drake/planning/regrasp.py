@@ -14,7 +14,9 @@ to that pose) and returns the arm configurations of the whole pick-and-place, or
   resting pose's motion, turned about the vertical through the place by the first of
   :data:`PLACE_YAWS_DEG` the arm reaches), ``above`` the same height over the place as the lift;
   the move from ``lift`` to ``above`` keeps the pinch point that high (Cartesian waypoints where
-  a joint move would dip, :func:`~gbh_drake.planning.pick.carry_path`), and the descent goes on
+  a joint move would dip, :func:`~gbh_drake.planning.pick.carry_path`) and is refused where it
+  sinks below the object's reach from the pinch plus half the lift clearance (turning in the
+  hand, the object would meet the table); the descent goes on
   ``place_depth`` below the predicted resting pose (the machine stops once the hand's load
   drops: the object stands);
 * ``opened``, ``retreat``: the fingers open in place and the hand backs off
@@ -30,7 +32,7 @@ import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import BAR_RETRACTED, HOOK_GRIPPER
-from gbh_drake.core.regrasp import RegraspPose
+from gbh_drake.core.regrasp import RegraspPose, pinch_clearance
 from gbh_drake.core.results import GraspKind
 from gbh_drake.planning.model import HandPose
 from gbh_drake.planning.pick import (
@@ -82,6 +84,12 @@ def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: in
     def refuse(reason: str, where: str, detail: str = "") -> Refusal:
         return Refusal(rank, "regrasp", reason, where, detail)
 
+    # Set down in the pose, the gripper must clear the table (it would hold the object from
+    # below otherwise).
+    X_set = np.asarray(pose.X_WnewWnow, dtype=float) @ X.GetAsMatrix4()
+    if pinch_clearance(X_set[None], held.q)[0] < near.padding:
+        return refuse("collision", "place", "the hand would meet the table holding the object "
+                      "in that pose")
     q = {"grasp": near.ik(X, q_start, open_hand, restarts=3)}
     if q["grasp"] is None:
         return refuse("ik", "grasp")
@@ -128,10 +136,14 @@ def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: in
         if q_place is None:
             refusal = refuse("collision", "place")
             continue
+        # Along the move the pinch point stays high enough for the object to turn any way
+        # about it and still clear the table by half the lift clearance.
+        floor = reach + 0.5 * cfg.lift_clearance
         move, low = carry_path(near, q["lift"], q_above, held, pinch_G, carry_height - 0.02,
                                check_edges=cfg.plan_paths)
-        if low < reach * 0.5:  # the move would sweep the object through the table
-            refusal = refuse("collision", "turn", f"the pinch point sinks to {low:.2f} m")
+        if low < floor:
+            refusal = refuse("collision", "turn", f"the pinch point sinks to {low:.2f} m, the "
+                             f"held object reaches {reach:.2f} m from it")
             continue
         q.update(above=q_above, place=q_place)
         q.update(release_path(near, q_place, kind, cfg, BAR_RETRACTED))

@@ -552,9 +552,11 @@ class PickAndCarry(LeafSystem):
                                      "no pinch to turn the object with")
             return None
         for pose in poses:
-            for rank, pinch in enumerate(pinches):
+            # The pinches that hold it from above in that pose first, then the fallback's.
+            mine = [X for X in (pose.pinches or [])][: self._regrasp.max_pinches]
+            for rank, X_WG in enumerate([*mine, *(g.X_WG for g in pinches)]):
                 start = time.perf_counter()
-                result = plan_regrasp(setup, pinch.X_WG, pose, rank, q_start, s.q_home)
+                result = plan_regrasp(setup, X_WG, pose, rank, q_start, s.q_home)
                 s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
                 if isinstance(result, RegraspPlan):
                     return result

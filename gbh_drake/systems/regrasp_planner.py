@@ -3,10 +3,12 @@ the paper, :mod:`gbh_drake.core.regrasp`)."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from gbh_drake.core.params import GbhParams, RegraspParams
-from gbh_drake.core.regrasp import choose_regrasp_pose
+from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams
+from gbh_drake.core.regrasp import choose_regrasp_pose, pinches_for_pose
 from gbh_drake.systems.hangability_detector import Hangability
 from gbh_drake.systems.stage import AbstractStage
 
@@ -28,19 +30,26 @@ class RegraspPlanner(AbstractStage):
     (:func:`~gbh_drake.core.regrasp.choose_regrasp_pose`: the object's stable resting
     orientations, :func:`~gbh_drake.objects.stability.stable_poses` of the scanned mesh about
     its centre of mass, each set down where the object lies, GbH run on it; at most
-    ``max_poses``); empty when GbH found no structure (nothing to hook in any pose). Cached:
+    ``max_poses``), each with the pinches that hold it from above there
+    (:func:`~gbh_drake.core.regrasp.pinches_for_pose`); empty when GbH found no structure
+    (nothing to hook in any pose). Cached:
     computed once per new input, and only when evaluated (a PickAndCarry asks only when no
     hook grasp could be planned).
     """
 
     def __init__(self, params: GbhParams | None = None, regrasp: RegraspParams | None = None,
-                 *, seed: int = 0):
-        """``params``: GbH's (the pipeline run on each pose); ``regrasp``: which poses count;
-        ``seed``: the surface sampler's."""
+                 *, seed: int = 0, antipodal: AntipodalParams | None = None,
+                 pinch_seed: int = 0):
+        """``params``: GbH's (the pipeline run on each pose; its ``ground_clearance`` the
+        pinches' too); ``regrasp``: which poses count; ``seed``: the surface sampler's;
+        ``antipodal``, ``pinch_seed``: the antipodal sampler's (the pinches)."""
         super().__init__("hanging_structures", Hangability(), "regrasp_poses", [])
         self.params = params or GbhParams()
         self.regrasp = regrasp or RegraspParams()
         self.seed = int(seed)
+        self.antipodal = dataclasses.replace(antipodal or AntipodalParams(),
+                                             ground_clearance=self.params.ground_clearance)
+        self.pinch_seed = int(pinch_seed)
 
     def compute(self, value: Hangability):
         if value.object is None or not value.structures:
@@ -53,4 +62,8 @@ class RegraspPlanner(AbstractStage):
         poses = choose_regrasp_pose(
             mesh, [(p.R, p.probability) for p in rests], self.params, xy, seed=self.seed,
             min_turn_deg=self.regrasp.min_turn_deg, min_probability=self.regrasp.min_probability)
-        return poses[: self.regrasp.max_poses]
+        poses = poses[: self.regrasp.max_poses]
+        for pose in poses:
+            pose.pinches = pinches_for_pose(mesh, pose, self.antipodal, seed=self.pinch_seed,
+                                            clearance=self.params.ground_clearance)
+        return poses

@@ -81,3 +81,43 @@ def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():
     # Both of its resting poses lie flat: turning it over leaves the loop on the table.
     mesh_W, orientations = lying("key_ring", 0)
     assert choose_regrasp_pose(mesh_W, orientations, PARAMS, [0.5, 0.0]) == []
+
+
+def test_the_pinch_clearance_is_the_lowest_corner_of_the_folded_gripper():
+    from gbh_drake.core.gripper import HOOK_GRIPPER as G
+    from gbh_drake.core.regrasp import pinch_clearance
+
+    X = np.eye(4)
+    X[:3, :3] = np.diag([1.0, -1.0, -1.0])  # top-down
+    X[2, 3] = 0.2
+    tip = G.finger_length + 0.5 * G.rod_width  # the rods' tips below the palm
+    assert pinch_clearance(X[None], 0.02)[0] == pytest.approx(0.2 - tip)
+    X[:3, :3] = Rotation.from_euler("x", 90, degrees=True).as_matrix()  # approach along -y
+    # Sideways, the hand's half width along y_G (now vertical) is what reaches lowest.
+    assert pinch_clearance(X[None], 0.02)[0] == pytest.approx(0.2 - G.hand_half_extents[1])
+
+
+def test_pinches_for_a_pose_hold_it_from_above_there_and_clear_the_table_here():
+    """A 14 x 5 x 9 cm box lying on a long side, to be stood on its end: the pinches offered
+    are the sampler's pinches of the standing box, moved back to where it lies, where they clear
+    the table (from the side, the hand's 6 cm thickness upright above the box's 4.5 cm axis)."""
+    import trimesh
+
+    from gbh_drake.core.antipodal import sample_antipodal_grasps
+    from gbh_drake.core.params import AntipodalParams
+    from gbh_drake.core.regrasp import RegraspPose, pinch_clearance, pinches_for_pose
+
+    box = trimesh.creation.box([0.14, 0.05, 0.09])
+    box.apply_translation([0.55, 0.0, 0.045])
+    R = Rotation.from_euler("y", 90, degrees=True).as_matrix()
+    stand = resting_motion(box, R, [0.55, 0.0])
+    pose = RegraspPose(stand, 90.0, 0.3, 1, 1.0, 0)
+    params = AntipodalParams(ground_clearance=0.003)
+    pinches = pinches_for_pose(box, pose, params, seed=0, clearance=0.003)
+    standing = sample_antipodal_grasps(box.copy().apply_transform(stand), params, rng=0)
+    assert pinches and len(pinches) <= len(standing)
+    for X in pinches:
+        there = stand @ X
+        match = [g for g in standing if np.allclose(g.X_WG, there, atol=1e-9)]
+        assert match and there[2, 2] < -0.5  # from above once it stands
+        assert pinch_clearance(X[None], match[0].q)[0] >= 0.003
