@@ -127,12 +127,17 @@ def test_shipped_experiments():
     assert len(full.objects) - len(controls) >= 15 and len(controls) == 4
     assert full.trials == 5 and full.seed == 0 and full.replays == "failures"
     scenarios = method_scenarios(full)
-    assert list(scenarios) == ["gbh-10", "gbh-1", "antipodal", "gbh+fallback"]
+    assert list(scenarios) == ["gbh-10", "gbh-1", "antipodal", "gbh+fallback", "gbh+"]
     assert [(s.grasp_method, s.scan.num_views, s.gbh.d2) for s in scenarios.values()] == [
         ("gbh", 10, 0.0), ("gbh", 1, 0.005), ("antipodal", 1, scenarios["antipodal"].gbh.d2),
-        ("gbh_fallback", 10, 0.0)]
+        ("gbh_fallback", 10, 0.0), ("gbh_plus", 10, 0.0)]
+    assert [s.gripper for s in scenarios.values()] == ["paper"] * 4 + ["wedge"]
     assert [m.paper for m in full.methods] == ["GbH 10 views", "GbH 1 view",
-                                               "GraspNet 1 view", ""]
+                                               "GraspNet 1 view", "", ""]
+    beyond = load_experiment(SCENARIOS_DIR / "experiment_beyond.yaml")
+    assert beyond.objects == full.objects and beyond.protocols == ["stable"]
+    assert [s.grasp_method for s in method_scenarios(beyond).values()] == ["gbh_scoop",
+                                                                           "gbh_regrasp"]
     small = load_experiment(SCENARIOS_DIR / "experiment_small.yaml")
     assert len(make_tasks(small)) <= 20
 
