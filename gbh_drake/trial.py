@@ -322,17 +322,18 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
     offered = _port_value(source.grasps, context)
     search = _port_value(source.search, context) if not offered else None
     X = station.X_WO_initial
-    if verdict.planned_poses:  # where it was scanned last (after a regrasp: set down anew)
+    X_scanned = X  # where it was scanned last (after a regrasp: set down anew)
+    if verdict.planned_poses:
         x, y, z, roll, pitch, yaw = verdict.planned_poses[-1]
-        X = RigidTransform(RollPitchYaw(roll, pitch, yaw), [x, y, z])
+        X_scanned = RigidTransform(RollPitchYaw(roll, pitch, yaw), [x, y, z])
     refusals: dict[str, int] = {}
     for r in status.refusals:
         refusals[r.key] = refusals.get(r.key, 0) + 1
     plan = status.plan
-    on_part = _on_true_part(station.asset, X)
+    on_part = _on_true_part(station.asset, X_scanned)
     port = {"grasps": source.grasps, "scoop_grasps": source.scoop,
             "fallback_grasps": source.fallback}.get(status.source)
-    chosen = _port_value(port, context) if port is not None else []
+    chosen = _port_value(port, context) if port is not None else offered
     executed = chosen[plan.rank] if plan and plan.rank < len(chosen) and \
         hasattr(chosen[plan.rank], "structure") else None
     known = bool(station.asset.hangable_parts) and hangability is not None
