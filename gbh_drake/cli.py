@@ -71,10 +71,15 @@ def _handles_errors(command):
 
     @functools.wraps(command)
     def wrapper(argv: list[str] | None = None) -> int:
-        with interrupts.handled(), _guarded_stdout():
+        with interrupts.handled(), _guarded_stdout() as stdout:
             try:
                 code = command(argv)
                 sys.stdout.flush()  # a full device fails here, not in Python's exit
+            except SystemExit as e:  # argparse's --help, --version and usage errors
+                if stdout.failed is None:
+                    raise
+                _say(f"cannot write outputs: {stdout.failed}")  # (argparse swallowed it)
+                return 2 if e.code in (0, None) else e.code
             except KeyboardInterrupt:
                 return _interrupted()
             except BrokenPipeError:  # the reader of our stdout went away
@@ -90,6 +95,9 @@ def _handles_errors(command):
                 return 2
             if interrupts.received() is not None:  # the signal's exception was swallowed
                 return _interrupted()
+            if stdout.failed is not None:  # a write error some library swallowed
+                _say(f"cannot write outputs: {stdout.failed}")
+                return 2
             return code
 
     return wrapper
@@ -110,6 +118,8 @@ class _Stdout:
 
     def __init__(self, stream):
         self._stream = stream
+        self.failed = None
+        """The :class:`~gbh_drake.outputs.OutputError` of the first write that failed."""
 
     def __getattr__(self, name):
         return getattr(self._stream, name)
@@ -123,7 +133,8 @@ class _Stdout:
             from gbh_drake.outputs import OutputError, reason
 
             _quiet_stdout()
-            raise OutputError("stdout", f"could not write it ({reason(e)})") from None
+            self.failed = self.failed or OutputError("stdout", f"could not write it ({reason(e)})")
+            raise self.failed from None
 
     def write(self, text):
         return self._guard(self._stream.write, text)
@@ -138,9 +149,9 @@ class _Stdout:
 @contextlib.contextmanager
 def _guarded_stdout():
     real = sys.stdout
-    sys.stdout = _Stdout(real)
+    sys.stdout = guarded = _Stdout(real)
     try:
-        yield
+        yield guarded
     finally:
         if sys.stdout.__class__ is _Stdout:
             sys.stdout = real
