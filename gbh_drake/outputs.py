@@ -1,6 +1,7 @@
 """Output folders: checked before a run starts, held by one run at a time, written atomically.
 
-A run's folder holds one complete run or nothing of it:
+A run's folder holds one complete run: the new one, or, when the new one fails or is
+interrupted, the previous one as it was (or nothing, if there was none):
 
 * :class:`RunOutputs` (a context manager) first checks the folder: it is made if missing; a path
   that is a file, a folder that cannot be written and a disk with less than
@@ -8,13 +9,14 @@ A run's folder holds one complete run or nothing of it:
 * It locks the folder (``flock`` on ``<folder>/.gbh.lock``): a second run given the same folder
   while the first is running is refused with a message naming the first's process id. The lock
   dies with its process (even a killed one), so it is never stale.
-* It removes the outputs of a previous run in that folder (and temporary files an earlier
-  killed run left), so that a run that fails or is interrupted leaves nothing that looks like
-  its own result.
+* It removes the temporary files an earlier killed run left; the previous run's outputs stay
+  until this run's replace them.
 * :meth:`RunOutputs.stage` writes each output at once to a hidden temporary file beside its
-  final name (a full disk fails here, with the file named); :meth:`RunOutputs.commit` renames
-  them all into place, ``summary.yaml`` last. An exception, Ctrl-C or SIGTERM before the commit
-  has finished removes the temporary files and whatever this run had already renamed.
+  final name (a full disk fails here, with the file named); :meth:`RunOutputs.commit` moves the
+  previous run's outputs aside and renames the new ones into place, ``summary.yaml`` last, then
+  drops what it moved aside (and any previous output the new run does not make). An exception,
+  Ctrl-C or SIGTERM before the commit has finished removes the temporary files and whatever this
+  run had already renamed, and puts the previous run's outputs back.
 
 :func:`replace_contents` does the same for ``gbh objects build --out``: the models are built in a
 hidden staging folder, then each object's folder replaces the old one.
@@ -189,11 +191,11 @@ def remove(path: Path) -> None:
 class RunOutputs:
     """One run's output folder (see the module docstring)::
 
-        with RunOutputs(folder) as outputs:   # checked, locked, previous outputs removed
+        with RunOutputs(folder) as outputs:   # checked, locked; the previous outputs stay
             ...                               # the run
             outputs.stage("replay.html", html)
             outputs.stage("summary.yaml", text)
-            outputs.commit()                  # all renamed into place, or none kept
+            outputs.commit()                  # all renamed into place, or the previous kept
     """
 
     def __init__(self, folder: Path, names: tuple[str, ...] = RUN_OUTPUTS, *,
@@ -204,6 +206,8 @@ class RunOutputs:
         self._lock: FolderLock | None = None
         self._staged: dict[str, Path] = {}
         self._committed: list[Path] = []
+        self._aside: dict[Path, Path] = {}
+        """The previous run's outputs moved aside during the commit: final path -> where."""
         self.committed = False
 
     def __enter__(self) -> RunOutputs:
@@ -211,25 +215,17 @@ class RunOutputs:
         self._lock = FolderLock(self.folder)
         self._lock.acquire()
         try:
-            self._clear_previous()
+            self._clear_stale()
         except BaseException:
             self._lock.release()
             raise
         return self
 
-    def _clear_previous(self) -> None:
-        """Removes the previous run's outputs and temporary files left by killed runs (we hold
-        the lock: no other run is writing here)."""
-        try:
-            for name in self.names:
-                target = self.folder / name
-                if target.exists() or target.is_symlink():
-                    target.unlink()
-            for stale in self.folder.glob(f"{_TMP_PREFIX}*"):
-                remove(stale)
-        except OSError as e:
-            raise OutputError(self.folder, f"cannot remove the previous run's outputs "
-                                           f"({reason(e)})") from None
+    def _clear_stale(self) -> None:
+        """Removes the temporary files left by killed runs (we hold the lock: no other run is
+        writing here); the previous run's outputs stay."""
+        for stale in self.folder.glob(f"{_TMP_PREFIX}*"):
+            remove(stale)
 
     def path(self, name: str) -> Path:
         """Where output ``name`` will be once committed."""
@@ -243,9 +239,19 @@ class RunOutputs:
         return self.folder / name
 
     def commit(self) -> None:
-        """Renames every staged output into place (``summary.yaml`` last). A signal received
-        before (and its exception dropped by some library) stops it here: nothing is kept."""
+        """Moves the previous run's outputs aside, renames every staged output into place
+        (``summary.yaml`` last), then drops what was moved aside. A signal received before (and
+        its exception dropped by some library) stops it here: the previous run is kept."""
         interrupts.check()
+        for name in self.names:  # aside, all of them: the new run replaces the whole set
+            target = self.folder / name
+            if target.exists() or target.is_symlink():
+                aside = target.with_name(f"{_TMP_PREFIX}{os.getpid()}-previous-{name}")
+                try:
+                    os.replace(target, aside)
+                except OSError as e:
+                    raise OutputError(target, f"could not replace it ({reason(e)})") from None
+                self._aside[target] = aside
         order = sorted(self._staged, key=lambda n: n == "summary.yaml")
         for name in order:
             target = self.folder / name
@@ -256,6 +262,9 @@ class RunOutputs:
             self._committed.append(target)
         self._staged.clear()
         self.committed = True
+        for aside in self._aside.values():
+            remove(aside)
+        self._aside.clear()
 
     def __exit__(self, exc_type, exc, tb) -> None:
         try:
@@ -264,8 +273,12 @@ class RunOutputs:
                     remove(tmp)
                 for done in self._committed:
                     remove(done)
+                for target, aside in self._aside.items():  # the previous run, back in place
+                    with contextlib.suppress(OSError):
+                        os.replace(aside, target)
                 self._staged.clear()
                 self._committed.clear()
+                self._aside.clear()
         finally:
             if self._lock is not None:
                 self._lock.release()

@@ -131,7 +131,9 @@ def test_full_disk_during_the_run_leaves_nothing(tmp_path, capsys, monkeypatch):
     assert _left(out) == [LOCK_NAME]
 
 
-def test_outputs_of_a_previous_run_are_removed_when_a_run_fails(tmp_path, monkeypatch):
+def test_the_previous_run_stays_whole_when_a_run_fails(tmp_path, monkeypatch):
+    """A failed run leaves the previous run's outputs as they were (and clears what a killed
+    run left)."""
     out = tmp_path / "o"
     out.mkdir()
     for name in OUTPUTS:
@@ -143,7 +145,23 @@ def test_outputs_of_a_previous_run_are_removed_when_a_run_fails(tmp_path, monkey
     monkeypatch.setattr(trial_module, "build_trial", boom)
     with pytest.raises(RuntimeError, match="a bug deep inside"):  # a bug: not an input error
         main(["run", str(_scenario(tmp_path)), "--set", f"output_dir: {out}"])
-    assert _left(out) == [LOCK_NAME]
+    assert _left(out) == sorted([LOCK_NAME, *OUTPUTS])
+    assert all((out / name).read_text() == "from an earlier run" for name in OUTPUTS)
+
+
+def test_a_commit_replaces_the_whole_previous_run(tmp_path):
+    """Committed, the folder holds the new run's outputs only (a previous output the new run
+    does not make is gone too), no temporary file."""
+    folder = tmp_path / "o"
+    folder.mkdir()
+    for name in OUTPUTS:
+        (folder / name).write_text("old")
+    with RunOutputs(folder) as run_outputs:
+        for name in OUTPUTS[1:]:
+            run_outputs.stage(name, "new")
+        run_outputs.commit()
+    assert _left(folder) == sorted([LOCK_NAME, *OUTPUTS[1:]])
+    assert all((folder / name).read_text() == "new" for name in OUTPUTS[1:])
 
 
 @pytest.mark.sim
@@ -181,6 +199,34 @@ def test_interrupt_between_renames_removes_the_renamed(tmp_path):
         finally:
             outputs.os.replace = real_replace
     assert _left(folder) == [LOCK_NAME]
+
+
+def test_interrupt_between_renames_puts_the_previous_run_back(tmp_path):
+    """Interrupted after the previous outputs were moved aside and one new one renamed in: the
+    new one is removed, the previous ones are back, whole."""
+    folder = tmp_path / "o"
+    folder.mkdir()
+    for name in OUTPUTS:
+        (folder / name).write_text("old")
+    real_replace = os.replace
+    moved = []
+
+    def replace(src, dst):
+        if "previous" not in str(dst) and moved:  # the second new output
+            raise KeyboardInterrupt
+        if "previous" not in str(dst):
+            moved.append(dst)
+        return real_replace(src, dst)
+    with pytest.raises(KeyboardInterrupt), RunOutputs(folder) as run_outputs:
+        for name in OUTPUTS:
+            run_outputs.stage(name, "new")
+        outputs.os.replace = replace
+        try:
+            run_outputs.commit()
+        finally:
+            outputs.os.replace = real_replace
+    assert _left(folder) == sorted([LOCK_NAME, *OUTPUTS])
+    assert all((folder / name).read_text() == "old" for name in OUTPUTS)
 
 
 def test_a_second_run_into_a_busy_folder_is_refused(tmp_path, capsys, monkeypatch):

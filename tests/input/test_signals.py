@@ -81,7 +81,7 @@ def test_signal_ends_the_run_cleanly(moment, signum, tmp_path):
     scenario.write_text(PICK if moment in ("scan", "plan") else SETTLE)
     out = tmp_path / "out"
     out.mkdir()
-    (out / "summary.yaml").write_text("an earlier run's summary\n")  # must not survive
+    (out / "summary.yaml").write_text("an earlier run's summary\n")  # must survive, whole
     proc = _start(moment, scenario, out)
     _wait_for_mark(proc, moment)
     sent = time.monotonic()
@@ -98,8 +98,9 @@ def test_signal_ends_the_run_cleanly(moment, signum, tmp_path):
     left = sorted(p.name for p in out.iterdir())
     if moment == "import":  # before the scenario was read: the folder was not touched
         assert left == ["summary.yaml"], left
-    else:  # the run had begun: the earlier run's outputs went, none of this run's came
-        assert left == [".gbh.lock"], left
+    else:  # the run had begun: none of its outputs came, the earlier run's stayed
+        assert left == [".gbh.lock", "summary.yaml"], left
+    assert (out / "summary.yaml").read_text() == "an earlier run's summary\n"
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
