@@ -65,8 +65,9 @@ def test_the_object_state_port_comes_with_a_scan_time_only():
     assert held.GetInputPort("object.state").size() == 13
 
 
-def _scan_with_state(x_object: np.ndarray, until: float):
-    """A Scanner (scan_time 0.5 s) fed a constant object state, on an empty scene."""
+def _empty_scene_scanner(x_object: np.ndarray):
+    """A builder with an empty scene and a Scanner (1 view, scan_time 0.5 s) fed a constant
+    object state ``x_object`` (13,)."""
     from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 
     builder = DiagramBuilder()
@@ -78,6 +79,12 @@ def _scan_with_state(x_object: np.ndarray, until: float):
     builder.Connect(scene_graph.get_query_output_port(), scanner.GetInputPort("query_object"))
     state = builder.AddSystem(ConstantVectorSource(x_object))
     builder.Connect(state.get_output_port(), scanner.GetInputPort("object.state"))
+    return builder, scanner
+
+
+def _scan_with_state(x_object: np.ndarray, until: float):
+    """A Scanner (scan_time 0.5 s) fed a constant object state, on an empty scene."""
+    builder, scanner = _empty_scene_scanner(x_object)
     diagram = builder.Build()
     simulator = Simulator(diagram)
     simulator.AdvanceTo(until)
@@ -148,21 +155,12 @@ def test_a_scan_request_is_answered_by_a_new_scan_around_its_target():
     """The first scan at scan_time, then the request [1, x, y, z] (seen at 0.8 s) gets a second
     scan, aimed at the request's target: at once, the object having been still for longer than
     the dwell (stillness before the request counts, as before scan_time)."""
-    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
     from pydrake.systems.primitives import TrajectorySource
     from pydrake.trajectories import PiecewisePolynomial
 
-    builder = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, 0.0)
-    plant.Finalize()
-    scene_graph.AddRenderer("default", MakeRenderEngineVtk(RenderEngineVtkParams()))
-    scanner = builder.AddSystem(Scanner(ScanConfig(num_views=1), [0.55, 0.0, 0.06],
-                                        scan_time=0.5))
-    builder.Connect(scene_graph.get_query_output_port(), scanner.GetInputPort("query_object"))
     x = np.zeros(13)
-    x[0] = 1.0
-    builder.Connect(builder.AddSystem(ConstantVectorSource(x)).get_output_port(),
-                    scanner.GetInputPort("object.state"))
+    x[0] = 1.0  # still
+    builder, scanner = _empty_scene_scanner(x)
     request = PiecewisePolynomial.ZeroOrderHold(
         [0.0, 0.8, 5.0], np.array([[0, 0, 0, 0], [1, 0.5, 0.1, 0.06], [1, 0.5, 0.1, 0.06]]).T)
     builder.Connect(builder.AddSystem(TrajectorySource(request)).get_output_port(),
