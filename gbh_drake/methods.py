@@ -37,7 +37,7 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import DiagramBuilder, OutputPort, System
 from pydrake.systems.primitives import ConstantValueSource
 
-from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, GRIPPERS
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds
 from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
@@ -98,7 +98,9 @@ def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     """The paper's three stages on ``scan``; returns the scorer (its ``ranked_grasps``)."""
     detector = _add(builder, systems, "hangability_detector",
                     HangabilityDetector(scenario.gbh, seed=seeds.sampling))
-    synthesizer = _add(builder, systems, "grasp_synthesizer", GraspSynthesizer(scenario.gbh))
+    # The hook grasps are checked with the gripper the scenario runs (the wedge's nose too).
+    synthesizer = _add(builder, systems, "grasp_synthesizer",
+                       GraspSynthesizer(scenario.gbh, GRIPPERS[scenario.gripper]))
     scorer = _add(builder, systems, "grasp_scorer", GraspScorer(scenario.gbh))
     builder.Connect(scan, detector.get_input_port())
     builder.Connect(detector.get_output_port(), synthesizer.get_input_port())

@@ -115,6 +115,29 @@ def moving_swept_boxes_G(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER)
                                       strict=True) if d[body] != 0.0]
 
 
+#: m: how far back along -z_G the open gripper comes from (``PickConfig.approach_distance``):
+#: the wedge's nose sweeps that column on its way down.
+NOSE_DESCENT = 0.10
+
+
+def nose_descent_boxes_G(gripper: HookGripperGeometry = HOOK_GRIPPER,
+                         descent: float = NOSE_DESCENT) -> list[Box]:
+    """The column the wedge bar's nose sweeps as the open gripper comes down ``descent`` (m)
+    along +z_G to the grasp pose, in G (empty for the paper's square bar). A hook grasp's bar
+    goes down through the hole beside the material that will be caged; the nose, 8 mm past the
+    bar's tip, narrows that way by as much, so what the paper's bar passes the nose may push
+    (counted in N_sweep with the closing motion: none is allowed, as on the loop's path; N_c's
+    allowance of ``p_c`` points is the paper's, for its gripper)."""
+    if gripper.bar_nose <= 0.0:
+        return []
+    nose = next(b for b in gripper.l_finger_boxes() if b.name == "bar_nose")
+    top = nose.center[2] - nose.half_extents[2] - descent
+    bottom = nose.center[2] + nose.half_extents[2]
+    return [Box("bar_nose_descent", (nose.center[0], nose.center[1] - gripper.q_open,
+                                     0.5 * (top + bottom)),
+                (nose.half_extents[0], nose.half_extents[1], 0.5 * (bottom - top)))]
+
+
 def closed_loop_interior_G(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER) -> Box:
     """The hole of the closed loop, in the frame G of the grasp pose: between the palm (z = 0)
     and the bar's inner face (z = l_f - rod_width/2), between the two rods' inner faces (y), as
@@ -201,11 +224,12 @@ def count_open_and_sweep(points_W: np.ndarray, X_WG: np.ndarray, kind: str, marg
 
     N_c (paper): the points inside the open solid model, boxes grown by ``margin``.
     N_sweep: the points that the moving parts reach while closing (:func:`moving_swept_boxes_G`,
-    the closed pose included, grown by ``margin + sweep_margin``) and that are not already
+    the closed pose included, and a wedge bar's nose on its way down,
+    :func:`nose_descent_boxes_G`; grown by ``margin + sweep_margin``) and that are not already
     counted in N_c. ``sweep_margin`` (m) makes up for the sampling: a surface can cut into a
     box between two samples, up to about half their spacing deep, unseen by the count."""
     open_boxes = closing_boxes_G(kind, gripper.q_open, gripper)
-    moving = moving_swept_boxes_G(kind, gripper)
+    moving = moving_swept_boxes_G(kind, gripper) + nose_descent_boxes_G(gripper)
     n_open = np.zeros(len(np.reshape(X_WG, (-1, 4, 4))), dtype=int)
     n_sweep = np.zeros_like(n_open)
     if len(np.reshape(points_W, (-1, 3))):

@@ -348,3 +348,19 @@ def test_the_paper_parallel_placement_pinches_the_mug_handle():
         X_old[:3, 3] = g.structure.c - X_old[:3, :3] @ p["pM"]  # same axes, p_M on c
         assert count_open_and_sweep(c.points, X_old[None], PARALLEL)[1][0] >= PARAMS.p_sweep
         assert closing_stop(X_old, PARALLEL, c.dense)[0] > GR.q_closed + 1e-3
+
+
+def test_the_wedge_nose_path_down_counts_as_a_sweep_collision():
+    """A point the wedge's nose passes on its way down to a parallel grasp (5 cm above the
+    bar, where the paper's bar tip stops short of it and no part sweeps while closing) is a
+    sweep collision for the wedge gripper, nothing for the paper's."""
+    from gbh_drake.core.collision import count_open_and_sweep, nose_descent_boxes_G
+    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER
+
+    (column,) = nose_descent_boxes_G(WEDGE_GRIPPER)
+    assert nose_descent_boxes_G(HOOK_GRIPPER) == []
+    p_G = np.array([[column.center[0], column.center[1], WEDGE_GRIPPER.finger_length - 0.05]])
+    X = np.eye(4)[None]
+    counts = [tuple(int(v[0]) for v in count_open_and_sweep(p_G, X, "parallel", gripper=g))
+              for g in (HOOK_GRIPPER, WEDGE_GRIPPER)]
+    assert counts == [(0, 0), (0, 1)]
