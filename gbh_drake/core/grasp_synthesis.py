@@ -114,7 +114,22 @@ def _centring_shift(X_WG: np.ndarray, points: np.ndarray, params: GbhParams,
     lo = np.minimum(np.where(in_Q, y, np.inf).min(axis=1), 0.0)
     hi = np.maximum(np.where(in_Q, y, -np.inf).max(axis=1), 0.0)
     limit = gripper.q_closed - r
-    return np.clip(0.5 * (lo + hi), -limit, limit)
+    target, low = parallel_window_G(gripper)
+    return np.clip(0.5 * (lo + hi) - target, low - target, limit - target)
+
+
+def parallel_window_G(gripper: HookGripperGeometry = HOOK_GRIPPER) -> tuple[float, float]:
+    """(centre, lower edge) in y_G of where a parallel grasp keeps the caged material: the
+    closed loop's hole, centred on G (0, and its edge -(q_closed - rod_width/2)), for the
+    paper's bar. A wedge's nose narrows the way down past the bar's tip to the nose's tip
+    (:func:`~gbh_drake.core.collision.nose_descent_boxes_G`): the material must then come
+    down between the nose and the straight rod *and* end in the closed hole, so the window is
+    from the nose's tip (open) to the straight rod's inner face (closed)."""
+    edge = gripper.q_closed - 0.5 * gripper.rod_width
+    if gripper.bar_nose <= 0.0:
+        return 0.0, -edge
+    nose_tip = -gripper.q_open + gripper.bar_length + gripper.bar_nose
+    return 0.5 * (nose_tip + edge), nose_tip
 
 
 def parallel_anchor_G(gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:

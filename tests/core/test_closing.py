@@ -364,3 +364,17 @@ def test_the_wedge_nose_path_down_counts_as_a_sweep_collision():
     counts = [tuple(int(v[0]) for v in count_open_and_sweep(p_G, X, "parallel", gripper=g))
               for g in (HOOK_GRIPPER, WEDGE_GRIPPER)]
     assert counts == [(0, 0), (0, 1)]
+
+
+def test_a_wedge_centres_the_material_where_it_passes_the_nose_and_ends_in_the_loop():
+    """The paper's bar centres a parallel grasp's material on G, the closed loop's middle; the
+    wedge's nose narrows the way down to [nose tip, straight rod closed], so its material is
+    centred there (the paper's grasps unchanged)."""
+    from gbh_drake.core.grasp_synthesis import parallel_window_G
+    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER
+
+    assert parallel_window_G(HOOK_GRIPPER) == (0.0, -(HOOK_GRIPPER.q_closed - 0.004))
+    centre, low = parallel_window_G(WEDGE_GRIPPER)
+    nose_tip = -WEDGE_GRIPPER.q_open + WEDGE_GRIPPER.bar_length + WEDGE_GRIPPER.bar_nose
+    assert low == pytest.approx(nose_tip)
+    assert centre == pytest.approx(0.5 * (nose_tip + WEDGE_GRIPPER.q_closed - 0.004))
