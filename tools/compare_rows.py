@@ -1,9 +1,11 @@
 """Every trial whose result changed between two experiment runs (same seeds, same poses).
 
     python tools/compare_rows.py BEFORE/trials.jsonl AFTER/trials.jsonl [--out changes.md]
+        [--protocol stable]
 
-A trial is (object, method, trial index); its result is the outcome and, for a success, whether a
-cage or a pinch held it. Prints, as Markdown, the successes per method before and after, then one
+A trial is (object, method, trial index) of one protocol (``--protocol``, default ``stable``;
+rows without one are ``stable``); its result is the outcome and, for a success, whether a cage
+or a pinch held it. Prints, as Markdown, the successes per method before and after, then one
 line per changed trial with both reasons, gained successes first.
 """
 
@@ -16,12 +18,13 @@ from collections import Counter
 from pathlib import Path
 
 
-def load(path: Path) -> dict[tuple, dict]:
+def load(path: Path, protocol: str = "stable") -> dict[tuple, dict]:
     rows = {}
     for line in path.read_text().splitlines():
         if line.strip():
             row = json.loads(line)
-            rows[(row["object"], row["method"], int(row["trial"]))] = row
+            if (row.get("protocol") or "stable") == protocol:
+                rows[(row["object"], row["method"], int(row["trial"]))] = row
     return rows
 
 
@@ -63,8 +66,10 @@ def main(argv=None) -> int:
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
     parser.add_argument("--out", type=Path)
+    parser.add_argument("--protocol", default="stable")
     args = parser.parse_args(argv)
-    text = "\n".join(compare(load(args.before), load(args.after))) + "\n"
+    text = "\n".join(compare(load(args.before, args.protocol),
+                             load(args.after, args.protocol))) + "\n"
     if args.out:
         args.out.write_text(text)
     sys.stdout.write(text)
