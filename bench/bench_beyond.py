@@ -16,6 +16,7 @@ planning, simulation) and the differences. Usage:
 from __future__ import annotations
 
 import argparse
+import copy
 import os
 import statistics
 import time
@@ -23,7 +24,6 @@ import time
 from gbh_drake import SCENARIOS_DIR
 from gbh_drake.experiment.config import trial_scenario
 from gbh_drake.scenario import Scenario
-from gbh_drake.scenario.loader import apply_overrides
 from gbh_drake.trial import record_trial
 
 CASES = (("scoop", "key_ring", "natural", "gbh_scoop"),
@@ -45,8 +45,9 @@ def main() -> None:
     for capability, name, protocol, method in CASES:
         base = trial_scenario(SCENARIOS_DIR / "experiment.yaml", name, "gbh-10", 0, protocol)
         rows = {}
-        for label, scenario in (("gbh", base), (method,
-                                                apply_overrides(base, f"grasp_method: {method}"))):
+        other = copy.deepcopy(base)
+        other.grasp_method = method
+        for label, scenario in (("gbh", base), (method, other)):
             runs = [timed(scenario) for _ in range(args.runs)]
             rows[label] = (runs[0][0], runs[0][1], statistics.median(r[2] for r in runs))
         (o0, s0, w0), (o1, s1, w1) = rows["gbh"], rows[method]
