@@ -38,17 +38,20 @@ the rods touch, at ``q = rod_width / 2`` (:attr:`HookGripperGeometry.q_closed_re
 solid-model method takes ``bar_retracted`` (default False: the hook as above).
 
 The wedge bar (beyond the paper, for the scoop of :mod:`gbh_drake.core.scoop`): with
-``bar_nose > 0`` the bar's outer face (the one away from the palm, ``z = l_f + rod_width/2``)
-runs on ``bar_nose`` past the tip ``p1``, and a ramp ``bar_ramp`` long rises from that edge
-to the bar's inner face (which then ends ``bar_ramp - bar_nose`` short of the tip): a wedge
-whose sharp edge slides along the table and under material lying on it. Its slope matters:
-material pushed up a ramp of angle theta against the straight rod, friction mu on both, rises
-only if tan(theta) < (1 - mu^2) / (2 mu), 46 deg at mu = 0.4; a 45 deg ramp all but jams
-(simulated: a 7 mm wire stayed pinched on it), so the default ramp is 16 mm long, 26.6 deg.
-When the loop closes, the nose passes into a slot of the straight rod (``bar_nose`` is at most
-the rod's width: it ends flush with the rod's outer face; bar and straight rod never collide,
-see :mod:`gbh_drake.modeling.gripper_sdf`), and the ramp still meets the rod's inner face
-half a rod high: the loop is closed.
+``bar_ramp > 0`` the bar's tip is chamfered: its outer face (the one away from the palm,
+``z = l_f + rod_width/2``) runs to the tip (``bar_nose`` past ``p1``; 0 by default), and a
+ramp ``bar_ramp`` long rises from that edge back to the bar's inner face: a wedge whose sharp
+edge slides along the table and under material lying on it. Its slope matters: material pushed
+up a ramp of angle theta against the straight rod, friction mu on both, rises only if
+tan(theta) < (1 - mu^2) / (2 mu), 46 deg at mu = 0.4; a 45 deg ramp all but jams (simulated: a
+7 mm wire stayed pinched on it), so the default ramp is 16 mm long, 26.6 deg. The default wedge
+has no nose (``bar_nose`` = 0): the chamfer lies inside the paper's bar, so the wedge's solid
+model, its closing sweep and every rule of GbH are the paper bar's, and only the physics sees the
+chamfer; when the loop closes, the edge meets the straight rod's inner face. A nose (the outer
+face running on past the tip into a slot of the straight rod, at most a rod's width) was the first
+design: it narrowed the way down between the bar's tip and the straight rod by 8 mm, to 15 mm,
+and refused every parallel hook of a 14 mm handle (the watering can's: the experiment's
+``gbh+`` at 26a9a43, docs/scoop.md).
 :data:`WEDGE_GRIPPER` is that variant; :data:`HOOK_GRIPPER`, the paper's square bar, stays
 the default everywhere.
 """
@@ -109,18 +112,19 @@ class HookGripperGeometry:
     bar; at most ``rod_width``: the nose ends flush with the straight rod's outer face when the
     loop closes)."""
     bar_ramp: float = 0.0
-    """Length (m, along y_G) of the wedge's ramp, from the nose's edge back to where it meets
-    the bar's inner face (``bar_nose`` <= ``bar_ramp`` <= ``bar_nose`` + ``bar_length`` / 2;
-    ``bar_nose`` when 0)."""
+    """Length (m, along y_G) of the wedge's ramp, from the tip's (or nose's) edge back to where
+    it meets the bar's inner face (``bar_nose`` <= ``bar_ramp`` <= ``bar_nose`` + ``bar_length``
+    - ``rod_width``: the inner face keeps a rod's width past the L rod's; ``bar_nose`` when 0,
+    and 0 for the paper's square bar)."""
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.bar_nose <= self.rod_width + 1e-12:
             raise ValueError(f"bar_nose {self.bar_nose} m outside [0, rod_width = "
                              f"{self.rod_width} m]")
         if self.bar_ramp and not (self.bar_nose <= self.bar_ramp
-                                  <= self.bar_nose + 0.5 * self.bar_length + 1e-12):
+                                  <= self.bar_nose + self.bar_length - self.rod_width + 1e-12):
             raise ValueError(f"bar_ramp {self.bar_ramp} m outside [bar_nose, bar_nose + "
-                             f"bar_length / 2]")
+                             f"bar_length - rod_width]")
 
     @property
     def ramp(self) -> float:
@@ -226,10 +230,11 @@ class HookGripperGeometry:
     def bar_profile_pivot(self) -> np.ndarray:
         """(k, 2) the deployed bar's cross-section in the (y, z) plane of its pivot frame (the
         bend p3 at the origin, axes of G), counter-clockwise seen from +x: a rectangle from
-        the L rod's outer face to the tip, with the wedge's nose below the tip when
-        ``bar_nose`` > 0 (the bar's solid is this profile extruded over +-rod_width/2 in x)."""
+        the L rod's outer face to the tip, its tip chamfered into a wedge when :attr:`ramp` > 0
+        (the outer face running on ``bar_nose`` past the tip; the bar's solid is this profile
+        extruded over +-rod_width/2 in x)."""
         r, lh, nose = 0.5 * self.rod_width, self.bar_length, self.bar_nose
-        if nose <= 0.0:
+        if self.ramp <= 0.0:
             return np.array([(-r, -r), (lh, -r), (lh, r), (-r, r)])
         return np.array([(-r, -r), (lh + nose - self.ramp, -r), (lh + nose, r), (-r, r)])
 
@@ -319,10 +324,9 @@ class HookGripperGeometry:
 
 #: The gripper used throughout the project (paper dimensions).
 HOOK_GRIPPER = HookGripperGeometry()
-#: The same gripper with a wedge bar (its nose as long as the rod is wide, on a ramp twice as
-#: long: 26.6 deg), for the scoop (beyond the paper; ``robot.gripper: wedge``).
-WEDGE_GRIPPER = HookGripperGeometry(bar_nose=HOOK_GRIPPER.rod_width,
-                                   bar_ramp=2.0 * HOOK_GRIPPER.rod_width)
+#: The same gripper with a wedge bar (its tip chamfered over twice the rod's width: 26.6 deg,
+#: inside the paper's bar), for the scoop (beyond the paper; ``robot.gripper: wedge``).
+WEDGE_GRIPPER = HookGripperGeometry(bar_ramp=2.0 * HOOK_GRIPPER.rod_width)
 #: The grippers by name (``RobotConfig.gripper``).
 GRIPPERS = {"paper": HOOK_GRIPPER, "wedge": WEDGE_GRIPPER}
 

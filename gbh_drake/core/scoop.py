@@ -5,8 +5,8 @@ bar, which every hook grasp of the paper needs: no pose of the gripper clears th
 (docs/reach.md: *out of reach*, 7-17 mm short). The scoop goes under the material instead. The
 straight rod goes down through the hole to the table, ``rod_gap`` inside the material's inner
 edge; the L rod stands outside the material; the loop closes at table level with the wedge bar
-leading (:data:`~gbh_drake.core.gripper.WEDGE_GRIPPER`: its outer face runs on past the tip as
-a 45 deg ramp). The wedge's edge slides along the table and under the material, which rides up
+leading (:data:`~gbh_drake.core.gripper.WEDGE_GRIPPER`: its tip chamfered, a 26.6 deg ramp
+from the bottom edge to the top face). The wedge's edge slides along the table and under the material, which rides up
 the ramp onto the bar while the straight rod keeps it from sliding away; the closed loop then
 cages it as a vertical grasp's does. Whether it does is the physics' call: the trial's cage test
 says cage or pinch.
@@ -23,9 +23,9 @@ the material's inner surface; at most ``max_per_structure``, evenly spread):
 
 **Rules** (:func:`check_scoops`), on the object's samples, in the frame G of each pose:
 
-* *open*: the open gripper (the wedge's solid model, nose included) holds fewer than ``p_c``
+* *open*: the open gripper (the wedge's solid model) holds fewer than ``p_c``
   points (the paper's N_c, GbH's threshold);
-* *nothing to scoop*: the bar's path (its box and the nose's, swept from the open to the closed
+* *nothing to scoop*: the bar's path (its box, swept from the open to the closed
   pose, and the loop's corridor above it) holds fewer than ``min_scooped`` points at the bar's
   height;
 * *too tall*: a point in that corridor lies higher than ``max_height`` above the table: the wedge
@@ -148,7 +148,7 @@ def _at(box: Box, dy: float) -> Box:
 def scoop_regions_G(gripper: HookGripperGeometry = WEDGE_GRIPPER
                     ) -> tuple[list[Box], Box, list[Box]]:
     """The regions of :func:`check_scoops`, in the frame G of the scoop pose (open gripper):
-    (the open solid model's boxes; the corridor: the bar's and nose's path from the open pose to
+    (the open solid model's boxes; the corridor: the bar's path from the open pose to
     the straight rod, from the palm down to the bar's outer face; the moving parts other than
     the wedge: the L rod above the bar swept while closing, the L rod where it stops, the hand
     swept)."""

@@ -106,7 +106,7 @@ def _finger_link(name: str, boxes: list[Box], sign: float, mass: float, frame: s
 
 def make_gripper_sdf(geometry: HookGripperGeometry = HOOK_GRIPPER,
                      bar_mesh: str = f"package://gbh_drake/{WEDGE_BAR_OBJ.name}") -> str:
-    """The SDFormat text of the hook gripper for ``geometry`` (a wedge bar, ``bar_nose`` > 0,
+    """The SDFormat text of the hook gripper for ``geometry`` (a wedge bar, ``ramp`` > 0,
     is the mesh ``bar_mesh``: :func:`wedge_bar_obj`'s text)."""
     g = geometry
     hand = g.hand_box()
@@ -160,7 +160,7 @@ def _bar(g: HookGripperGeometry, bar: Box, bar_mesh: str) -> list[str]:
     box, or the wedge's mesh (expressed in the pivot frame, as :func:`wedge_bar_obj`)."""
     pivot = (0.0, 0.0, g.finger_length)  # p3 in the L finger's frame
     in_pivot = Box(bar.name, tuple(np.asarray(bar.center) - pivot), bar.half_extents)
-    if g.bar_nose > 0.0:
+    if g.ramp > 0.0:
         props = hydroelastic("compliant", modulus=GRIPPER_MODULUS, mu=GRIPPER_MU)
         shape = mesh_geometry(bar_mesh)
         elements = (f'<visual name="bar_visual">{shape}{material(ROD_RGBA)}</visual>'

@@ -355,15 +355,17 @@ def test_the_wedge_nose_path_down_counts_as_a_sweep_collision():
     bar, where the paper's bar tip stops short of it and no part sweeps while closing) is a
     sweep collision for the wedge gripper, nothing for the paper's."""
     from gbh_drake.core.collision import count_open_and_sweep, nose_descent_boxes_G
-    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER
+    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER, HookGripperGeometry
 
-    (column,) = nose_descent_boxes_G(WEDGE_GRIPPER)
-    assert nose_descent_boxes_G(HOOK_GRIPPER) == []
-    p_G = np.array([[column.center[0], column.center[1], WEDGE_GRIPPER.finger_length - 0.05]])
+    nosed = HookGripperGeometry(bar_nose=0.008, bar_ramp=0.016)
+    (column,) = nose_descent_boxes_G(nosed)
+    # The paper's bar and the default wedge (its chamfer inside the bar) have no nose.
+    assert nose_descent_boxes_G(HOOK_GRIPPER) == nose_descent_boxes_G(WEDGE_GRIPPER) == []
+    p_G = np.array([[column.center[0], column.center[1], nosed.finger_length - 0.05]])
     X = np.eye(4)[None]
     counts = [tuple(int(v[0]) for v in count_open_and_sweep(p_G, X, "parallel", gripper=g))
-              for g in (HOOK_GRIPPER, WEDGE_GRIPPER)]
-    assert counts == [(0, 0), (0, 1)]
+              for g in (HOOK_GRIPPER, WEDGE_GRIPPER, nosed)]
+    assert counts == [(0, 0), (0, 0), (0, 1)]
 
 
 def test_a_wedge_centres_the_material_where_it_passes_the_nose_and_ends_in_the_loop():
@@ -371,10 +373,13 @@ def test_a_wedge_centres_the_material_where_it_passes_the_nose_and_ends_in_the_l
     wedge's nose narrows the way down to [nose tip, straight rod closed], so its material is
     centred there (the paper's grasps unchanged)."""
     from gbh_drake.core.grasp_synthesis import parallel_window_G
-    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER
+    from gbh_drake.core.gripper import HOOK_GRIPPER, WEDGE_GRIPPER, HookGripperGeometry
 
     assert parallel_window_G(HOOK_GRIPPER) == (0.0, -(HOOK_GRIPPER.q_closed - 0.004))
-    centre, low = parallel_window_G(WEDGE_GRIPPER)
-    nose_tip = -WEDGE_GRIPPER.q_open + WEDGE_GRIPPER.bar_length + WEDGE_GRIPPER.bar_nose
+    # The default wedge's chamfer lies inside the paper's bar: the paper's window.
+    assert parallel_window_G(WEDGE_GRIPPER) == parallel_window_G(HOOK_GRIPPER)
+    nosed = HookGripperGeometry(bar_nose=0.008, bar_ramp=0.016)
+    centre, low = parallel_window_G(nosed)
+    nose_tip = -nosed.q_open + nosed.bar_length + nosed.bar_nose
     assert low == pytest.approx(nose_tip)
-    assert centre == pytest.approx(0.5 * (nose_tip + WEDGE_GRIPPER.q_closed - 0.004))
+    assert centre == pytest.approx(0.5 * (nose_tip + nosed.q_closed - 0.004))

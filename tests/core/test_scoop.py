@@ -98,7 +98,7 @@ def test_the_corridor_runs_from_the_open_bar_to_the_straight_rod():
     hi = corridor.center[1] + corridor.half_extents[1]
     assert lo == pytest.approx(-g.q_open - r) and hi == pytest.approx(g.q_open - r)
     assert corridor.center[2] + corridor.half_extents[2] == pytest.approx(g.finger_length + r)
-    assert {b.name for b in open_boxes} >= {"bar", "bar_nose", "straight_rod", "l_rod"}
+    assert {b.name for b in open_boxes} >= {"bar", "straight_rod", "l_rod"}
     assert len(pushers) == 3
 
 

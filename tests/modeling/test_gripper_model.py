@@ -35,9 +35,15 @@ def test_wedge_variant_on_disk_is_generated_from_the_geometry_module():
 def test_wedge_nose_is_bounded_by_the_rod_width():
     with pytest.raises(ValueError, match="bar_nose"):
         HookGripperGeometry(bar_nose=0.009)
-    assert HOOK_GRIPPER.bar_nose == 0.0
-    assert {b.name for b in HOOK_GRIPPER.solid_boxes_G()} == \
-        {"hand", "straight_rod", "l_rod", "bar"}
+    with pytest.raises(ValueError, match="bar_ramp"):
+        HookGripperGeometry(bar_ramp=0.023)  # the inner face would end within a rod of the L rod
+    assert HOOK_GRIPPER.bar_nose == WEDGE_GRIPPER.bar_nose == 0.0
+    assert HOOK_GRIPPER.ramp == 0.0 and WEDGE_GRIPPER.ramp == 0.016
+    # The default wedge's solid model is the paper's: its chamfer lies inside the bar's box.
+    for g in (HOOK_GRIPPER, WEDGE_GRIPPER):
+        assert {b.name for b in g.solid_boxes_G()} == {"hand", "straight_rod", "l_rod", "bar"}
+    assert WEDGE_GRIPPER.solid_boxes_G() == HOOK_GRIPPER.solid_boxes_G()
+    assert "bar_nose" in {b.name for b in HookGripperGeometry(bar_nose=0.008).solid_boxes_G()}
 
 
 def test_arm_urdf_is_current():
@@ -138,7 +144,7 @@ def test_closed_gripper_closes_the_loop():
 @pytest.mark.parametrize("q", [WEDGE_GRIPPER.q_open, WEDGE_GRIPPER.q_closed])
 def test_wedge_bar_in_the_model_is_the_geometry_modules(q):
     """The wedge model's bar is a compliant convex mesh whose points lie in the solid model's
-    bar and nose boxes and fill their extent; the rest of the model is the paper's."""
+    bar box and fill its extent; the rest of the model is the paper's."""
     import trimesh
     from pydrake.geometry import Mesh
 
@@ -163,12 +169,16 @@ def test_wedge_bar_in_the_model_is_the_geometry_modules(q):
     hi = np.max([np.add(b.center, b.half_extents) for b in boxes], axis=0)
     np.testing.assert_allclose(p_G.min(axis=0), lo, atol=1e-9)
     np.testing.assert_allclose(p_G.max(axis=0), hi, atol=1e-9)
-    # The nose's sharp edge is the bar's outer face (farthest from the palm), past the tip p1.
-    tip = p_G[np.argmax(p_G[:, 1])]
-    assert tip[2] == pytest.approx(WEDGE_GRIPPER.finger_length + 0.5 * WEDGE_GRIPPER.rod_width)
+    # The wedge's sharp edge is the bar's outer face (farthest from the palm), at the tip p1;
+    # its inner face (toward the palm) ends a ramp's length short of it.
+    far = p_G[:, 1] > p_G[:, 1].max() - 1e-9
+    assert np.all(p_G[far, 2] == pytest.approx(WEDGE_GRIPPER.finger_length
+                                               + 0.5 * WEDGE_GRIPPER.rod_width))
     p1 = WEDGE_GRIPPER.keypoints_G(q)["p1"]
-    assert tip[1] == pytest.approx(p1[1] + WEDGE_GRIPPER.bar_nose)
-    # Closed, the nose ends flush with the straight rod's outer face (it passes into its slot).
+    assert p_G[far, 1][0] == pytest.approx(p1[1])
+    inner = p_G[:, 2] < WEDGE_GRIPPER.finger_length
+    assert p_G[inner, 1].max() == pytest.approx(p1[1] - WEDGE_GRIPPER.ramp)
+    # Closed, the edge meets the straight rod's inner face: the loop is closed.
     if q == WEDGE_GRIPPER.q_closed:
         rod = {b.name: b for b in WEDGE_GRIPPER.solid_boxes_G(q)}["straight_rod"]
-        assert tip[1] == pytest.approx(rod.center[1] + rod.half_extents[1])
+        assert p1[1] == pytest.approx(rod.center[1] - rod.half_extents[1])
