@@ -6,10 +6,10 @@ bar, which every hook grasp of the paper needs: no pose of the gripper clears th
 straight rod goes down through the hole to the table, ``rod_gap`` inside the material's inner
 edge; the L rod stands outside the material; the loop closes at table level with the wedge bar
 leading (:data:`~gbh_drake.core.gripper.WEDGE_GRIPPER`: its tip chamfered, a 26.6 deg ramp
-from the bottom edge to the top face). The wedge's edge slides along the table and under the material, which rides up
-the ramp onto the bar while the straight rod keeps it from sliding away; the closed loop then
-cages it as a vertical grasp's does. Whether it does is the physics' call: the trial's cage test
-says cage or pinch.
+from the bottom edge to the top face). The wedge's edge slides along the table and under the
+material, which rides up the ramp onto the bar while the straight rod keeps it from sliding
+away; the closed loop then cages it as a vertical grasp's does. Whether it does is the
+physics' call: the trial's cage test says cage or pinch.
 
 **Poses** (:func:`scoop_poses`). For each hanging structure whose axis is within
 ``tilt_max_deg`` of the ground normal, and for its contact points h (where the rays from c met
