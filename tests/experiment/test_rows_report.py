@@ -276,8 +276,8 @@ def test_a_rate_of_no_trials_is_a_dash(made_up):
 
 
 def test_reference_experiment_as_csv(tmp_path):
-    """The 460-trial experiment in docs/experiment: one CSV row per trial, a cause for every
-    failure, Table 1's numbers (no plots: fast)."""
+    """The 1150-trial experiment in docs/experiment (5 methods, 2 protocols): one CSV row per
+    trial, a cause for every failure, Table 1's numbers (no plots: fast)."""
     from pathlib import Path
 
     import pandas as pd
@@ -287,14 +287,17 @@ def test_reference_experiment_as_csv(tmp_path):
     data = read_input(Path(__file__).parents[2] / "docs" / "experiment")
     (tmp_path / "trials.csv").write_text(trials_frame(data).to_csv(index=False))
     trials = pd.read_csv(tmp_path / "trials.csv", keep_default_na=False)
-    assert len(trials) == len(data.rows) == 460
-    assert not trials.duplicated(["object", "method", "trial"]).any()
+    assert len(trials) == len(data.rows) == 1150
+    assert not trials.duplicated(["object", "method", "trial", "protocol"]).any()
     assert ((trials.cause == "") == trials.success).all()
     hangable_failures = sum(not r["success"] and not r["is_control"] for r in data.rows)
-    assert cause_counts(data).to_numpy().sum() == hangable_failures == 169
-    gbh10 = table1_frame(data).set_index("method").loc["gbh-10"]
+    assert cause_counts(data).to_numpy().sum() == hangable_failures == 314
+    table = table1_frame(data).set_index(["protocol", "method"])
+    gbh10 = table.loc[("stable", "gbh-10")]
     assert (gbh10.trials, gbh10.successes) == (95, 56)
     assert (gbh10.wilson_lo, gbh10.wilson_hi) == pytest.approx((0.4890, 0.6830), abs=1e-4)
+    plus = table.loc[("stable", "gbh+")]
+    assert (plus.trials, plus.successes, plus.cage) == (95, 86, 79)
 
 
 # ---- protocols ---------------------------------------------------------------------------------
