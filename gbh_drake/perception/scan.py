@@ -108,6 +108,15 @@ class ScanResult:
     """How many times the views were re-framed because the object reached the edge of the
     region framed by the first look (see ``ScanConfig.reframe_tries``)."""
 
+    def __deepcopy__(self, memo) -> ScanResult:
+        """The mesh, the arrays and the free space are shared, not copied: a scan is never
+        modified once taken, and Drake copies abstract state at every unrestricted update
+        (the Scanner's stillness watch), where a deep copy of the mesh cost ~2 ms each time.
+        The lists and dicts are copied, so a copy's warnings can be extended on their own."""
+        return dataclasses.replace(self, X_WCs=list(self.X_WCs), timing=dict(self.timing),
+                                   warnings=list(self.warnings),
+                                   first_look_X_WCs=list(self.first_look_X_WCs))
+
     @staticmethod
     def empty_result(message: str) -> ScanResult:
         """An empty result that says why there is no scan."""

@@ -113,3 +113,21 @@ def test_noisy_scan_is_deterministic_and_still_good(mug_scene):
     other = scan_object(mug_scene.query_object, config, mug_scene.p_WT, noise_seed=8)
     assert other.mesh_W.vertices.shape != first.mesh_W.vertices.shape or not np.array_equal(
         other.mesh_W.vertices, first.mesh_W.vertices)
+
+
+def test_a_copied_scan_shares_its_mesh_but_not_its_lists(ten_views):
+    """Drake copies abstract state at every unrestricted update: the copy shares the mesh and
+    arrays (a scan is never modified) and owns its lists, so extending one's warnings leaves the
+    other's alone; the values are equal."""
+    import copy
+
+    from pydrake.common.value import AbstractValue
+
+    _, scan = ten_views
+    clone = AbstractValue.Make(scan).Clone().get_value()
+    assert clone is not scan
+    assert clone.mesh_W is scan.mesh_W and clone.p_WQ is scan.p_WQ
+    clone.warnings.append("only on the copy")
+    assert "only on the copy" not in scan.warnings
+    assert copy.deepcopy(scan).timing == scan.timing
+    assert len(clone.X_WCs) == len(scan.X_WCs) == 10
