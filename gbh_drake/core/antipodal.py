@@ -212,7 +212,8 @@ def plan_antipodal_grasps(
 def _contact_pairs(obj: ObjectModel, params: AntipodalParams, rng: np.random.Generator,
                    gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
     """Antipodal contact pairs (A, B) that fit between the rods, one row per kept sample."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     n = len(obj.points)
     idx = rng.choice(n, size=min(params.n_samples, n), replace=False)
     counts["samples"] = len(idx)

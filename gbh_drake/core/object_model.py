@@ -66,7 +66,8 @@ class ObjectModel:
     def cast(self, origins: np.ndarray, directions: np.ndarray) -> np.ndarray:
         """Distance (n,) along unit ``directions`` (n, 3) from ``origins`` (n, 3) to the first
         hit, metres; ``inf`` where the ray misses."""
-        import open3d as o3d  # lazy: its import takes ~2 s
+        from gbh_drake.core.o3d import open3d
+        o3d = open3d()  # lazy: see gbh_drake.core.o3d
         rays = np.concatenate([origins, directions], axis=1).astype(np.float32)
         if len(rays) == 0:
             return np.zeros(0)
@@ -75,7 +76,8 @@ class ObjectModel:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         """Unsigned distance (n,) from ``points`` (n, 3) to the surface, metres."""
-        import open3d as o3d  # lazy: its import takes ~2 s
+        from gbh_drake.core.o3d import open3d
+        o3d = open3d()  # lazy: see gbh_drake.core.o3d
         if len(points) == 0:
             return np.zeros(0)
         q = o3d.core.Tensor(np.asarray(points, dtype=np.float32))
@@ -130,7 +132,8 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
 
 def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:
     """Open3D's Embree scene of ``mesh``, for ray casting and distance queries (metres)."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     scene = o3d.t.geometry.RaycastingScene()
     scene.add_triangles(o3d.core.Tensor(np.asarray(mesh.vertices, dtype=np.float32)),
                         o3d.core.Tensor(np.asarray(mesh.faces, dtype=np.uint32)))

@@ -10,7 +10,8 @@ def simplified(mesh: trimesh.Trimesh, max_faces: int) -> trimesh.Trimesh:
     """``mesh`` itself when it has at most ``max_faces`` triangles, else a quadric decimation
     (Garland and Heckbert 1997, Open3D) to that many: flat regions collapse first, so shape and
     holes a few triangles wide survive."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     if len(mesh.faces) <= max_faces:
         return mesh
     o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(np.asarray(mesh.vertices)),

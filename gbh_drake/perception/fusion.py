@@ -97,7 +97,8 @@ def integrate(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
               X_WCs: Sequence[RigidTransform], config: ScanConfig) -> trimesh.Trimesh:
     """The TSDF of the depth images (m; 0 = no measurement) from cameras at X_WC, as a mesh
     in W (marching cubes, not cleaned)."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     volume = o3d.pipelines.integration.ScalableTSDFVolume(
         voxel_length=config.voxel_size, sdf_trunc=config.sdf_trunc,
         color_type=o3d.pipelines.integration.TSDFVolumeColorType.NoColor)

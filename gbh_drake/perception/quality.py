@@ -31,7 +31,8 @@ class ScanQuality:
 
 def distances_to_mesh(p_WQ: np.ndarray, mesh: trimesh.Trimesh) -> np.ndarray:
     """Unsigned distance (n,) in metres from each point p_WQ (n, 3) to the surface of ``mesh``."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     query = o3d.core.Tensor(np.asarray(p_WQ, dtype=np.float32))
     return raycasting_scene(mesh).compute_distance(query).numpy().astype(np.float64)
 
@@ -82,7 +83,8 @@ def check_through_hole(mesh_W: trimesh.Trimesh, center_W, axis_W, *, radius: flo
     radius / 2 around it, cast both ways along the axis, all miss. Enclosed: at least
     ``min_surround`` of the rays from the centre across the axis hit the mesh within ``reach``
     (m), so that a missing handle does not count as an open one."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     axis = np.asarray(axis_W, dtype=float)
     axis = axis / np.linalg.norm(axis)
     e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])

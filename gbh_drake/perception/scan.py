@@ -124,7 +124,8 @@ class ScanResult:
 
     def o3d_mesh(self):
         """``mesh_W`` as an ``open3d.geometry.TriangleMesh`` (with vertex normals)."""
-        import open3d as o3d
+        from gbh_drake.core.o3d import open3d
+        o3d = open3d()  # lazy: see gbh_drake.core.o3d
 
         mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(self.mesh_W.vertices),
                                          o3d.utility.Vector3iVector(self.mesh_W.faces))

@@ -69,7 +69,8 @@ def fit_table_plane(p_WQ: np.ndarray, config: ScanConfig) -> tuple[TablePlane, s
     table if it is within ``MAX_TILT_DEG`` of horizontal, holds ``MIN_INLIER_FRACTION`` of the
     points and has few points below it; otherwise the config's plane is assumed, with a warning.
     A fit within ``table_tolerance`` (and 1 deg) of the config's plane is snapped to it."""
-    import open3d as o3d  # lazy: its import takes ~2 s
+    from gbh_drake.core.o3d import open3d
+    o3d = open3d()  # lazy: see gbh_drake.core.o3d
     expected = TablePlane.horizontal(config.table_height)
     if len(p_WQ) < 3:
         return expected, (f"no depth data to find the table: assuming it at z = "
