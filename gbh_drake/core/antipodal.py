@@ -79,13 +79,15 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import trimesh
 
 from gbh_drake.core.geometry import frame_coordinates, orthonormal_basis, unit
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import AntipodalParams, GbhParams
 from gbh_drake.core.results import GraspKind
+
+trimesh = lazy_module("trimesh")
 
 #: Grasp kind of this module (GbH's are parallel and vertical).
 ANTIPODAL = GraspKind.ANTIPODAL
@@ -165,7 +167,7 @@ def flipped(X_WG: np.ndarray) -> np.ndarray:
 
 
 def sample_antipodal_grasps(
-    mesh: trimesh.Trimesh | ObjectModel,
+    mesh: "trimesh.Trimesh | ObjectModel",
     params: AntipodalParams | None = None,
     rng: np.random.Generator | int | None = None,
     gripper: HookGripperGeometry = HOOK_GRIPPER,
@@ -180,7 +182,7 @@ def sample_antipodal_grasps(
 
 
 def plan_antipodal_grasps(
-    mesh: trimesh.Trimesh | ObjectModel,
+    mesh: "trimesh.Trimesh | ObjectModel",
     params: AntipodalParams | None = None,
     rng: np.random.Generator | int | None = None,
     gripper: HookGripperGeometry = HOOK_GRIPPER,

@@ -23,16 +23,18 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
 from __future__ import annotations
 
 import numpy as np
-import trimesh
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal_basis, unit
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import HangingStructure
+
+csgraph = lazy_module("scipy.sparse.csgraph")
+sparse = lazy_module("scipy.sparse")
+spatial = lazy_module("scipy.spatial")
+trimesh = lazy_module("trimesh")
 
 #: Each refinement level searches a cone this many times narrower than the previous one.
 _REFINE_SHRINK = 4.0
@@ -100,9 +102,9 @@ def cluster_points(points: np.ndarray, radius: float, min_size: int) -> np.ndarr
     n = len(points)
     if n == 0:
         return np.zeros(0, dtype=int)
-    pairs = cKDTree(points).query_pairs(radius, output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, labels = connected_components(graph, directed=False)
+    pairs = spatial.cKDTree(points).query_pairs(radius, output_type="ndarray")
+    graph = sparse.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, labels = csgraph.connected_components(graph, directed=False)
     sizes = np.bincount(labels)
     return np.where(sizes[labels] >= min_size, labels, -1)
 

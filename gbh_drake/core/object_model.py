@@ -14,13 +14,15 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
-from scipy.sparse import csr_array
-from scipy.spatial import cKDTree
 
 from gbh_drake.core.free_space import FreeSpace
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError
+
+sparse = lazy_module("scipy.sparse")
+spatial = lazy_module("scipy.spatial")
+trimesh = lazy_module("trimesh")
 
 if TYPE_CHECKING:
     import open3d as o3d
@@ -48,7 +50,7 @@ class ObjectModel:
     """Whether the CoM is a volume centroid (closed, consistently wound mesh)."""
     scene: o3d.t.geometry.RaycastingScene
     """Embree scene of ``mesh`` for ray casting and distance queries."""
-    tree: cKDTree
+    tree: spatial.cKDTree
     """KD-tree of ``points`` (fast approximate distances to the surface)."""
     sampling: tuple = ()
     """(seed, n_points, oversampling, require_watertight) the model was prepared with."""
@@ -127,7 +129,7 @@ def prepare_object(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams,
     points, normals, spacing = poisson_disk_samples(clean, params.n_points, params.oversampling,
                                                     seed)
     return ObjectModel(clean, points, normals, com, spacing, watertight, raycasting_scene(clean),
-                       cKDTree(points), _sampling_key(params, seed), free_space)
+                       spatial.cKDTree(points), _sampling_key(params, seed), free_space)
 
 
 def raycasting_scene(mesh: trimesh.Trimesh) -> o3d.t.geometry.RaycastingScene:
@@ -180,7 +182,7 @@ def poisson_disk_samples(
     """
     pool, face_index = trimesh.sample.sample_surface(mesh, n * oversampling, seed=seed)
     r = 0.85 * np.sqrt(_RSA_JAMMING * mesh.area / n)
-    pairs = cKDTree(pool).query_pairs(r, output_type="ndarray")
+    pairs = spatial.cKDTree(pool).query_pairs(r, output_type="ndarray")
     keep = _dart_throw(len(pool), pairs, n)
     return pool[keep], np.asarray(mesh.face_normals)[face_index[keep]], float(r)
 
@@ -189,7 +191,7 @@ def _dart_throw(n_pool: int, pairs: np.ndarray, n_max: int) -> np.ndarray:
     """Indices kept by visiting 0..n_pool-1 in order, dropping the neighbours of each kept one."""
     i = np.concatenate([pairs[:, 0], pairs[:, 1]])
     j = np.concatenate([pairs[:, 1], pairs[:, 0]])
-    adjacency = csr_array((np.ones(len(i), dtype=bool), (i, j)), shape=(n_pool, n_pool))
+    adjacency = sparse.csr_array((np.ones(len(i), dtype=bool), (i, j)), shape=(n_pool, n_pool))
     start, j = adjacency.indptr, adjacency.indices
     removed = np.zeros(n_pool, dtype=bool)
     keep: list[int] = []

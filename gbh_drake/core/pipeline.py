@@ -6,7 +6,6 @@ import dataclasses
 import time
 
 import numpy as np
-import trimesh
 
 from gbh_drake.core.collision import (
     count_open_and_sweep,
@@ -22,10 +21,13 @@ from gbh_drake.core.hangability import (
     detect_hangable_structures,
     unknown_floor,
 )
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
+
+trimesh = lazy_module("trimesh")
 
 
 def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0,

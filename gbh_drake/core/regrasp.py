@@ -35,14 +35,16 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 
 from gbh_drake.core.antipodal import sample_antipodal_grasps
 from gbh_drake.core.collision import box_corners
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.params import AntipodalParams, GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.results import GbhInputError
+
+trimesh = lazy_module("trimesh")
 
 #: Degrees: turns are compared rounded to steps of this (85 and 90 deg alike: a scan's resting
 #: poses of one orientation differ by a few degrees).

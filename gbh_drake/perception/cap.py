@@ -31,11 +31,13 @@ from dataclasses import dataclass
 import contourpy
 import manifold3d
 import numpy as np
-import trimesh
-from scipy import ndimage
 
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.table import TablePlane
+
+ndimage = lazy_module("scipy.ndimage")
+trimesh = lazy_module("trimesh")
 
 
 @dataclass

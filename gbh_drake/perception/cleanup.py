@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
-import trimesh
+
+from gbh_drake.core.lazy import lazy_module
+
+trimesh = lazy_module("trimesh")
 
 
 def keep_large_components(mesh: trimesh.Trimesh, min_fraction: float) -> trimesh.Trimesh:

@@ -9,9 +9,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.perception.config import ScanConfig
+
+trimesh = lazy_module("trimesh")
 
 
 @dataclass(frozen=True)

@@ -13,13 +13,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 from pydrake.math import RigidTransform
 
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.depth import image_window
+
+trimesh = lazy_module("trimesh")
 
 
 @dataclass

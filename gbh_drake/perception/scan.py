@@ -30,11 +30,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import trimesh
 from pydrake.geometry import QueryObject
 from pydrake.math import RigidTransform
 
 from gbh_drake.core.free_space import FreeSpace
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.perception.camera import CameraIntrinsics, make_depth_camera, render_depth_images
 from gbh_drake.perception.cap import CapReport, cap_bottom, cut_at_height
 from gbh_drake.perception.cleanup import keep_large_components
@@ -51,6 +51,8 @@ from gbh_drake.perception.viewpoints import (
     fit_view_distance,
     half_fov,
 )
+
+trimesh = lazy_module("trimesh")
 
 #: The views' points are read in a cube around the first look's bounding sphere: half side
 #: ROI_SCALE x its radius + ROI_MARGIN (m).

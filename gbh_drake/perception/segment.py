@@ -21,12 +21,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import ndimage
-from scipy.spatial import cKDTree
 
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.table import TablePlane
+
+ndimage = lazy_module("scipy.ndimage")
+spatial = lazy_module("scipy.spatial")
 
 _CONNECTIVITY = np.ones((3, 3, 3), dtype=bool)
 
@@ -154,7 +156,7 @@ def _near_known(sorted_points: np.ndarray, starts: np.ndarray, count: np.ndarray
     near = np.zeros(len(starts), dtype=bool)
     if known_W is None or len(known_W) == 0:
         return near
-    tree = cKDTree(np.asarray(known_W, dtype=float).reshape(-1, 3))
+    tree = spatial.cKDTree(np.asarray(known_W, dtype=float).reshape(-1, 3))
     for k, (start, n) in enumerate(zip(starts, count, strict=True)):
         sample = sorted_points[start:start + n][:: max(1, int(n) // _KNOWN_SAMPLE)]
         distance, _ = tree.query(sample, distance_upper_bound=KNOWN_MARGIN)

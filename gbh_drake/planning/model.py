@@ -17,7 +17,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-import trimesh
 from pydrake.common import MemoryFile
 from pydrake.geometry import Convex, InMemoryMesh, ProximityProperties
 from pydrake.math import RigidTransform, RotationMatrix
@@ -26,8 +25,11 @@ from pydrake.multibody.parsing import ModelDirective, ModelDirectives, ProcessMo
 from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
 from pydrake.solvers import Solve
 
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.package_map import add_packages
+
+trimesh = lazy_module("trimesh")
 
 
 @dataclass(frozen=True)

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import dataclasses
 
-import trimesh
-
 from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.results import GbhInputError
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
 from gbh_drake.systems.stage import AbstractStage
+
+trimesh = lazy_module("trimesh")
 
 
 class AntipodalGraspSampler(AbstractStage):

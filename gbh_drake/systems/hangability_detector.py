@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import trimesh
-
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import detect
@@ -13,6 +12,8 @@ from gbh_drake.core.results import GbhInputError, HangingStructure
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
 from gbh_drake.systems.stage import AbstractStage
+
+trimesh = lazy_module("trimesh")
 
 
 @dataclass

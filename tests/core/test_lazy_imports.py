@@ -1,6 +1,7 @@
-"""Open3D imported with its machine-learning and visualisation subpackages deferred: the
-pipeline's parts work, scikit-learn and Dash are not imported, and the deferred subpackages
-still work when asked for (in a fresh interpreter each, as the import happens once)."""
+"""What is imported when: Open3D with its machine-learning and visualisation subpackages
+deferred (the pipeline's parts work, scikit-learn and Dash are not imported, the deferred
+subpackages still work when asked for), and trimesh and scipy only once used, not by
+``import gbh_drake.systems`` (in a fresh interpreter each, as an import happens once)."""
 
 import subprocess
 import sys
@@ -42,3 +43,19 @@ def test_open3d_imported_before_is_returned_as_it_is():
         print(deferred() is open3d, type(open3d.ml).__name__, "sklearn" in sys.modules)
     """)
     assert out == "True module True"
+
+
+def test_the_systems_import_without_trimesh_or_scipy_and_use_them_when_needed():
+    out = run("""
+        import sys
+        import gbh_drake.systems
+        from gbh_drake.core import hangability
+        print("trimesh" in sys.modules, "scipy" in sys.modules, "open3d" in sys.modules)
+        import numpy as np
+        labels = hangability.cluster_points(np.array([[0, 0, 0], [0, 0, 0.001], [1, 0, 0]]),
+                                            radius=0.01, min_size=2)
+        print(labels.tolist(), "scipy.spatial" in sys.modules)
+        import trimesh
+        print(isinstance(trimesh.creation.box(), hangability.trimesh.Trimesh))
+    """)
+    assert out.splitlines() == ["False False False", "[0, 0, -1] True", "True"]
