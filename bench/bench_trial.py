@@ -3,15 +3,19 @@
 Prints, for the default scenario (mug_classic, 10 views):
 
 * the real-time factor (simulated / wall seconds, and simulated / CPU seconds of this process)
-  of every phase of the pick, the carry's among them (target >= 1.5), for the object set's mug
+  of every phase of the pick, the carry's among them (issue 23: >= 2.5 over the whole trial
+  and the carry, >= 2 for the dense mesh), for the object set's mug
   and for a dense user mesh (the mug subdivided to ~100k triangles, imported from a file: its
   contact geometry is simplified, its look is not);
 * the planning time per grasp from the measured state (median and worst over the grasps tried
   in the default trial and in a few random-pose trials of other objects; target median <= 0.5 s);
 * the wall time and peak memory of ``gbh run scenarios/default.yaml`` as a whole process
-  (imports, scan, GbH, planning, simulation, replay; target <= 5 s), over ``--runs`` runs.
+  (imports, scan, GbH, planning, simulation, replay; issue 23: <= 6 s and <= 600 MB peak
+  RSS), over ``--runs`` runs;
+* with ``--time-steps 0.004``, the default trial's phases at other plant time steps.
 
-Usage: ``.venv/bin/python bench/bench_trial.py [--runs 2] [--objects kettle teapot]``.
+Usage: ``.venv/bin/python bench/bench_trial.py [--runs 2] [--objects kettle teapot]
+[--time-steps 0.004]``.
 Timings grow with the load of a shared machine: the load average is printed beside them.
 """
 
@@ -19,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import statistics
 import subprocess
 import sys
@@ -86,17 +89,21 @@ def planning_times(objects: list[str], seeds: int) -> list[float]:
 
 
 def whole_process(runs: int, out: Path) -> list[tuple[float, float]]:
-    """(wall s, peak RSS GB) of ``gbh run scenarios/default.yaml`` in fresh processes."""
+    """(wall s, peak RSS GB) of ``gbh run scenarios/default.yaml`` in fresh processes (the
+    peak of that process alone, from ``wait4``)."""
     results = []
     gbh = Path(sys.executable).parent / "gbh"
     for i in range(runs):
         start = time.perf_counter()
-        subprocess.run([str(gbh), "run", str(SCENARIOS_DIR / "default.yaml"), "--set",
-                        f"output_dir: {out / str(i)}"], check=True, capture_output=True,
-                       cwd=REPO_ROOT)
+        child = subprocess.Popen([str(gbh), "run", str(SCENARIOS_DIR / "default.yaml"), "--set",
+                                  f"output_dir: {out / str(i)}"], stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL, cwd=REPO_ROOT)
+        _, status, usage = os.wait4(child.pid, 0)
         wall = time.perf_counter() - start
-        rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1e6
-        results.append((wall, rss))
+        child.returncode = os.waitstatus_to_exitcode(status)
+        if child.returncode != 0:
+            raise SystemExit(f"gbh run exited {child.returncode}")
+        results.append((wall, usage.ru_maxrss / 1e6))
     return results
 
 
@@ -116,12 +123,17 @@ def main() -> None:
     parser.add_argument("--objects", nargs="*", default=["kettle", "teapot", "pot"])
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--out", default="/tmp/gbh_bench_trial")
+    parser.add_argument("--time-steps", nargs="*", type=float, default=[],
+                        help="also the default trial at these plant time steps (s), e.g. 0.004")
     args = parser.parse_args()
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     print(f"load average {os.getloadavg()[0]:.1f}, {os.cpu_count()} cores")
 
     rows, default_grasps = phase_rates()
     _print_phases("default trial (mug_classic)", rows)
+    for step in args.time_steps:
+        _print_phases(f"default trial at a {step * 1e3:g} ms step",
+                      phase_rates(f"plant_config: {{time_step: {step}}}")[0])
     dense = Path(args.out) / "dense_mug.obj"
     dense.parent.mkdir(parents=True, exist_ok=True)
     mesh = make_object("mug_classic").mesh.subdivide().subdivide().subdivide()
