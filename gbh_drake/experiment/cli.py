@@ -3,6 +3,8 @@
     gbh experiment EXPERIMENT.yaml [--workers N] [--ray ADDRESS] [--out DIR] [--set YAML]
                                    [--no-progress]
     gbh report DIR
+
+``--ray ADDRESS`` overrides the experiment file's ``engine`` and ``ray_address`` (docs/ray.md).
 """
 
 from __future__ import annotations
@@ -36,7 +38,8 @@ def add_subcommands(sub) -> None:
     p.add_argument("--ray", default="", metavar="ADDRESS",
                    help="run the trials as Ray tasks: 'local' (a Ray on this machine, "
                         "loopback only), 'auto' (the cluster this machine is in) or a "
-                        "cluster's address")
+                        "cluster's address; overrides the file's engine and ray_address "
+                        "(docs/ray.md)")
     p.add_argument("--out", default=None, help="the experiment's folder (default: its "
                                                "output_dir, else output/<file stem>)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
@@ -88,8 +91,8 @@ def _experiment(args: argparse.Namespace) -> int:
 
 def _run_experiment(args: argparse.Namespace) -> int:
     from gbh_drake import interrupts
-    from gbh_drake.experiment.config import ExperimentError, load_experiment
-    from gbh_drake.experiment.engines import RAY_MISSING, RayError, ray_installed
+    from gbh_drake.experiment.config import ExperimentError, field_error, load_experiment
+    from gbh_drake.experiment.engines import RAY_MISSING, RayError, ray_installed, ray_missing
     from gbh_drake.experiment.report import read_input, table1
     from gbh_drake.experiment.rows import FolderError
     from gbh_drake.experiment.runner import run_experiment
@@ -103,6 +106,10 @@ def _run_experiment(args: argparse.Namespace) -> int:
         return 2
     try:
         experiment = load_experiment(args.experiment, overrides=args.overrides)
+        if not args.ray and experiment.engine == "ray" and not ray_installed():
+            _say("cannot use Ray: " + str(field_error(
+                experiment, "engine", "ray " + ray_missing("--set 'engine: local'"))))
+            return 2
         interrupts.check()
         result = run_experiment(experiment, out=Path(args.out) if args.out else None,
                                 workers=args.workers, ray_address=args.ray,

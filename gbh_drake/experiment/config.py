@@ -17,6 +17,8 @@ or mistyped keys fail loudly)::
     - ...
     replays: failures                # failures | all | none
     output_dir: ""                   # default: output/<file stem> under the working folder
+    engine: local                    # local (worker processes) | ray
+    ray_address: local               # with engine: ray: local | auto | host:port | ray://host:port
 
 A method is a name and YAML overrides applied over the base scenario, exactly as ``gbh run
 --set`` applies its text (``yaml_load_typed`` with the base as ``defaults``): a user adds a
@@ -33,6 +35,11 @@ trial's object in one of its stable resting poses drawn by probability (today's 
 seeds and rows unchanged); ``natural``, each object in the rest a person would set it down in,
 declared once per object of the set with its reason (``gbh_drake/objects/catalog.py``). Both
 draw a random yaw and position. A trial is (object, method, trial, protocol).
+
+Where the trials run (``engine``, ``ray_address``; ``gbh experiment --ray ADDRESS`` overrides
+both) is not part of the experiment's definition: it enters no trial's scenario or digest, nor
+the ``experiment.yaml`` written into its folder (:data:`WHERE_FIELDS`), so a folder's rows are
+resumed whatever engine ran them (docs/ray.md).
 """
 
 import copy
@@ -102,6 +109,13 @@ PROTOCOLS = RESTS
 #: The longest method name, in bytes (it is part of file names).
 MAX_METHOD_NAME = 80
 
+#: Where an experiment's trials may run (``engine``): local worker processes, or Ray tasks.
+ENGINES = ("local", "ray")
+
+#: Fields that say where the trials run, not what they are: left out of the folder's
+#: ``experiment.yaml`` (:func:`experiment_yaml`); no trial's scenario holds them.
+WHERE_FIELDS = ("engine", "ray_address")
+
 
 class ExperimentError(ValueError):
     """An experiment file or folder is invalid; the message names the file and the field."""
@@ -168,6 +182,14 @@ class Experiment:
     output_dir: str = ""
     """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
     under the working folder."""
+    engine: str = "local"
+    """Where the trials run: ``local`` (worker processes on this machine, ``--workers``) or
+    ``ray`` (Ray tasks at ``ray_address``). ``gbh experiment --ray ADDRESS`` overrides it; it
+    changes no row (see :data:`WHERE_FIELDS`)."""
+    ray_address: str = "local"
+    """With ``engine: ray``: ``local`` (a Ray started for this experiment, loopback only),
+    ``auto`` (the cluster this machine is a node of) or a cluster's address (``host:port``,
+    ``ray://host:port``)."""
     source_path: str = ""
     """Set by the loader: the experiment file itself (do not write it in YAML)."""
 
@@ -189,6 +211,10 @@ class Experiment:
 
     def method(self, name: str) -> MethodConfig:
         return next(m for m in self.methods if m.name == name)
+
+    def ray_engine_address(self) -> str:
+        """The Ray address the trials run at (``engine: ray``), or empty (local workers)."""
+        return self.ray_address if self.engine == "ray" else ""
 
 
 def trial_seed(seed: int, object_name: str, trial: int, protocol: str = "stable") -> int:
@@ -327,18 +353,26 @@ def _line(experiment: Experiment, path: tuple) -> int | None:
     return None
 
 
+def field_error(experiment: Experiment, field_path: str | tuple, message: str,
+                origin: str = "") -> ExperimentError:
+    """``message`` about the field at ``field_path`` (``methods[2].name``), naming the file (or
+    ``--set`` text) and line where it is written (else ``origin``, else the experiment file)."""
+    path = field_path if isinstance(field_path, tuple) else _parse_path(field_path)
+    where, _ = _written_at(experiment, path)
+    return experiment_error(where or origin or experiment.source_path or "<experiment>",
+                            format_path(path), _line(experiment, path), message)
+
+
 def validate_experiment(experiment: Experiment, origin: str) -> None:
     """Checks that the schema cannot express (the scenarios themselves are checked by
     :func:`method_scenarios`). Raises :class:`ExperimentError` naming the field and, for an
     experiment read by :func:`load_experiment`, the file (or ``--set`` text) and line where it
     is written."""
+    from gbh_drake.experiment.engines import address_problem
     from gbh_drake.objects import list_objects
 
     def fail(field_path: str | tuple, message: str):
-        path = field_path if isinstance(field_path, tuple) else _parse_path(field_path)
-        where, _ = _written_at(experiment, path)
-        raise experiment_error(where or origin, format_path(path), _line(experiment, path),
-                               message)
+        raise field_error(experiment, field_path, message, origin)
 
     try:
         check_ranges(experiment)
@@ -402,6 +436,12 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
                                     "the protocol")
     if experiment.replays not in REPLAY_MODES:
         fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
+    if experiment.engine not in ENGINES:
+        fail("engine", f"one of {', '.join(ENGINES)} (local worker processes, or Ray tasks at "
+                       f"ray_address), got {experiment.engine!r}")
+    problem = address_problem(experiment.ray_address)
+    if problem:
+        fail("ray_address", problem)
     total = len(experiment.objects) * experiment.trials * len(experiment.methods) * \
         len(experiment.protocols)
     if total > MAX_TOTAL_TRIALS:
@@ -597,10 +637,13 @@ def trial_scenario(experiment: Experiment | str | Path, object_name: str, method
 
 
 def experiment_yaml(experiment: Experiment) -> str:
-    """The resolved experiment as YAML (written into its folder; ``gbh report`` reads it)."""
+    """The resolved experiment as YAML (written into its folder; ``gbh report`` reads it),
+    without where its trials ran (:data:`WHERE_FIELDS`: the same text whatever the engine)."""
     experiment = copy.copy(experiment)
     experiment.source_path = ""
-    return yaml_dump_typed(experiment)
+    root = yaml.compose(yaml_dump_typed(experiment), Loader=yaml.SafeLoader)
+    root.value = [(k, v) for k, v in root.value if k.value not in WHERE_FIELDS]
+    return yaml.serialize(root)
 
 
 def git_commit(repo: Path | None = None) -> str:

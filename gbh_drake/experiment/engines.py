@@ -4,10 +4,14 @@
   (``spawn``: fresh interpreters, nothing inherited from this process's state). Each process runs
   one trial at a time and keeps its imported modules and its Meshcat across trials.
 * :func:`ray_results`: the same function as Ray tasks (one CPU each) on a cluster: ``auto`` (the
-  cluster this machine belongs to), ``ray://host:port`` or ``host:port`` (a cluster's address; its
-  nodes need this package installed at the same path), or ``local`` (a one-machine Ray started
-  here, listening on the loopback only, dashboard and usage reporting off). Ray is optional
-  (``pip install 'gbh_drake[ray]'``): only this engine imports it.
+  cluster this machine belongs to), ``ray://host:port`` or ``host:port`` (a cluster's address),
+  or ``local`` (a one-machine Ray started here, listening on the loopback only, dashboard and
+  usage reporting off). Nothing but the environment variables :data:`WORKER_ENV` is shipped to
+  a cluster (no ``runtime_env`` working directory or packages): each node's Ray workers import
+  ``gbh_drake`` from the Python that ran ``ray start`` there, so every node needs this package
+  installed, at the same version (docs/ray.md). Ray is optional (``pip install
+  'gbh_drake[ray]'``): only this engine imports it. An experiment file chooses it with ``engine:
+  ray`` and ``ray_address``; ``gbh experiment --ray ADDRESS`` overrides the file.
 
 Workers run single-threaded (see :mod:`gbh_drake.experiment.worker`), so rows are identical,
 timing fields aside, whatever the number of workers or the engine.
@@ -53,9 +57,14 @@ LOCAL_RAY_ENV = {
 }
 
 
+def ray_missing(instead: str = "leave out --ray") -> str:
+    """Why the Ray engine cannot run here, and ``instead`` (what runs local worker processes)."""
+    return ("needs Ray, which is not installed in this environment: pip install "
+            f"'gbh_drake[ray]' (or {instead} to run local worker processes)")
+
+
 #: Why the Ray engine cannot run here (``gbh experiment --ray`` without Ray installed).
-RAY_MISSING = ("--ray needs Ray, which is not installed in this environment: pip install "
-               "'gbh_drake[ray]' (or leave out --ray to run local worker processes)")
+RAY_MISSING = f"--ray {ray_missing()}"
 
 
 class RayMissing(RuntimeError):
@@ -207,9 +216,20 @@ def init_ray(address: str, *, workers: int = 0, log=None):
         try:
             ray.init(address=address, log_to_driver=False, configure_logging=False,
                      namespace="gbh_drake", runtime_env={"env_vars": dict(WORKER_ENV)})
-        except ConnectionError as e:
-            raise RayError(f"{address}: {' '.join(str(e).split())}") from None
+        except (ConnectionError, getattr(ray.exceptions, "AuthenticationError",
+                                         ConnectionError)) as e:
+            raise RayError(f"{address}: {' '.join(str(e).split())}{_auth_hint()}") from None
     return ray
+
+
+def _auth_hint() -> str:
+    """Why a cluster that answers may refuse this process: Ray's token authentication (a head
+    started by ``ray start --head`` where ``~/.ray/auth_token`` exists enables it, ray 2.60), which
+    a process connecting to an address uses only with ``RAY_AUTH_MODE=token``."""
+    if os.environ.get("RAY_AUTH_MODE", "").lower() == "token":
+        return ""
+    return ("; if the cluster uses token authentication, set RAY_AUTH_MODE=token here, with the "
+            "cluster's token in ~/.ray/auth_token or RAY_AUTH_TOKEN (docs/ray.md)")
 
 
 def _bootstrap_address(address: str) -> str:
@@ -231,16 +251,37 @@ def _bootstrap_address(address: str) -> str:
         raise RayError(f"{address}: {e}") from None
 
 
-def _probe(address: str, host_port: str, timeout: float = 10.0) -> None:
-    """:class:`RayError` unless something accepts a TCP connection at ``host_port``."""
+#: What a Ray address may be (:func:`address_problem`).
+ADDRESS_FORMS = ("'local', 'auto' or a cluster's address host:port (e.g. 10.0.0.5:6379 or "
+                 "ray://10.0.0.5:10001)")
+
+
+def _host_port(host_port: str) -> tuple[str, int] | None:
+    """(host, port) of ``host:port`` (``[v6]:port`` too), or None when it is not one."""
     host, sep, port = host_port.rpartition(":")
     host = host.strip("[]")
     if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise RayError(f"{address}: not 'local', 'auto' or a cluster's address host:port "
-                       "(e.g. 10.0.0.5:6379 or ray://10.0.0.5:10001)")
+        return None
+    return host, int(port)
+
+
+def address_problem(address: str) -> str | None:
+    """What is wrong with ``address`` as the Ray engine's (``--ray``, an experiment's
+    ``ray_address``), or None: ``local``, ``auto``, ``host:port`` or ``ray://host:port``."""
+    if address in ("local", "auto") or _host_port(address.removeprefix("ray://")):
+        return None
+    return f"not {ADDRESS_FORMS}, got {address!r}"
+
+
+def _probe(address: str, host_port: str, timeout: float = 10.0) -> None:
+    """:class:`RayError` unless something accepts a TCP connection at ``host_port``."""
+    parsed = _host_port(host_port)
+    if parsed is None:
+        raise RayError(f"{address}: not {ADDRESS_FORMS}")
+    host, port = parsed
     where = address if host_port == address else f"{address} ({host_port})"
     try:
-        socket.create_connection((host, int(port)), timeout=timeout).close()
+        socket.create_connection((host, port), timeout=timeout).close()
     except socket.gaierror as e:
         raise RayError(f"{where}: cannot resolve the host {host!r} ({e.strerror})") from None
     except ConnectionRefusedError:

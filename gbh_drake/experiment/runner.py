@@ -16,7 +16,8 @@ The folder::
     table1.csv            per method: trials, successes, rate, Wilson lo/hi, cage, pinch
     success.png, .svg     success rate per method with Wilson error bars: totals, then per object
     causes.png, .svg      the failures per method stacked by cause
-    experiment.yaml       the resolved experiment (gbh report reads it)
+    experiment.yaml       the resolved experiment (gbh report reads it), without where it ran
+                          (engine, ray_address: runs.jsonl says)
     scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
     replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial (``__<protocol>``
                           before ``.html`` for a protocol other than ``stable``)
@@ -100,9 +101,13 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                    ray_address: str = "", progress: bool = True, log=print) -> ExperimentRun:
     """Runs the trials of ``experiment`` not yet in its folder (``out`` or its ``output_dir``);
     see the module docstring. ``workers``: local worker processes (or the CPUs of a ``local``
-    Ray); ``ray_address``: run on Ray instead (``local``, ``auto`` or a cluster's address).
-    Raises :class:`ExperimentError` when the folder holds rows of other scenarios."""
+    Ray); ``ray_address``: run on Ray at that address (``local``, ``auto`` or a cluster's
+    address) whatever the experiment's ``engine``; empty: where the experiment says (``engine:
+    ray``: Ray at its ``ray_address``, else local workers). The engine changes no row: a folder
+    resumes whatever ran it. Raises :class:`ExperimentError` when the folder holds rows of other
+    scenarios."""
     start = time.perf_counter()
+    ray_address = ray_address or experiment.ray_engine_address()
     folder = Path(out) if out else experiment.output_path()
     scenarios = method_scenarios(experiment)  # a bad method is refused before the folder is made
     prepare_folder(folder, min_free=MIN_FREE_BYTES)  # OutputError: exit 2

@@ -240,3 +240,68 @@ def test_one_trials_scenario_is_the_one_the_experiment_runs():
         assert trial_scenario_yaml(scenario) == tasks[key].scenario_yaml
     with pytest.raises(ExperimentError, match="no method 'graspnet'"):
         trial_scenario(experiment, "mug_classic", "graspnet", 0)
+
+
+# ---- where the trials run: engine and ray_address ----------------------------------------------
+def test_the_engine_is_local_by_default_and_the_file_may_name_a_ray_cluster(tmp_path):
+    default = load_experiment(SHORT)
+    assert (default.engine, default.ray_address, default.ray_engine_address()) == \
+        ("local", "local", "")
+    path = write(tmp_path, "base: BASE\nobjects: [box]\nengine: ray\n"
+                           "ray_address: 10.0.0.5:6379\n")
+    assert load_experiment(path).ray_engine_address() == "10.0.0.5:6379"
+    for address in ("local", "auto", "head.example:6379", "ray://10.0.0.5:10001",
+                    "[::1]:6379"):
+        experiment = load_experiment(path, overrides=f"ray_address: '{address}'")
+        assert experiment.ray_engine_address() == address
+    # an address without engine: ray is not used (--set 'engine: local' runs locally)
+    assert load_experiment(path, overrides="engine: local").ray_engine_address() == ""
+
+
+def test_the_engine_changes_no_trial_nor_the_folders_definition():
+    """Where the trials run is not what they are: the same tasks, digests and experiment.yaml
+    (a folder's rows resume whatever engine ran them)."""
+    from gbh_drake.experiment.config import experiment_yaml
+
+    local = load_experiment(SHORT)
+    ray = load_experiment(SHORT, overrides="{engine: ray, ray_address: '10.0.0.5:6379'}")
+    assert make_tasks(ray) == make_tasks(local)
+    assert experiment_yaml(ray) == experiment_yaml(local)
+    assert "engine" not in experiment_yaml(ray) and "6379" not in experiment_yaml(ray)
+    assert "engine" not in make_tasks(ray)[0].scenario_yaml
+
+
+@pytest.mark.parametrize("text, where, words", [
+    ("engine: Ray\n", "engine", "one of local, ray (local worker processes, or Ray tasks at "
+                                "ray_address), got 'Ray'"),
+    ("engine: slurm\n", "engine", "got 'slurm'"),
+    ("engine: ray\nray_address: 10.0.0.5\n", "ray_address", "not 'local', 'auto' or a "
+                                                            "cluster's address host:port"),
+    ("ray_address: ''\n", "ray_address", "got ''"),
+    ("ray_address: 'head:99999'\n", "ray_address", "got 'head:99999'"),
+    ("ray_address: [head]\n", "ray_address", "expected a string"),
+])
+def test_engine_errors_name_the_file_and_field(tmp_path, text, where, words):
+    path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
+    with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
+        load_experiment(path)
+    assert re.search(rf": {re.escape(where)} \(line \d+\): ", str(error.value)), error.value
+    assert words in str(error.value)
+
+
+def test_engine_ray_without_ray_is_one_line_naming_the_file_and_field(tmp_path, monkeypatch,
+                                                                      capsys):
+    import sys
+
+    from gbh_drake.cli import main
+
+    monkeypatch.setitem(sys.modules, "ray", None)  # as if Ray were not installed
+    path = write(tmp_path, "base: BASE\nobjects: [box]\nengine: ray\n")
+    assert main(["experiment", str(path), "--out", str(tmp_path / "out"),
+                 "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert err.startswith(f"gbh: cannot use Ray: {path}: engine (line 3): ray needs Ray, which "
+                          "is not installed in this environment: pip install "
+                          "'gbh_drake[ray]' (or --set 'engine: local' "), err
+    assert not (tmp_path / "out").exists()  # nothing ran

@@ -1,6 +1,7 @@
 """A small experiment run for real (3 objects with a control, 2 trials, the four methods) on a
 short horizon: every output file, resume after an interruption, and the same rows from 2 workers,
-1 worker and a local Ray, timing fields aside.
+1 worker and a local Ray, timing fields aside (``first_run``: conftest.py; on a cluster of two
+nodes: test_ray_cluster.py).
 
 The trials stop after planning and the first motions (``max_time: 0.6``, outcome mostly
 ``incomplete``): rows, resume, reports and engines are what this checks; real outcomes are
@@ -28,16 +29,6 @@ pytestmark = pytest.mark.sim
 SHORT = Path(__file__).parent / "short_experiment.yaml"
 OBJECTS, TRIALS = ["mug_classic", "clothes_hanger", "box"], 2
 METHODS = ["gbh-10", "gbh-1", "antipodal", "gbh+fallback"]
-
-
-@pytest.fixture(scope="module")
-def first_run(tmp_path_factory):
-    """The short experiment on 2 local workers: (folder, its rows by key, what it printed)."""
-    folder = tmp_path_factory.mktemp("experiment") / "short"
-    assert main(["experiment", str(SHORT), "--workers", "2", "--out", str(folder),
-                 "--no-progress"]) == 0
-    rows = RowStore(folder).load()
-    return folder, {row_key(r): r for r in rows}, rows
 
 
 def test_every_trial_has_one_row(first_run):
