@@ -6,7 +6,10 @@
 A trial is (object, method, trial index) of one protocol (``--protocol``, default ``stable``;
 rows without one are ``stable``); its result is the outcome and, for a success, whether a cage
 or a pinch held it. Prints, as Markdown, the successes per method before and after, then one
-line per changed trial with both reasons, gained successes first.
+line per changed trial with both reasons, gained successes first, and where it changed:
+``upstream`` when the two runs chose different grasps (the settled pose, the scan or GbH
+differed), ``physics`` when they executed the same grasp and the simulation of the pick
+differed.
 """
 
 from __future__ import annotations
@@ -32,6 +35,25 @@ def result(row: dict) -> str:
     return f"{row['outcome']} [{row['held_by']}]" if row.get("held_by") else row["outcome"]
 
 
+#: What GbH (or the sampler) made of the scan, from a row's record: a trial whose choice is the
+#: same in both runs changed in the physics of the pick; one whose choice differs changed
+#: upstream (the settled pose, the scan, the grasps offered).
+CHOICE = ("n_structures", "n_candidates", "grasp_kind", "grasp_rank", "grasp_score")
+
+
+def choice(row: dict) -> tuple:
+    record = row.get("record") or {}
+    values = tuple(record.get(name) for name in CHOICE)
+    return tuple(round(v, 6) if isinstance(v, float) and v == v else v for v in values)
+
+
+def where(before: dict, after: dict) -> str:
+    """``physics`` when both runs executed the same grasp of the same offer, else ``upstream``."""
+    executed = all(((row.get("record") or {}).get("grasp_rank", -1) or 0) >= 0
+                   for row in (before, after))
+    return "physics" if executed and choice(before) == choice(after) else "upstream"
+
+
 def compare(before: dict[tuple, dict], after: dict[tuple, dict]) -> list[str]:
     methods = list(dict.fromkeys(k[1] for k in before))
     lines = ["| method | trials | successes before | after | gained | lost | cage/pinch after |",
@@ -50,11 +72,17 @@ def compare(before: dict[tuple, dict], after: dict[tuple, dict]) -> list[str]:
     changed.sort(key=lambda k: (not after[k]["success"] or before[k]["success"],
                                 bool(after[k]["success"]) or not before[k]["success"], k))
     lines += ["", f"{len(changed)} of {len(common)} trials changed:", "",
-              "| object | method | trial | before | after | reason after |", "|---|---|---|---|---|---|"]
+              "| object | method | trial | before | after | where | reason after |",
+              "|---|---|---|---|---|---|---|"]
     for k in changed:
         reason = after[k]["reason"].replace("|", "/")
         lines.append(f"| {k[0]} | {k[1]} | {k[2]} | {result(before[k])} | {result(after[k])} | "
-                     f"{reason} |")
+                     f"{where(before[k], after[k])} | {reason} |")
+    if changed:
+        counts = Counter(where(before[k], after[k]) for k in changed)
+        lines += ["", f"where: {counts.get('upstream', 0)} changed upstream (the runs chose "
+                  f"different grasps: {', '.join(CHOICE)} differ; a different settled pose or "
+                  f"scan), {counts.get('physics', 0)} in the physics of the same grasp."]
     missing = sorted(set(before) ^ set(after))
     if missing:
         lines += ["", f"{len(missing)} trials are in only one of the runs."]
