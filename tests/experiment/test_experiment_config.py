@@ -200,6 +200,16 @@ def test_the_shipped_experiment_runs_both_protocols():
     assert load_experiment(SCENARIOS_DIR / "experiment.yaml").protocols == ["stable", "natural"]
 
 
+def assert_refused(tmp_path, text: str, where: str, words: str) -> None:
+    """An experiment file (a box, the base scenario, then ``text``) is refused with an error
+    that names the file, the field ``where`` and its line, and says ``words``."""
+    path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
+    with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
+        load_experiment(path)
+    assert re.search(rf": {re.escape(where)} \(line \d+\): ", str(error.value)), error.value
+    assert words in str(error.value)
+
+
 @pytest.mark.parametrize("text, where, words", [
     ("protocols: [stable, upright]\n", "protocols[1]", "unknown protocol 'upright'"),
     ("protocols: [natural, natural]\n", "protocols[1]", "listed twice"),
@@ -208,11 +218,7 @@ def test_the_shipped_experiment_runs_both_protocols():
     ("protocols: [natural]\npose: {stable: false}\n", "pose.stable", "contradicts"),
 ])
 def test_protocol_errors_name_the_file_and_field(tmp_path, text, where, words):
-    path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
-    with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
-        load_experiment(path)
-    assert re.search(rf": {re.escape(where)} \(line \d+\): ", str(error.value)), error.value
-    assert words in str(error.value)
+    assert_refused(tmp_path, text, where, words)
 
 
 def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
@@ -282,11 +288,7 @@ def test_the_engine_changes_no_trial_nor_the_folders_definition():
     ("ray_address: [head]\n", "ray_address", "expected a string"),
 ])
 def test_engine_errors_name_the_file_and_field(tmp_path, text, where, words):
-    path = write(tmp_path, "base: BASE\nobjects: [box]\n" + text)
-    with pytest.raises(ExperimentError, match=r"exp\.yaml") as error:
-        load_experiment(path)
-    assert re.search(rf": {re.escape(where)} \(line \d+\): ", str(error.value)), error.value
-    assert words in str(error.value)
+    assert_refused(tmp_path, text, where, words)
 
 
 def test_engine_ray_without_ray_is_one_line_naming_the_file_and_field(tmp_path, monkeypatch,
