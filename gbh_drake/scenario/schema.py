@@ -210,8 +210,9 @@ class RobotConfig:
     """The fingers' force-limited drive."""
     gripper: str = ranged("auto", OneOf(GRIPPER_VARIANTS))
     """The hook gripper's bar: ``paper`` (the paper's square bar), ``wedge`` (beyond the paper:
-    the bar's outer face runs on 8 mm past its tip as a 45 deg wedge, so that it can slide
-    under material lying on the table, as the scoop does) or ``auto``: the grasp method's
+    the bar's tip is chamfered underneath, a 16 mm ramp at 26.6 deg inside the paper's bar
+    (``core.gripper.WEDGE_GRIPPER``, docs/scoop.md), so that it can slide under material lying
+    on the table, as the scoop does) or ``auto``: the grasp method's
     (:data:`METHOD_GRIPPERS`: the wedge for the methods that scoop, else the paper's). It picks
     the gripper's model file where the directives add a packaged one."""
 
