@@ -307,3 +307,34 @@ def test_engine_ray_without_ray_is_one_line_naming_the_file_and_field(tmp_path, 
                           "is not installed in this environment: pip install "
                           "'gbh_drake[ray]' (or --set 'engine: local' "), err
     assert not (tmp_path / "out").exists()  # nothing ran
+
+
+def test_each_task_is_the_trial_scenario_dumped_alone():
+    """make_tasks dumps one YAML per (method, object, protocol) and sets the seed line for the
+    other trials: every task's text, seed and digest equal those of its scenario dumped alone."""
+    import copy
+    import hashlib
+
+    from gbh_drake.experiment.config import _set_trial, trial_scenario_yaml
+
+    experiment = load_experiment(SCENARIOS_DIR / "experiment_small.yaml",
+                                 overrides="trials: 3\nprotocols: [stable, natural]\n")
+    scenarios = method_scenarios(experiment)
+    tasks = make_tasks(experiment, scenarios=scenarios)
+    assert len(tasks) == 4 * 3 * 2 * len(experiment.methods)
+    for task in tasks:
+        scenario = copy.deepcopy(scenarios[task.method])
+        _set_trial(scenario, experiment, task.object, task.trial, task.protocol)
+        text = trial_scenario_yaml(scenario)
+        assert (task.scenario_yaml, task.seed) == (text, scenario.seed)
+        assert task.digest == hashlib.sha256(text.encode()).hexdigest()
+
+
+def test_the_seed_line_is_set_only_where_it_is_alone():
+    from gbh_drake.experiment.config import _with_seed
+
+    text = "seed: 12\nobject:\n  name: mug\n  seed: 12\n"
+    assert _with_seed(12, text, 345) == "seed: 345\nobject:\n  name: mug\n  seed: 12\n"
+    assert _with_seed(13, text, 345) is None  # not the seed it was dumped with
+    assert _with_seed(12, "object: {}\n", 345) is None  # no top-level seed
+    assert _with_seed(12, text + "seed: 12\n", 345) is None  # two
