@@ -610,7 +610,7 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
     scenarios = scenarios or method_scenarios(experiment)
     controls = {name: bool(make_object(name).is_control) for name in experiment.objects}
     # The trials of one (method, object, protocol) differ only in their seed: the YAML is dumped
-    # once (its first trial's) and the seed line set for the others (1150 dumps took ~40 s).
+    # once (its first trial's) and the seed line set for the others (bench/bench_import.py).
     first: dict[tuple[str, str, str], tuple[int, str]] = {}
     tasks = []
     for trial in range(experiment.trials):
