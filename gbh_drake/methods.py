@@ -21,7 +21,7 @@ Shipped (``Scenario.grasp_method``):
   but no hook grasp of the object as it lies, a regrasp: a pinch sets the object down in a
   resting pose in which GbH can hook it, a re-scan, and GbH on the new scan;
 * ``gbh_plus`` (:class:`GbhPlus`, beyond the paper): all of it in one: GbH, the scoop, the
-  regrasp, then the antipodal fallback.
+  regrasp, then the antipodal fallback; after a lift that came away empty, one retry.
 
 :class:`GivenGrasps` executes grasps of your own through another method's diagram.
 :func:`register_method` adds a method of your own to the registry.
@@ -76,10 +76,13 @@ class GraspSource:
 class GraspMethod(abc.ABC):
     """A way of choosing grasps. ``name``: the scenario's ``grasp_method``; ``bar_angle``
     (rad): the hook gripper's bar before a grasp is chosen (each executed grasp then sets it
-    by its kind)."""
+    by its kind); ``max_retries``: how often a lift that came away empty is followed by a
+    re-scan and a new plan, unless the scenario's ``pick.max_retries`` says otherwise (0: one
+    attempt, as in the paper)."""
 
     name: str = ""
     bar_angle: float = BAR_DEPLOYED
+    max_retries: int = 0
 
     @abc.abstractmethod
     def add_systems(self, builder: DiagramBuilder, *, scenario: Scenario, seeds: Seeds,
@@ -231,9 +234,11 @@ class GbhRegrasp(GraspMethod):
 
 class GbhPlus(GraspMethod):
     """Everything in one (beyond the paper): GbH; then a scoop of material lying flat; then a
-    regrasp into a pose GbH can hook; then the antipodal fallback, bar folded."""
+    regrasp into a pose GbH can hook; then the antipodal fallback, bar folded; and, when a lift
+    comes away empty, a re-scan and one more try (the grasps near the failed one skipped)."""
 
     name = "gbh_plus"
+    max_retries = 1
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}

@@ -118,6 +118,10 @@ class TrialRecord:
     """Each regrasp done before the judged pick (beyond the paper): the pinch's rank, the
     resting pose's turn (deg), probability and GbH's best score there, the extra yaw (deg),
     where it was set down (W, m) and when it began and ended (simulated s)."""
+    attempts: list[dict] = field(default_factory=list)
+    """Each executed grasp whose lift came away empty, a retry following (beyond the paper):
+    its kind, rank, score, source, the gripper's origin (W, m), the load the lift added (N) and
+    when the lift ended (s)."""
     refusals: dict[str, int] = field(default_factory=dict)
     """How many tried grasps were refused for each reason (``ik:lift``, ``planner:transfer``)."""
     refusal_texts: list[str] = field(default_factory=list)
@@ -178,7 +182,9 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
         scenario.station_directives(), scenario.pick, scenario.robot.hand,
         settle_time=scenario.settle_time, ground_clearance=scenario.gbh.ground_clearance,
         seed=seeds.planner, bar_angle=method.bar_angle, scoop=scenario.scoop,
-        regrasp=scenario.regrasp, scan_height=scenario.scan_target[2]))
+        regrasp=scenario.regrasp, scan_height=scenario.scan_target[2],
+        max_retries=method.max_retries if scenario.pick.max_retries is None
+        else scenario.pick.max_retries))
     builder.Connect(source.grasps, pick.GetInputPort("grasps"))
     for port, name in ((source.scoop, "scoop_grasps"), (source.regrasp_poses, "regrasp_poses"),
                        (source.regrasp_grasps, "regrasp_grasps")):
@@ -357,7 +363,12 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         grasp_rank=plan.rank if plan else -1, grasp_kind=plan.kind if plan else "",
         grasp_score=status.score, best_score=_best_score(chosen),
         fallback=status.fallback, grasp_source=status.source,
-        regrasps=[_regrasp_entry(r, status) for r in status.regrasps], refusals=refusals,
+        regrasps=[_regrasp_entry(r, status) for r in status.regrasps],
+        attempts=[{"kind": a.kind, "rank": a.rank, "score": float(a.score),
+                   "source": a.source, "p_WG": [float(x) for x in a.p_WG],
+                   "c_W": None if a.c_W is None else [float(x) for x in a.c_W],
+                   "load": float(a.load), "time": float(a.time)} for a in status.attempts],
+        refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),
         lift_needed=float(getattr(plan, "lift_needed", float("nan"))) if plan else float("nan"),

@@ -79,6 +79,8 @@ class Range:
     unit: str = ""
     note: str = ""
     integer: bool = False
+    optional: bool = False
+    """Whether the field may also be left out (None: a default decided elsewhere)."""
 
     def contains(self, v) -> bool:
         if self.lo is not None and (v <= self.lo if self.lo_open else v < self.lo):
@@ -100,9 +102,11 @@ class Range:
         return "finite"
 
     def doc(self) -> str:
-        return self.text() + _note(self.note)
+        return self.text() + (" or omitted" if self.optional else "") + _note(self.note)
 
     def check(self, path: Path_, value) -> None:
+        if value is None and self.optional:
+            return
         if isinstance(value, bool) or not isinstance(value, int | float | np.number):
             raise FieldError(path, f"expected a number, got {value!r}")
         check_finite_number(path, value)
@@ -113,8 +117,9 @@ class Range:
             raise FieldError(path, f"must be {self.text()}, got {_num(value)}{unit}{_note(self.note)}")
 
 
-def Int(lo=None, hi=None, note: str = "") -> Range:  # noqa: N802  (a rule constructor)
-    return Range(lo, hi, integer=True, note=note)
+def Int(lo=None, hi=None, note: str = "", optional: bool = False) -> Range:  # noqa: N802
+    """A rule constructor: integers in [lo, hi] (``optional``: or None)."""
+    return Range(lo, hi, integer=True, note=note, optional=optional)
 
 
 def Pos(hi=None, unit="", note="", hi_open=False) -> Range:  # noqa: N802

@@ -271,6 +271,12 @@ class PickConfig:
     """RRT-Connect iterations before a transfer is given up."""
     max_grasps: int = ranged(10, Int(1, 100))
     """At most this many ranked grasps are tried, in order, before 'no reachable grasp'."""
+    max_retries: int | None = ranged(None, Int(0, 3, "each retry is a re-scan and a new plan",
+                                               optional=True))
+    """After a lift that came away empty (the hand's load did not grow), the hand opens, goes
+    home, the object is scanned again and the pick planned anew, the grasps near the failed one
+    skipped: at most this many times (beyond the paper). Omitted: the method's own (``gbh_plus``
+    1; the paper's methods make one attempt, 0)."""
 
     def check_relations(self, at: tuple = ()) -> None:
         if self.max_approach_distance < self.approach_distance:

@@ -142,6 +142,10 @@ class Verdict:
     """The object's position (W) at the end, after release."""
     released_on_table: bool = False
     """Whether the object lies on the table, free of the gripper, at the end."""
+    earlier_attempts: list[dict] = field(default_factory=list)
+    """For each executed grasp whose lift came away empty (a retry followed): the lift's
+    record as it stood then (``lifted_at``, ``dropped_at``, ``dropped_phase``,
+    ``max_clearance``, ``touching``); the fields above are the last attempt's."""
 
 
 @dataclass
@@ -159,6 +163,8 @@ class _Watch(CopiedShallowly):
     force_sum: float = 0.0
     force_n: int = 0
     last_phase: str = ""
+    attempts: int = 0
+    """The machine's failed attempts seen so far (each retry starts the lift's record anew)."""
 
 
 class CageMonitor(LeafSystem):
@@ -304,6 +310,8 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     w = copy.copy(w)
     w.verdict = v = copy.copy(w.verdict)  # (its lists and dicts are replaced, never mutated)
     mode, t, low, gripper, table = status.mode, o.t, o.low, o.gripper, o.table
+    if len(status.attempts) > w.attempts:
+        _start_again(w)
     if gripper:
         seen = set(v.touching.get(mode.value, [])) | gripper
         v.touching = {**v.touching, mode.value: sorted(seen)}
@@ -351,10 +359,43 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     return w
 
 
+#: The phases of one attempt at the pick (their contacts are kept per attempt).
+_PICK_PHASES = (Mode.APPROACH.value, Mode.INSERT.value, Mode.CLOSE.value, Mode.LIFT.value)
+
+
+def _start_again(w: _Watch) -> None:
+    """A retry: the failed attempt's lift record is kept in ``earlier_attempts`` and the lift's
+    record starts anew (in place: ``w`` and its verdict are this observation's copies)."""
+    v = w.verdict
+    v.earlier_attempts = [*v.earlier_attempts, {
+        "lifted_at": v.lifted_at, "dropped_at": v.dropped_at, "dropped_phase": v.dropped_phase,
+        "max_clearance": v.max_clearance,
+        "touching": {k: p for k, p in v.touching.items() if k in _PICK_PHASES}}]
+    v.touching = {k: p for k, p in v.touching.items() if k not in _PICK_PHASES}
+    v.lifted_at = v.dropped_at = v.sank_at = float("nan")
+    v.dropped_phase = v.sank_phase = ""
+    v.max_clearance = 0.0
+    v.table_touch_while_carried = False
+    w.lifted = w.dropped = False
+    w.free_since, w.free_phase = float("nan"), ""
+    w.attempts += 1
+
+
 def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
              search: GraspSearch | None = None) -> None:
     """Outcome, held_by and reason from the record (final once the machine finished); with no
-    grasp to try, ``search`` says why."""
+    grasp to try, ``search`` says why; the reason ends with the retries, if there were any."""
+    _conclude(w, status, cfg, search)
+    if status.attempts:
+        n = len(status.attempts)
+        w.verdict.reason += (
+            f" (a retry: {n} earlier grasp{'s' if n > 1 else ''} came away empty"
+            + (f"; {status.skipped} grasps near {'them' if n > 1 else 'it'} skipped"
+               if status.skipped else "") + ")")
+
+
+def _conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
+              search: GraspSearch | None = None) -> None:
     v = w.verdict
     mode = status.mode
     regrasp = f"; regrasp: {status.regrasp_note}" if status.regrasp_note else ""

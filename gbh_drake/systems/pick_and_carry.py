@@ -13,6 +13,10 @@ and, for a regrasp (beyond the paper), before the pick::
     PLAN -> REGRASP_APPROACH -> REGRASP_INSERT -> REGRASP_CLOSE -> REGRASP_LIFT -> REGRASP_TURN
          -> REGRASP_LOWER -> REGRASP_RELEASE -> REGRASP_RETREAT -> REGRASP_HOME -> RESCAN -> PLAN
 
+and, for a retry after a lift that came away empty (beyond the paper)::
+
+    LIFT -> RETRY_RELEASE -> RETRY_HOME -> RESCAN -> PLAN
+
 PLAN reads the ranked grasps (evaluating them runs the scan and the grasp pipeline once) and
 tries them in order from the measured configuration (:func:`gbh_drake.planning.pick.plan_pick`),
 keeping each refusal's reason; with a ``scoop_grasps`` input connected, those are tried next
@@ -27,7 +31,12 @@ plans a regrasp (:func:`gbh_drake.planning.regrasp.plan_regrasp`): it picks the 
 of ``regrasp_grasps`` (a pinch, the bar folded), turns it into the first of ``regrasp_poses`` the
 arm reaches, lowers it until the hand's load drops, lets go, backs off, goes home, asks the
 Scanner for a new scan (its ``scan_request`` output) and, once it has it, plans again from the
-new scan's grasps; at most ``RegraspParams.max_regrasps`` times. CLOSE drives the
+new scan's grasps; at most ``RegraspParams.max_regrasps`` times. With ``max_retries`` > 0
+(beyond the paper), a LIFT that did not add :data:`EMPTY_LOAD` to the hand's vertical load
+since the approach came away empty: the fingers open, the arm goes home, the Scanner is asked
+for a new scan of where the object was, and PLAN plans anew, skipping the grasps within
+:data:`TRIED_RADIUS` of a failed one (same kind); the failed attempts are kept in the status
+(:class:`Attempt`). CLOSE drives the
 fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
@@ -70,6 +79,14 @@ from gbh_drake.systems.stage import CopiedShallowly
 DWELL = 0.1
 #: Below this hand load (N) lowering cannot sense the set-down and goes to the planned depth.
 MIN_SENSED_LOAD = 0.3
+#: A lift that adds less than this (N) to the hand's vertical load since the approach came away
+#: empty (about 20 g; the object set's lightest, a key ring, weighs 45 g).
+EMPTY_LOAD = 0.2
+#: m: on a retry, grasps of a hanging structure whose centre lies this close to the centre of
+#: the structure a failed grasp hooked, and grasps without a structure whose gripper origin lies
+#: this close to a failed one's (same kind), are skipped: what came away empty from an object
+#: that barely moved would come away empty again.
+TRIED_RADIUS = 0.02
 
 
 class Mode(enum.Enum):
@@ -86,6 +103,9 @@ class Mode(enum.Enum):
     REGRASP_RETREAT = "regrasp_retreat"
     REGRASP_HOME = "regrasp_home"
     RESCAN = "rescan"
+    # A retry after a lift that came away empty: open, go home, re-scan, plan again.
+    RETRY_RELEASE = "retry_release"
+    RETRY_HOME = "retry_home"
     APPROACH = "approach"
     INSERT = "insert"
     CLOSE = "close"
@@ -103,6 +123,25 @@ class Mode(enum.Enum):
 
 #: Modes in which the machine has stopped for good.
 FINAL_MODES = (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP)
+
+
+@dataclass
+class Attempt:
+    """An executed grasp that came away empty (a retry followed). W frame, metres, newtons."""
+
+    kind: str
+    rank: int
+    score: float
+    source: str
+    """The input port the grasp came from."""
+    p_WG: np.ndarray
+    """(3,) the open gripper's origin at the grasp."""
+    c_W: np.ndarray | None
+    """(3,) the centre c of the hanging structure it hooked (None: a grasp without one)."""
+    load: float
+    """What the lift added to the hand's vertical load (below :data:`EMPTY_LOAD`)."""
+    time: float
+    """Simulated time (s) the lift ended."""
 
 
 @dataclass
@@ -135,6 +174,14 @@ class PickStatus:
     """The regrasps executed (each a pick-and-place into a resting pose, then a re-scan)."""
     regrasp_note: str = ""
     """Why a regrasp the method offered was not executed ("" if it was, or none was offered)."""
+    grasp_X_WG: np.ndarray | None = None
+    """(4, 4) the executed grasp's open-gripper pose in W (None until one is planned)."""
+    grasp_c_W: np.ndarray | None = None
+    """(3,) the centre of the hanging structure it hooks (None: none, or not planned yet)."""
+    attempts: list[Attempt] = field(default_factory=list)
+    """Executed grasps whose lift came away empty, each followed by a retry (beyond the paper)."""
+    skipped: int = 0
+    """Grasps skipped on retries for lying within :data:`TRIED_RADIUS` of a failed one."""
 
     @property
     def phase(self) -> str:
@@ -164,6 +211,10 @@ class _State(CopiedShallowly):
     when the object was set down before the planned place pose."""
     q_home: np.ndarray = field(default_factory=lambda: np.zeros(7))
     """The arm where it started (where it goes before a re-scan)."""
+    load_free: float = 0.0
+    """The hand's vertical load (N) at the end of the approach, before it touched the object."""
+    scans_asked: int = 0
+    """Re-scans asked for (regrasps and retries)."""
     scan_request: np.ndarray = field(default_factory=lambda: np.zeros(4))
     """The ``scan_request`` output: [n, x, y, z] (n: scans asked for since the first)."""
 
@@ -210,7 +261,7 @@ class PickAndCarry(LeafSystem):
                  hand: HandConfig, *, settle_time: float, ground_clearance: float = 0.003,
                  seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01,
                  scoop: ScoopParams | None = None, regrasp: RegraspParams | None = None,
-                 scan_height: float = 0.06):
+                 scan_height: float = 0.06, max_retries: int = 0):
         """``directives``: the scenario's fixed models (the planning model is built from them);
         ``settle_time`` (s): when planning starts (the scan is taken then); ``ground_clearance``
         (m): the clearance grasps keep from the table, kept by the segments near the grasp too
@@ -219,7 +270,8 @@ class PickAndCarry(LeafSystem):
         ``scoop``: how a scoop presses on the table (its ``press_force`` and ``press_depth``);
         ``regrasp``: how often the object may be set down anew (``max_regrasps``) and how
         many pinches are planned for per resting pose; ``scan_height`` (m): the height of a
-        re-scan's target (the scenario's ``scan_target`` z)."""
+        re-scan's target (the scenario's ``scan_target`` z); ``max_retries``: how often a lift
+        that came away empty is followed by a re-scan and a new plan (0: never, the paper)."""
         super().__init__()
         self._directives = list(directives)
         self._config = config
@@ -227,6 +279,7 @@ class PickAndCarry(LeafSystem):
         self._scoop = scoop or ScoopParams()
         self._regrasp = regrasp or RegraspParams()
         self._scan_height = float(scan_height)
+        self._max_retries = int(max_retries)
         self._settle_time = float(settle_time)
         self._seed = int(seed)
         self._bar = float(bar_angle)
@@ -388,15 +441,62 @@ class PickAndCarry(LeafSystem):
         self._move(s, Mode.REGRASP_HOME, t, [sample(s.arm, t)[0], s.q_home])
 
     def _after_regrasp_home(self, context, s: _State, t: float) -> None:
-        x, y = s.status.regrasps[-1].place_W[:2]
-        s.scan_request = np.array([len(s.status.regrasps), x, y, self._scan_height])
+        self._rescan(s, t, s.status.regrasps[-1].place_W[:2])
+
+    def _rescan(self, s: _State, t: float, xy) -> None:
+        """Holds the arm home and asks the Scanner for a new scan around ``xy`` (W, m)."""
+        s.scans_asked += 1
+        s.scan_request = np.array([s.scans_asked, xy[0], xy[1], self._scan_height])
         s.command[2] = self._bar
         s.q_hold, s.arm = s.q_home.copy(), None
         self._enter(s, Mode.RESCAN, t)
 
     def _after_rescan(self, context, s: _State, t: float) -> None:
-        if getattr(self._scan.Eval(context), "request", 0) >= len(s.status.regrasps):
+        if getattr(self._scan.Eval(context), "request", 0) >= s.scans_asked:
             self._enter(s, Mode.PLAN, t)
+
+    # The retry: a lift that came away empty; open, go home, re-scan, plan again.
+    def _came_away_empty(self, context, s: _State) -> float | None:
+        """What the lift added to the hand's load (N), if it came away empty and may retry."""
+        if len(s.status.attempts) >= self._max_retries:
+            return None
+        gained = float(self._load.Eval(context)[2]) - s.load_free
+        return gained if gained < EMPTY_LOAD else None
+
+    def _retry(self, context, s: _State, t: float, gained: float) -> None:
+        st = s.status
+        st.attempts = [*st.attempts, Attempt(
+            kind=str(st.plan.kind), rank=st.plan.rank, score=st.score, source=st.source,
+            p_WG=np.asarray(st.grasp_X_WG, dtype=float)[:3, 3].copy(), c_W=st.grasp_c_W,
+            load=gained, time=t)]
+        st.plan, st.score, st.fallback, st.source, st.grasp_X_WG, st.grasp_c_W = \
+            None, float("nan"), False, "", None, None
+        s.q_hold, s.arm = np.asarray(sample(s.arm, t)[0], dtype=float), None
+        g = HOOK_GRIPPER
+        s.command[:2] = [g.q_open, self._hand.force]
+        self._enter(s, Mode.RETRY_RELEASE, t,
+                    until=t + (g.q_open - g.q_closed) / self._hand.speed + 0.2)
+
+    def _after_retry_release(self, context, s: _State, t: float) -> None:
+        self._move(s, Mode.RETRY_HOME, t, [s.q_hold, s.q_home])
+
+    def _after_retry_home(self, context, s: _State, t: float) -> None:
+        points = np.asarray(self._scan.Eval(context).mesh_W.vertices).reshape(-1, 3)
+        xy = points[:, :2].mean(axis=0) if len(points) else s.scan_request[1:3]
+        self._rescan(s, t, xy)
+
+    def _tried(self, s: _State, grasp) -> bool:
+        """Whether ``grasp`` hooks a structure that a failed attempt hooked, or (without a
+        structure) lies where a failed one of its kind did (within :data:`TRIED_RADIUS`)."""
+        c = _structure_centre(grasp)
+        p = np.asarray(grasp.X_WG, dtype=float)[:3, 3]
+        for a in s.status.attempts:
+            if c is not None and a.c_W is not None:
+                if np.linalg.norm(c - a.c_W) <= TRIED_RADIUS:
+                    return True
+            elif a.kind == GraspKind(grasp.kind) and np.linalg.norm(p - a.p_WG) <= TRIED_RADIUS:
+                return True
+        return False
 
     def _fingers_stopped(self, context, s: _State, t: float, mode: Mode) -> bool:
         """Whether the fingers closing since ``mode`` began have stopped (or timed out)."""
@@ -405,6 +505,7 @@ class PickAndCarry(LeafSystem):
         return not (np.max(np.abs(v_fingers)) > 2e-3 and t < timeout)
 
     def _after_approach(self, context, s: _State, t: float) -> None:
+        s.load_free = float(self._load.Eval(context)[2])
         plan = s.status.plan
         waypoints = [plan.q["approach"], plan.q["grasp"]]
         if plan.kind == GraspKind.SCOOP:  # on down until the table pushes back (_during_insert)
@@ -466,6 +567,10 @@ class PickAndCarry(LeafSystem):
         self._move(s, Mode.LIFT, t, [plan.q["closed"], plan.q["lift"]], velocity_scale=0.2)
 
     def _after_lift(self, context, s: _State, t: float) -> None:
+        gained = self._came_away_empty(context, s)
+        if gained is not None:
+            self._retry(context, s, t, gained)
+            return
         plan = s.status.plan
         carry = plan.carry or [plan.q["lift"], plan.q["carry"]]  # waypoints at the lift height
         self._enter(s, Mode.CARRY, t, arm=polyline_path(carry, t, velocity_scale=0.25))
@@ -580,6 +685,9 @@ class PickAndCarry(LeafSystem):
             if grasps and setup is None:
                 setup = self._setup(scan)
             for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
+                if s.status.attempts and self._tried(s, grasp):
+                    s.status.skipped += 1
+                    continue
                 if grasp.kind == GraspKind.SCOOP and setup.table_level is None:
                     # A scoop touches the table by design: its last segments are checked
                     # against everything else (the arm's own links, other models).
@@ -592,6 +700,8 @@ class PickAndCarry(LeafSystem):
                 s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
                 if isinstance(result, PickPlan):
                     s.status.source = port.get_name()
+                    s.status.grasp_X_WG = np.asarray(grasp.X_WG, dtype=float)
+                    s.status.grasp_c_W = _structure_centre(grasp)
                     return result, float(getattr(grasp, "score", float("nan"))), setup
                 s.status.refusals = [*s.status.refusals, result]
         return None, float("nan"), setup
@@ -604,6 +714,12 @@ class PickAndCarry(LeafSystem):
             far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
         com = points.mean(axis=0) if len(points) else np.zeros(3)
         return PickSetup(self._near, far, points, com, self._config, self._seed)
+
+
+def _structure_centre(grasp) -> np.ndarray | None:
+    """(3,) the centre c (W) of the hanging structure ``grasp`` hooks, or None."""
+    c = getattr(getattr(grasp, "structure", None), "c", None)
+    return None if c is None else np.asarray(c, dtype=float).reshape(3).copy()
 
 
 def _check_grasps(port: str, grasps) -> None:

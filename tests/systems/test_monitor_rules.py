@@ -92,3 +92,33 @@ def test_a_gripper_that_came_away_empty():
               (Mode.CAGE_TEST, 0.0, (), True, CLOSED), (Mode.DONE, 0.0, (), True, CLOSED)]
     v = run(script)
     assert v.outcome == Outcome.NOT_LIFTED and "came away without it" in v.reason
+
+
+def test_a_retry_starts_the_lift_record_anew_and_keeps_the_failed_one():
+    """A first grasp lifts the object and drops it during the lift; the machine retries
+    (``PickStatus.attempts`` grows) and the second grasp carries it: a success, the drop kept
+    in ``earlier_attempts``, the reason saying a retry came first."""
+    from gbh_drake.systems.pick_and_carry import Attempt
+
+    failed = Attempt(kind="parallel", rank=0, score=0.5, source="grasps", p_WG=np.zeros(3),
+                     c_W=None, load=0.05, time=1.0)
+    first = [(Mode.LIFT, 0.05, HOOK, False), (Mode.LIFT, 0.0, (), True)] + \
+        [(Mode.LIFT, 0.0, (), True)] * 25
+    second = [(Mode.PLAN, 0.0, (), True), (Mode.LIFT, 0.06, HOOK, False),
+              (Mode.CARRY, 0.07, HOOK, False), (Mode.HOLD, 0.07, HOOK, False),
+              (Mode.CAGE_TEST, 0.07, HOOK, False), (Mode.DONE, 0.0, (), True)]
+    w, t = _Watch(), 0.0
+    for attempts, script in (([], first), ([failed], second)):
+        for mode, low, gripper, table in script:
+            t += 0.01
+            w = observe(w, PickStatus(mode=mode, attempts=attempts), Observation(
+                t=t, p_WO=[0.5, 0.0, low], low=low, gripper=set(gripper), table=table,
+                hand=CLOSED, squeeze=70.0), CFG)
+        if not attempts:
+            assert w.dropped and w.verdict.dropped_phase == "lift"
+    v = w.verdict
+    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.CAGE, v.reason
+    assert not v.dropped_phase and v.max_clearance == pytest.approx(0.07)
+    (earlier,) = v.earlier_attempts
+    assert earlier["dropped_phase"] == "lift" and earlier["touching"] == {"lift": ["bar", "l_finger"]}
+    assert v.reason.endswith("(a retry: 1 earlier grasp came away empty)")

@@ -23,17 +23,21 @@ class Grasp:
     kind: str = "parallel"
 
 
-def _pick(scenario, staple_mesh, rod_depth: float):
+def _grasp(scenario, rod_depth: float) -> Grasp:
     """Top-down (z_G = -z_W), the loop's plane normal to the rod (x_W), the rod ``rod_depth``
     short of the bar's centre line along z_G (negative: beyond the bar)."""
-    scenario.object.mesh = "staple.obj"
-    staple_mesh.export(scenario.directory / "staple.obj")
-    scenario.settle_time = 0.2
     R_WG = RotationMatrix(np.diag([1.0, -1.0, -1.0]))
     p_WRod = np.asarray(scenario.object.pose.translation) + [0.0, 0.0, ROD_HEIGHT]
     p_GRod = np.array([0.0, 0.0, HOOK_GRIPPER.finger_length - rod_depth])
-    X_WG = RigidTransform(R_WG, p_WRod - R_WG.matrix() @ p_GRod)
-    trial = build_trial(scenario, grasps=[Grasp(X_WG.GetAsMatrix4())])
+    return Grasp(RigidTransform(R_WG, p_WRod - R_WG.matrix() @ p_GRod).GetAsMatrix4())
+
+
+def _pick(scenario, staple_mesh, *rod_depths: float):
+    """The staple picked with the grasps of :func:`_grasp` at ``rod_depths``, in that order."""
+    scenario.object.mesh = "staple.obj"
+    staple_mesh.export(scenario.directory / "staple.obj")
+    scenario.settle_time = 0.2
+    trial = build_trial(scenario, grasps=[_grasp(scenario, d) for d in rod_depths])
     assert trial.station.plant.GetBodyByName(trial.station.object_name).is_floating_base_body()
     _, record = simulate_trial(trial)
     return record
@@ -51,3 +55,19 @@ def test_hook_lifts_the_rod_only_when_it_is_in_the_loop(scenario, staple_mesh, r
     else:
         assert not record.success and record.outcome == "not_lifted", record.reason
         assert record.verdict.max_clearance < 0.01
+
+
+@pytest.mark.trial
+def test_a_lift_that_came_away_empty_is_tried_again_with_another_grasp(scenario, staple_mesh):
+    """With ``pick.max_retries`` 1 (gbh_plus's own), the loop closed above the rod comes away
+    empty (the hand's load does not grow), the hand opens, goes home, the staple is scanned
+    again and the grasp that failed is skipped: the next one cages it."""
+    scenario.pick.max_retries = 1
+    record = _pick(scenario, staple_mesh, -0.012, 0.025)
+    assert record.success and record.held_by == "cage", record.reason
+    assert record.grasp_rank == 1 and "1 earlier grasp came away empty" in record.reason
+    (attempt,) = record.attempts
+    assert attempt["rank"] == 0 and attempt["load"] < 0.2
+    assert len(record.verdict.earlier_attempts) == 1
+    assert record.verdict.earlier_attempts[0]["max_clearance"] < 0.01
+    assert record.phases["retry_home"] < record.phases["rescan"] < record.phases["approach"]
