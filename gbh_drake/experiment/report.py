@@ -762,7 +762,27 @@ def beyond(data: ReportInput) -> list[str]:
     if rows:
         lines += ["", "### Controls", ""] + _table(
             ["Method", "Trials", "Hooked (a false structure)", "Pinched (the fallback)"], rows)
-    return lines
+    return lines + retries(data)
+
+
+def retries(data: ReportInput) -> list[str]:
+    """Per method (and protocol) that retried: the trials whose first lift came away empty
+    (``record.attempts``), how many of them were then carried, and held by a cage or a pinch."""
+    rows = []
+    for label, method, protocol in _groups(data):
+        mine = [r for r in data.rows if _of(r, method, protocol)
+                and (r.get("record") or {}).get("attempts")]
+        if mine:
+            carried = [r for r in mine if r["success"]]
+            rows.append([label, len(mine), len(carried),
+                         sum(r.get("held_by") == "cage" for r in carried),
+                         sum(r.get("held_by") == "pinch" for r in carried)])
+    if not rows:
+        return []
+    return ["", "### Retries", ""] + _table(
+        ["Method", "Trials retried (a lift came away empty)", "Then carried", "Cage", "Pinch"],
+        rows) + ["", "A retry: the hand opens, goes home, the object is scanned again and the "
+                     "pick planned anew without the structure that failed (`pick.max_retries`)."]
 
 
 def reach_class(row: dict) -> str:

@@ -409,8 +409,8 @@ def _conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
             counts[r.key] = counts.get(r.key, 0) + 1
         why = ", ".join(f"{k} x{n}" for k, n in sorted(counts.items()))
         v.outcome = Outcome.NO_REACHABLE_GRASP
-        v.reason = f"none of the {len(status.refusals)} grasps tried could be planned ({why})" \
-            + regrasp
+        v.reason = (f"none of the {len(status.refusals)} grasps tried could be planned ({why})"
+                    if status.refusals else "no grasp left to try") + regrasp
         return
     order = [m.value for m in Mode]
     reached = order.index(mode.value)

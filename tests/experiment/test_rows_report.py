@@ -369,3 +369,23 @@ def test_old_rows_read_as_stable_and_resume_against_todays_tasks(tmp_path):
     assert row["protocol"] == "natural" and row_key(row) == ("box", "m", 0, "natural")
     assert replay_name(row) == "box__m__0__natural.html"
     assert replay_name(old) == "box__m__0.html"
+
+
+def test_the_report_counts_the_retries_and_what_came_of_them():
+    """Rows whose record has ``attempts`` (a lift came away empty, a retry followed) are counted
+    per method: how many were then carried, by a cage or a pinch; no retries, no section."""
+    from gbh_drake.experiment.report import ReportInput, retries
+
+    attempt = {"kind": "parallel", "rank": 0, "score": 1e-6, "source": "grasps", "load": 0.03}
+    rows = [make_row("kettle", "gbh+", 0), make_row("kettle", "gbh+", 1, held_by="pinch"),
+            make_row("kettle", "gbh+", 2, "not_lifted"), make_row("kettle", "gbh+", 3),
+            make_row("kettle", "gbh-10", 0, "not_lifted")]
+    for r in rows[1:3]:
+        r["record"]["attempts"] = [attempt]
+    data = ReportInput(name="x", objects=["kettle"], methods=["gbh-10", "gbh+"], trials=4,
+                       paper={}, rows=rows)
+    text = flat(retries(data))
+    assert "| gbh+ | 2 | 1 | 0 | 1 |" in text and "| gbh-10 |" not in text
+    for r in rows:
+        r["record"].pop("attempts", None)
+    assert retries(data) == []

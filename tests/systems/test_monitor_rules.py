@@ -122,3 +122,18 @@ def test_a_retry_starts_the_lift_record_anew_and_keeps_the_failed_one():
     (earlier,) = v.earlier_attempts
     assert earlier["dropped_phase"] == "lift" and earlier["touching"] == {"lift": ["bar", "l_finger"]}
     assert v.reason.endswith("(a retry: 1 earlier grasp came away empty)")
+
+
+def test_nothing_left_after_a_retry_says_so():
+    """Every grasp offered after a retry was skipped (near the one that failed): the reason says
+    nothing was left to try, not that none of 0 grasps could be planned."""
+    from gbh_drake.systems.pick_and_carry import Attempt
+
+    failed = Attempt(kind="parallel", rank=0, score=0.5, source="grasps", p_WG=np.zeros(3),
+                     c_W=np.zeros(3), load=0.0, time=1.0)
+    w = observe(_Watch(), PickStatus(mode=Mode.NO_REACHABLE_GRASP, attempts=[failed], skipped=3),
+                Observation(t=0.01, p_WO=[0.5, 0, 0], low=0.0, gripper=set(), table=True,
+                            hand=CLOSED, squeeze=0.0), CFG)
+    assert w.verdict.outcome == Outcome.NO_REACHABLE_GRASP
+    assert w.verdict.reason == ("no grasp left to try (a retry: 1 earlier grasp came away empty; "
+                                "3 grasps near it skipped)")
