@@ -693,7 +693,8 @@ def out_of_the_loops_reach(row: dict) -> bool:
 
 def held_how(row: dict) -> str:
     """How a successful trial's object was taken: ``hook`` (a GbH grasp as it lay), ``scoop``,
-    ``regrasp, hook`` / ``regrasp, scoop`` (after setting it down anew), ``fallback pinch``."""
+    ``regrasp, hook`` / ``regrasp, scoop`` / ``regrasp, fallback pinch`` (after setting it down
+    anew), ``fallback pinch``."""
     record = row.get("record") or {}
     source = record.get("grasp_source") or ("fallback_grasps" if row.get("fallback") else
                                             "grasps")
@@ -703,7 +704,8 @@ def held_how(row: dict) -> str:
 
 
 #: The ways a success came, in the order :func:`beyond` tables them.
-HELD_HOW = ("hook", "scoop", "regrasp, hook", "regrasp, scoop", "fallback pinch", "pinch")
+HELD_HOW = ("hook", "scoop", "regrasp, hook", "regrasp, scoop", "regrasp, fallback pinch",
+            "fallback pinch", "pinch")
 
 
 def beyond(data: ReportInput) -> list[str]:

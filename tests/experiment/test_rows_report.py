@@ -389,3 +389,28 @@ def test_the_report_counts_the_retries_and_what_came_of_them():
     for r in rows:
         r["record"].pop("attempts", None)
     assert retries(data) == []
+
+
+def test_every_success_beyond_the_loops_reach_is_counted_once_by_how_it_was_taken():
+    """A pinch by the fallback after a regrasp is a column of its own: the ways add up to the
+    successes (a success taken in a way with no column would vanish from the table)."""
+    from gbh_drake.experiment.report import HELD_HOW, ReportInput, held_how
+
+    ways = [("grasps", False, "parallel"), ("scoop_grasps", False, "scoop"),
+            ("grasps", True, "parallel"), ("fallback_grasps", True, "antipodal"),
+            ("fallback_grasps", False, "antipodal")]
+    rows = []
+    for trial, (source, regrasp, kind) in enumerate(ways):
+        r = make_row("key_ring", "gbh+", trial)
+        r["grasp_method"], r["grasp_kind"] = "gbh_plus", kind
+        r["record"].update(grasp_source=source, regrasps=[{"turn_deg": 90.0}] if regrasp else [])
+        rows.append(r)
+    assert all(held_how(r) in HELD_HOW for r in rows)
+    assert held_how(rows[3]) == "regrasp, fallback pinch"
+    data = ReportInput(name="x", objects=["key_ring"], methods=["gbh+"], trials=5, paper={},
+                       rows=rows)
+    from gbh_drake.experiment.report import beyond
+
+    line = next(s for s in flat(beyond(data)).splitlines() if s.startswith("| gbh+ "))
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    assert cells[2].startswith("5 ") and sum(int(c) for c in cells[4:]) == 5
