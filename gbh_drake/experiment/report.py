@@ -324,7 +324,11 @@ def table1(data: ReportInput) -> list[str]:
         carried = [r for r in hangable if r["method"] == method and r["success"]]
         let_go = sum(bool(((r.get("record") or {}).get("verdict") or {}).get("released_on_table"))
                      for r in carried)
-        released.append(f"{method} {let_go}/{len(carried)}")
+        # Rows of ``pick.set_down: false`` end after the cage test: nothing set down to count.
+        kept = sum("lower" not in ((r.get("record") or {}).get("phases") or {"lower": 0})
+                   for r in carried)
+        released.append(f"{method} {let_go}/{len(carried) - kept}" +
+                        (f" ({kept} not set down: pick.set_down false)" if kept else ""))
     lines.append("")
     lines.append("Released on the table after the carry (not part of success, as in the paper): "
                  + ", ".join(released) + ".")

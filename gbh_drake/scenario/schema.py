@@ -271,6 +271,12 @@ class PickConfig:
     """RRT-Connect iterations before a transfer is given up."""
     max_grasps: int = ranged(10, Int(1, 100))
     """At most this many ranked grasps are tried, in order, before 'no reachable grasp'."""
+    set_down: bool | None = None
+    """After the cage test, lower the object onto the table at ``place_position``, open and
+    retreat (omitted or true); false: the trial ends once the cage test is over, the object
+    still in the hand. The verdict is final then (success at the end of the hold, cage or pinch
+    at the end of the cage test), so false changes no verdict, only ``released_on_table``, and
+    saves about a quarter of an experiment's simulated time (README, Figures)."""
     max_retries: int | None = ranged(None, Int(0, 3, "each retry is a re-scan and a new plan",
                                                optional=True))
     """After a lift that came away empty (the hand's load did not grow), the hand opens, goes

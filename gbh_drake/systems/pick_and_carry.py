@@ -8,6 +8,8 @@ state and time. Modes, in order::
     SETTLE -> PLAN -> APPROACH -> INSERT -> CLOSE -> LIFT -> CARRY -> HOLD -> CAGE_TEST
            -> LOWER -> RELEASE -> RETREAT -> DONE
 
+(``PickConfig.set_down`` false: CAGE_TEST -> DONE, the object still in the hand)
+
 and, for a regrasp (beyond the paper), before the pick::
 
     PLAN -> REGRASP_APPROACH -> REGRASP_INSERT -> REGRASP_CLOSE -> REGRASP_LIFT -> REGRASP_TURN
@@ -586,6 +588,10 @@ class PickAndCarry(LeafSystem):
     def _after_cage_test(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
         s.command[1] = self._hand.force
+        if self._config.set_down is False:  # the verdict is final: end holding the object
+            s.q_hold, s.arm = np.asarray(plan.q["carry"], dtype=float), None
+            self._enter(s, Mode.DONE, t)
+            return
         self._move(s, Mode.LOWER, t, [plan.q["carry"], plan.q["place"]], velocity_scale=0.15)
 
     def _during_lower(self, context, s: _State, t: float) -> bool:

@@ -71,3 +71,19 @@ def test_a_lift_that_came_away_empty_is_tried_again_with_another_grasp(scenario,
     assert len(record.verdict.earlier_attempts) == 1
     assert record.verdict.earlier_attempts[0]["max_clearance"] < 0.01
     assert record.phases["retry_home"] < record.phases["rescan"] < record.phases["approach"]
+
+
+@pytest.mark.trial
+def test_ending_after_the_cage_test_changes_no_verdict(scenario, staple_mesh):
+    """``pick.set_down: false`` ends the trial once the cage test is over: the same verdict (the
+    judged phases are simulated alike), nothing set down, less simulated time."""
+    full = _pick(scenario, staple_mesh, 0.025)
+    scenario.pick.set_down = False
+    short = _pick(scenario, staple_mesh, 0.025)
+    assert short.success and short.held_by == "cage", short.reason
+    for name in ("outcome", "reason", "held_by", "lifted_at", "clearance_after_hold",
+                 "max_clearance", "finger_q_cage_test", "cage_test_held", "loop_closed"):
+        assert getattr(short.verdict, name) == getattr(full.verdict, name), name
+    assert "release" in full.phases and "lower" not in short.phases
+    assert not short.verdict.released_on_table  # still in the hand
+    assert short.sim_time < full.sim_time - 1.0
