@@ -248,7 +248,8 @@ def _run(scenario, *, live: bool, port: int | None = None) -> int:
         except (EOFError, KeyboardInterrupt):
             interrupts.forget()
             print()
-    return 0
+    # A trial whose physics failed before its verdict has no outcome: say so by the exit code.
+    return 1 if summary.record.outcome == "error" else 0
 
 
 def _objects(action: str, out: str | None) -> int:

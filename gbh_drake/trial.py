@@ -35,7 +35,7 @@ from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.station import Station, make_station
-from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict
+from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict, verdict_final
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
 from gbh_drake.systems.pick_and_carry import PickAndCarry, PickStatus
 from gbh_drake.systems.ports import build_checked
@@ -43,6 +43,8 @@ from gbh_drake.systems.scanner import Scanner
 
 #: Simulated seconds after the machine has finished (the released object comes to rest).
 AFTERMATH = 0.5
+#: How Drake's message starts when SAP fails on a step (the trial then ends as an ``error``).
+SOLVER_FAILED = "The SAP solver failed to converge"
 #: Where a replay's camera starts: the work area from the front right (orbit it in the browser).
 REPLAY_CAMERA = {"camera_in_world": [1.3, -1.0, 0.8], "target_in_world": [0.45, 0.0, 0.15]}
 
@@ -254,7 +256,25 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
     simulator.set_monitor(monitor)
     start = time.perf_counter()
     simulator.Initialize()
-    simulator.AdvanceTo(max_time)
+    try:
+        simulator.AdvanceTo(max_time)
+    except RuntimeError as e:
+        if not str(e).startswith(SOLVER_FAILED):
+            raise
+        # The contact solver gave up. The record (the context holds the last step that was
+        # solved) says so and where, instead of a crash: after the cage test the verdict was
+        # final and stands, with a warning; before it the trial has no outcome (``error``).
+        record = make_record(trial, simulator, time.perf_counter() - start)
+        status: PickStatus = _value(trial.pick, "status", simulator.get_context())
+        what = (f"Drake's contact solver (SAP) did not converge after t = "
+                f"{record.sim_time:.3f} s, in the {status.mode.value} phase")
+        if verdict_final(status.mode):
+            record.warnings = [*record.warnings, f"the simulation stopped: {what}; the verdict "
+                               "was final by then (the cage test was over)"]
+        else:
+            record.outcome, record.success, record.held_by = Outcome.ERROR, False, HeldBy.NONE
+            record.reason = f"the simulation failed: {what}; no outcome"
+        return simulator, record
     wall = time.perf_counter() - start
     return simulator, make_record(trial, simulator, wall)
 

@@ -381,6 +381,14 @@ def _start_again(w: _Watch) -> None:
     w.attempts += 1
 
 
+def verdict_final(mode: Mode) -> bool:
+    """Whether the verdict is final once the machine is in ``mode``: it has stopped, or the
+    cage test is over (later phases set the object down; they judge nothing)."""
+    order = [m.value for m in Mode]
+    return mode in (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP) or \
+        order.index(mode.value) > order.index(Mode.CAGE_TEST.value)
+
+
 def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
              search: GraspSearch | None = None) -> None:
     """Outcome, held_by and reason from the record (final once the machine finished); with no
