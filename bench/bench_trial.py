@@ -88,15 +88,16 @@ def planning_times(objects: list[str], seeds: int) -> list[float]:
     return times
 
 
-def whole_process(runs: int, out: Path) -> list[tuple[float, float]]:
-    """(wall s, peak RSS GB) of ``gbh run scenarios/default.yaml`` in fresh processes (the
-    peak of that process alone, from ``wait4``)."""
+def whole_process(runs: int, out: Path, overrides: list[str] = ()) -> list[tuple[float, float]]:
+    """(wall s, peak RSS GB) of ``gbh run scenarios/default.yaml`` (with ``overrides``, each
+    given as ``--set``) in fresh processes (the peak of that process alone, from ``wait4``)."""
     results = []
     gbh = Path(sys.executable).parent / "gbh"
     for i in range(runs):
         start = time.perf_counter()
-        child = subprocess.Popen([str(gbh), "run", str(SCENARIOS_DIR / "default.yaml"), "--set",
-                                  f"output_dir: {out / str(i)}"], stdout=subprocess.DEVNULL,
+        sets = [a for o in overrides for a in ("--set", o)]
+        child = subprocess.Popen([str(gbh), "run", str(SCENARIOS_DIR / "default.yaml"), *sets,
+                                  "--set", f"output_dir: {out / str(i)}"], stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL, cwd=REPO_ROOT)
         _, status, usage = os.wait4(child.pid, 0)
         wall = time.perf_counter() - start
@@ -125,6 +126,9 @@ def main() -> None:
     parser.add_argument("--out", default="/tmp/gbh_bench_trial")
     parser.add_argument("--process-only", action="store_true",
                         help="only the whole-process runs of gbh run")
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        metavar="YAML", help="YAML over the default scenario for the whole-process "
+                                             "runs, e.g. 'pick: {set_down: false}' (repeatable)")
     parser.add_argument("--time-steps", nargs="*", type=float, default=[],
                         help="also the default trial at these plant time steps (s), e.g. 0.004")
     args = parser.parse_args()
@@ -133,8 +137,9 @@ def main() -> None:
 
     # First, while this process is small: a child's peak RSS counts the pages it shares with
     # this process between fork and exec, so measured later it would report this one's size.
-    results = whole_process(args.runs, Path(args.out))
-    print("gbh run scenarios/default.yaml as a process: " + ", ".join(
+    results = whole_process(args.runs, Path(args.out), args.overrides)
+    sets = "".join(f" --set {o!r}" for o in args.overrides)
+    print(f"gbh run scenarios/default.yaml{sets} as a process: " + ", ".join(
         f"{w:.1f} s" for w, _ in results) + f"; peak RSS {max(r for _, r in results):.2f} GB")
     if args.process_only:
         return

@@ -43,7 +43,8 @@ from gbh_drake.systems.scanner import Scanner
 
 #: Simulated seconds after the machine has finished (the released object comes to rest).
 AFTERMATH = 0.5
-#: How Drake's message starts when SAP fails on a step (the trial then ends as an ``error``).
+#: How Drake's message starts when SAP fails on a step (the trial then ends with a record:
+#: ``error`` before the cage test is over, the verdict with a warning after it).
 SOLVER_FAILED = "The SAP solver failed to converge"
 #: Where a replay's camera starts: the work area from the front right (orbit it in the browser).
 REPLAY_CAMERA = {"camera_in_world": [1.3, -1.0, 0.8], "target_in_world": [0.45, 0.0, 0.15]}
@@ -384,10 +385,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         grasp_score=status.score, best_score=_best_score(chosen),
         fallback=status.fallback, grasp_source=status.source,
         regrasps=[_regrasp_entry(r, status) for r in status.regrasps],
-        attempts=[{"kind": a.kind, "rank": a.rank, "score": float(a.score),
-                   "source": a.source, "p_WG": [float(x) for x in a.p_WG],
-                   "c_W": None if a.c_W is None else [float(x) for x in a.c_W],
-                   "load": float(a.load), "time": float(a.time)} for a in status.attempts],
+        attempts=[a.as_dict() for a in status.attempts],
         refusals=refusals,
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),

@@ -40,7 +40,7 @@ from pydrake.systems.framework import LeafSystem
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.modeling.names import GRIPPER, TABLE
 from gbh_drake.scenario.schema import MonitorConfig
-from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+from gbh_drake.systems.pick_and_carry import FINAL_MODES, Mode, PickStatus
 from gbh_drake.systems.stage import CopiedShallowly
 
 
@@ -385,8 +385,7 @@ def verdict_final(mode: Mode) -> bool:
     """Whether the verdict is final once the machine is in ``mode``: it has stopped, or the
     cage test is over (later phases set the object down; they judge nothing)."""
     order = [m.value for m in Mode]
-    return mode in (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP) or \
-        order.index(mode.value) > order.index(Mode.CAGE_TEST.value)
+    return mode in FINAL_MODES or order.index(mode.value) > order.index(Mode.CAGE_TEST.value)
 
 
 def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,

@@ -36,9 +36,9 @@ Scanner for a new scan (its ``scan_request`` output) and, once it has it, plans 
 new scan's grasps; at most ``RegraspParams.max_regrasps`` times. With ``max_retries`` > 0
 (beyond the paper), a LIFT that did not add :data:`EMPTY_LOAD` to the hand's vertical load
 since the approach came away empty: the fingers open, the arm goes home, the Scanner is asked
-for a new scan of where the object was, and PLAN plans anew, skipping the grasps within
-:data:`TRIED_RADIUS` of a failed one (same kind); the failed attempts are kept in the status
-(:class:`Attempt`). CLOSE drives the
+for a new scan of where the object was, and PLAN plans anew, skipping the grasps of the hanging
+structure that failed (without a structure: those of the same kind where it was; both within
+:data:`TRIED_RADIUS`); the failed attempts are kept in the status (:class:`Attempt`). CLOSE drives the
 fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
@@ -144,6 +144,13 @@ class Attempt:
     """What the lift added to the hand's vertical load (below :data:`EMPTY_LOAD`)."""
     time: float
     """Simulated time (s) the lift ended."""
+
+    def as_dict(self) -> dict:
+        """Plain numbers and lists (a record's ``attempts`` entry)."""
+        return {"kind": self.kind, "rank": int(self.rank), "score": float(self.score),
+                "source": self.source, "p_WG": np.asarray(self.p_WG, dtype=float).tolist(),
+                "c_W": None if self.c_W is None else np.asarray(self.c_W, dtype=float).tolist(),
+                "load": float(self.load), "time": float(self.time)}
 
 
 @dataclass
