@@ -103,6 +103,13 @@ class ScanResult:
     taken_at: float = float("nan")
     """Simulated time (s) at which the ``Scanner`` took the scan; nan for a scan taken outside a
     simulation and for the Scanner's "not scanned yet" placeholder."""
+    region: CropBox | None = None
+    """The region the object was looked for in (the workspace box, around the first look's
+    sphere when there was one): the scan says nothing beyond it."""
+    first_look_free_space: FreeSpace | None = None
+    """What the first look's two wide side views saw free (low resolution; not fused, not used
+    by the GbH core's checks): with ``free_space`` it bounds the unseen space next to the
+    object (``perception.unseen``). None without a first look."""
     request: int = 0
     """Which scan request this answers: 0 for the Scanner's first scan, n for the scan taken on
     its ``scan_request`` input's n-th request (a re-scan after the object was set down anew)."""
@@ -149,6 +156,8 @@ class FirstLook:
     warnings: list[str] = field(default_factory=list)
     message: str = ""
     """Why nothing was found ("" if the object was)."""
+    free_space: FreeSpace | None = None
+    """What the look's views (of its last round) saw free; None before they found the object."""
 
     @property
     def found(self) -> bool:
@@ -191,6 +200,7 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     if look is not None:
         result.first_look_X_WCs = look.X_WCs
         result.object_radius = look.radius
+        result.first_look_free_space = look.free_space
     result.timing = timing
     return result
 
@@ -282,6 +292,7 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
             break
         p_W_object = points.p_WQ[segmentation.object_mask]
         look.X_WCs, look.p_W_object = X_WCs, p_W_object
+        look.free_space = make_free_space(depths, intrinsics, X_WCs, small, distance)
         look.reference_W = p_W_object[np.argmin(np.linalg.norm(p_W_object - p_WT, axis=1))]
         look.centre_W, look.radius = bounding_sphere(p_W_object, look.table)
         if len(points.at_border(intrinsics, segmentation.object_mask)) == 0:
@@ -361,7 +372,7 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
         region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
         region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
     result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
-                        table=table, aim_W=p_WT, view_distance=config.distance)
+                        table=table, aim_W=p_WT, view_distance=config.distance, region=region)
     points = view_points(depths, intrinsics, X_WCs, region)
     seen = first_look is not None and first_look.found
     reference = first_look.reference_W if seen else None

@@ -17,6 +17,9 @@ by ``lift_clearance``. The lift aims at the bound for any way the object turns, 
 lower than the prediction with the CoM below the contact; where the arm cannot reach that, it
 lifts as high as it reaches, the carry rises on to the need at the place where the arm reaches
 that there, and the plan says so (:attr:`PickPlan.notes`, :attr:`PickPlan.lift_short`).
+Unknown space is not free space: the bound for any turn also keeps the unseen space connected
+to the scan (``PickSetup.unseen_W``, :mod:`gbh_drake.core.unseen`) off the table, so that the
+part of the object a single view did not see does not drag (:attr:`PickPlan.lift_unseen`).
 
 The carry from the lift to the place keeps the hook point at the lift height: the straight
 joint-space move is checked by forward kinematics, and where it dips the carry goes through
@@ -34,8 +37,9 @@ from pydrake.common.eigen_geometry import Quaternion
 from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
-from gbh_drake.core.hanging_pose import hanging_lowest_height, lift_for_clearance, rest_on_loop
+from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, lift_for_clearance, rest_on_loop
 from gbh_drake.core.results import PARALLEL, GraspKind
+from gbh_drake.core.unseen import farthest_distance
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
 from gbh_drake.scenario.schema import PickConfig
@@ -112,6 +116,9 @@ class PickPlan:
     kinematics every :data:`CARRY_CHECK_STEP` rad); the lift height is ``hook_W[2] + lift``."""
     lift_needed: float = float("nan")
     """The lift (m) the hanging object needs by the prediction (CoM below its rest on the loop)."""
+    lift_unseen: float = float("nan")
+    """The lift (m) that keeps the unseen space next to the scan ``lift_clearance`` above the
+    table however the object turns (:func:`unseen_lift`); nan without unseen space."""
     drop: float = 0.0
     """How far (m) the object is predicted to sink onto the loop once lifted."""
     support: str = ""
@@ -146,6 +153,9 @@ class PickSetup:
     config: PickConfig
     seed: int = 0
     table_level: PlanningModel | None = None
+    unseen_W: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    """(m, 3) centres of the grid cells no camera saw free that connect to the scan
+    (:func:`gbh_drake.core.unseen.unseen_cells`): where unseen material may be."""
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
@@ -207,7 +217,11 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     else:
         need_any = need = lift_for_clearance(setup.points_W, setup.com_W, hook_W,
                                              cfg.lift_clearance, swings=False)
-    top = float(np.clip(need_any, cfg.min_lift, cfg.max_lift))
+    need_unseen = unseen_lift(setup.unseen_W, hook_W, rest, cfg.lift_clearance)
+    if need_unseen > need_any:
+        notes.append(f"the lift allows for unseen space: {need_unseen:.3f} m keeps it clear, "
+                     f"{need_any:.3f} m the scan")
+    top = float(np.clip(max(need_any, need_unseen), cfg.min_lift, cfg.max_lift))
     floor = float(np.clip(need, cfg.min_lift, top))
     # From the bound for any turn down to the prediction; below it only with a note.
     tries = list(np.linspace(top, floor, 4))
@@ -302,8 +316,26 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         X_closed.inverse().multiply(hook_W))  # the hook point at the release
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
                     keep_straight_rod, carry=carry, carry_low=carry_low, lift_needed=need,
+                    lift_unseen=need_unseen if len(setup.unseen_W) else float("nan"),
                     drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
                     notes=notes)
+
+
+def unseen_lift(unseen_W: np.ndarray, hook_W: np.ndarray, rest: LoopRest | None,
+                clearance: float) -> float:
+    """The lift (m) after which the unseen space ``unseen_W`` (m, 3) is ``clearance`` above the
+    table (W z = 0), as the scan's points must be: a hooked object (``rest``: how it rests on
+    the loop) hangs from its contact and may turn any way about it, so the farthest unseen cell
+    from the contact bounds how low it reaches; held rigidly (``rest`` None), the lowest cell
+    rises with the hand. -inf without unseen space."""
+    u = np.asarray(unseen_W, dtype=float).reshape(-1, 3)
+    if len(u) == 0:
+        return float("-inf")
+    if rest is None:
+        return float(clearance - u[:, 2].min())
+    sunk = u - np.array([0.0, 0.0, rest.drop])  # the object sinks onto the loop first
+    lowest = float(rest.contact_W[2]) - farthest_distance(sunk, rest.contact_W)
+    return float(clearance - lowest)
 
 
 def approach_transfer(setup: PickSetup, X_WG: RigidTransform, q_grasp: np.ndarray,

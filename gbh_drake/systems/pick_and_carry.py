@@ -63,6 +63,7 @@ from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
 from gbh_drake.core.params import RegraspParams, ScoopParams
 from gbh_drake.core.results import GraspKind
 from gbh_drake.perception.scan import ScanResult
+from gbh_drake.perception.unseen import scan_unseen
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.pick import (
     PickPlan,
@@ -726,7 +727,8 @@ class PickAndCarry(LeafSystem):
         if self._config.plan_paths and len(points) >= 4:
             far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
         com = points.mean(axis=0) if len(points) else np.zeros(3)
-        return PickSetup(self._near, far, points, com, self._config, self._seed)
+        return PickSetup(self._near, far, points, com, self._config, self._seed,
+                         unseen_W=scan_unseen(scan))
 
 
 def _structure_centre(grasp) -> np.ndarray | None:
