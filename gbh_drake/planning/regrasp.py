@@ -8,8 +8,8 @@ to that pose) and returns the arm configurations of the whole pick-and-place, or
 
 * ``approach``/``grasp``: the transfer and descent of :func:`~gbh_drake.planning.pick.approach_transfer`;
 * ``lift``: straight up until the object, held rigidly and turned any way about the pinch,
-  clears the table by ``lift_clearance`` (the scan's farthest point from the pinch), at least
-  ``min_lift``, as the arm reaches;
+  clears the table by ``lift_clearance`` (the farthest point of the scan or of its unseen
+  space from the pinch), at least ``min_lift``, as the arm reaches;
 * ``above`` and ``place``: the hand moved as the object moves (``X_WG_place = M X_WG``, M the
   resting pose's motion, turned about the vertical through the place by the first of
   :data:`PLACE_YAWS_DEG` the arm reaches), ``above`` the same height over the place as the lift;
@@ -34,6 +34,7 @@ from pydrake.math import RigidTransform, RotationMatrix
 from gbh_drake.core.gripper import BAR_RETRACTED, HOOK_GRIPPER
 from gbh_drake.core.regrasp import RegraspPose, pinch_clearance
 from gbh_drake.core.results import GraspKind
+from gbh_drake.core.unseen import farthest_distance
 from gbh_drake.planning.model import HandPose
 from gbh_drake.planning.pick import (
     PickSetup,
@@ -93,11 +94,12 @@ def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: in
     q = {"grasp": near.ik(X, q_start, open_hand, restarts=3)}
     if q["grasp"] is None:
         return refuse("ik", "grasp")
-    # The pinch point (between the fingertips) and how far the held object reaches from it.
+    # The pinch point (between the fingertips) and how far the held object reaches from it,
+    # its unseen space included (core/unseen.py: where material the cameras missed may be).
     pinch_G = np.array([0.0, 0.0, g.finger_length])
     pinch_W = X.multiply(pinch_G)
-    reach = float(np.linalg.norm(setup.points_W - pinch_W, axis=1).max()) \
-        if len(setup.points_W) else 0.0
+    reach = max(farthest_distance(setup.points_W, pinch_W),
+                farthest_distance(setup.unseen_W, pinch_W))
     height = reach + cfg.lift_clearance  # the pinch point this high: any turn clears the table
     lift = float(np.clip(height - pinch_W[2], cfg.min_lift, cfg.max_lift))
     q["lift"] = None

@@ -68,3 +68,24 @@ def test_a_pinch_sets_the_mug_upright_and_the_hand_moves_with_it(lying_mug):
     assert plan.lift >= scenario.pick.min_lift
     np.testing.assert_allclose(plan.q["home"], q_home)
     np.testing.assert_allclose(plan.place_W[:2], [0.55, 0.05], atol=0.03)
+
+
+def test_the_regrasp_lifts_the_unseen_space_clear_too(lying_mug):
+    """Unseen cells beyond the scan (as if the mug went on 6 cm where no camera looked) raise the
+    lift that lets the held mug turn any way clear of the table."""
+    scenario = Scenario()
+    poses = choose_regrasp_pose(lying_mug, [(p.R, p.probability) for p in
+                                            stable_poses(lying_mug).poses],
+                                GbhParams(), [0.55, 0.05])
+    pinches = sample_antipodal_grasps(lying_mug, AntipodalParams(ground_clearance=0.003), rng=0)
+    near = PlanningModel(scenario.directives, padding=0.002)
+    points = np.asarray(lying_mug.vertices)
+    q_home = np.asarray(scenario.robot.q_home)
+    lifts = []
+    for unseen in (np.zeros((0, 3)), points + [0.0, 0.06, 0.0]):
+        setup = PickSetup(near, None, points, points.mean(axis=0), scenario.pick, 0,
+                          unseen_W=unseen)
+        plan = next(p for p in (plan_regrasp(setup, g.X_WG, poses[0], i, q_home, q_home)
+                                for i, g in enumerate(pinches)) if isinstance(p, RegraspPlan))
+        lifts.append(plan.lift)
+    assert lifts[1] > lifts[0] + 0.02, lifts
