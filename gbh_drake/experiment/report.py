@@ -468,6 +468,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
                  "collision-free path for a stage); the next ranked grasp is then tried.")
 
     lines += ["", "## Executed grasps by rank", ""] + by_rank(data)
+    lines += ["", "## The lift (objects with hangable parts)", ""] + by_lift(data)
 
     lines += ["", "## Failed trials (objects with hangable parts)", ""]
     several = data.protocols != [DEFAULT_PROTOCOL]
@@ -553,6 +554,29 @@ def _low_value(row: dict) -> bool:
     record = row.get("record") or {}
     score, best = row.get("grasp_score"), record.get("best_score")
     return score is not None and best is not None and best > 0 and score < LOW_VALUE * best
+
+
+#: The start of the plan note that says the unseen space raised the lift (planning/pick.py).
+UNSEEN_LIFT_NOTE = "the lift allows for unseen space"
+
+
+def by_lift(data: ReportInput) -> list[str]:
+    """Per method (and protocol): the executed hooks, those whose lift the unseen space next to
+    the scan raised (the plan's note, :data:`UNSEEN_LIFT_NOTE`) and how many of them were
+    carried, and the trials judged dragged (held but touching the table at the place)."""
+    rows = []
+    for label, method, protocol in _groups(data):
+        mine = [r for r in _hangable(data) if _of(r, method, protocol)]
+        hooks = [r for r in mine if r.get("grasp_kind") in ("parallel", "vertical", "scoop")]
+        raised = [r for r in mine if any(str(n).startswith(UNSEEN_LIFT_NOTE)
+                                         for n in (r.get("record") or {}).get("plan_notes") or [])]
+        dragged = sum("dragged" in str(r.get("reason", "")) for r in mine)
+        rows.append([label, len(hooks), len(raised), sum(bool(r["success"]) for r in raised),
+                     dragged])
+    return _table(["Method", "Hooks executed", "Lift raised for unseen space", "Of them carried",
+                   "Dragged (held, touching the table at the place)"], rows) + [
+        "", "The lift clears the scan's farthest point from the hook by `pick.lift_clearance`, "
+            "and the space no camera saw free next to the scan by as much (README, the pick)."]
 
 
 def by_resting_pose(data: ReportInput) -> list[str]:

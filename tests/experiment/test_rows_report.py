@@ -391,6 +391,23 @@ def test_the_report_counts_the_retries_and_what_came_of_them():
     assert retries(data) == []
 
 
+def test_the_report_counts_the_lifts_the_unseen_space_raised():
+    """A row whose plan notes that the unseen space raised its lift counts, with whether it was
+    carried; a dragged row counts as dragged; a pinch is not a hook."""
+    from gbh_drake.experiment.report import UNSEEN_LIFT_NOTE, ReportInput, by_lift
+
+    rows = [make_row("kettle", "gbh-1", t) for t in range(3)] + [
+        make_row("kettle", "gbh-1", 3, "not_lifted")]
+    rows[0]["record"]["plan_notes"] = [f"{UNSEEN_LIFT_NOTE}: 0.202 m keeps it clear, 0.132 m "
+                                       "the scan"]
+    rows[3]["record"]["plan_notes"] = list(rows[0]["record"]["plan_notes"])
+    rows[3]["reason"] = "held by the gripper (bar) but still touching the table: dragged"
+    rows[2]["grasp_kind"] = "antipodal"
+    data = ReportInput(name="x", objects=["kettle"], methods=["gbh-1"], trials=4, paper={},
+                       rows=rows)
+    assert "| gbh-1 | 3 | 2 | 1 | 1 |" in flat(by_lift(data))
+
+
 def test_every_success_beyond_the_loops_reach_is_counted_once_by_how_it_was_taken():
     """A pinch by the fallback after a regrasp is a column of its own: the ways add up to the
     successes (a success taken in a way with no column would vanish from the table)."""
