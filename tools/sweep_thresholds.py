@@ -21,6 +21,10 @@ pre-execution counts, the stage a threshold decides. Usage::
         --sweep contact_angle_deg=25,30,35,40,45 --sweep snap_tilt_max_deg=0,30,45,60 \\
         --sweep "approach_rotations_deg=[0];[0,-20,20];[0,-20,20,-40,40]"
 
+``free_views`` (``scan`` or ``all``) is not a GbH parameter: it gives the core the free space
+of the fused views alone, or also that of the first look's two side views
+(``FreeSpace.with_views``), e.g. ``--set unknown_is_occupied=true --sweep free_views=scan,all``.
+
 writes ``<out>/scans.pkl`` (the scans, reused by later runs), ``<out>/rows.jsonl`` and prints the
 Markdown tables (``<out>/README.md``).
 """
@@ -73,9 +77,12 @@ def _scan_task(args):
     return key, {"vertices": np.asarray(scan.mesh_W.vertices), "faces": np.asarray(
         scan.mesh_W.faces), "empty": bool(scan.empty), "ground": scan.table.as_ground()
         if scan.table is not None else None, "parts": parts, "seed": trial.seeds.sampling,
-        "gbh": scenario.gbh, "free_space": getattr(scan, "free_space", None)}
+        "gbh": scenario.gbh, "free_space": getattr(scan, "free_space", None),
+        "look_free_space": getattr(scan, "first_look_free_space", None)}
 
 
+#: The pseudo-parameter that picks the free space GbH gets (``scan`` or ``all``, see _gbh_task).
+FREE_VIEWS = "free_views"
 _SCANS: dict = {}
 #: Parameter values set under every swept value (``--set``).
 _BASE: dict = {}
@@ -99,9 +106,15 @@ def _gbh_task(args):
     from gbh_drake.core.results import GbhInputError
 
     params = copy.deepcopy(record["gbh"])  # the trial's own, as the trial's GbH systems use it
-    for base_name, base_value in _BASE.items():
-        setattr(params, base_name, base_value)
-    setattr(params, name, value)
+    options = {**_BASE, name: value}
+    # Not a GbH parameter: which views' free space the core gets, the fused views' ("scan") or
+    # also the first look's two side views ("all").
+    views = options.pop(FREE_VIEWS, "scan")
+    for option, option_value in options.items():
+        setattr(params, option, option_value)
+    free = record.get("free_space")
+    if views == "all" and free is not None and record.get("look_free_space") is not None:
+        free = free.with_views(record["look_free_space"])
     out = {"key": list(key), "param": name, "value": value, "base": dict(_BASE),
            "structures": 0, "false": 0,
            "part_found": False, "grasp_on_part": False, "top_on_part": False,
@@ -115,8 +128,7 @@ def _gbh_task(args):
 
     start = time.perf_counter()
     try:
-        result = plan_grasps(mesh, params, seed=record["seed"],
-                             free_space=record.get("free_space"))
+        result = plan_grasps(mesh, params, seed=record["seed"], free_space=free)
     except GbhInputError:
         return out
     out["seconds"] = time.perf_counter() - start
@@ -130,6 +142,8 @@ def _gbh_task(args):
 
 def _parse_sweep(text: str):
     name, values = text.split("=", 1)
+    if name == FREE_VIEWS:
+        return name, values.split(",")
     if values.startswith("["):
         return name, [json.loads(v) for v in values.split(";")]
     return name, [float(v) for v in values.split(",")]
@@ -200,7 +214,8 @@ def main(argv=None) -> int:
                       file=sys.stderr)
     cache.write_bytes(pickle.dumps(scans))
     sweeps = [_parse_sweep(s) for s in args.sweep]
-    base = {k: json.loads(v) for k, v in (b.split("=", 1) for b in args.base)}
+    base = {k: v if k == FREE_VIEWS else json.loads(v)
+            for k, v in (b.split("=", 1) for b in args.base)}
     jobs = [(key, name, value) for name, values in sweeps for value in values
             for key in sorted(scans)]
     with ProcessPoolExecutor(args.workers, initializer=_load_scans,

@@ -25,6 +25,7 @@ fy y / z + cy), its centre at (u + 0.5, v + 0.5).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -47,6 +48,9 @@ class DepthView:
     height: int
     X_CW: np.ndarray
     """(4, 4) pose of W in the camera frame C (C: +z along the optical axis, +x right, +y down)."""
+    margin: float | None = None
+    """This view's own margin (m) for :meth:`FreeSpace.observed_free` (a view taken from
+    farther away, or with coarser pixels, than the others); None: the FreeSpace's."""
 
     def free_mask(self, points_W: np.ndarray, margin: float) -> np.ndarray:
         """(n,) bool: the points (n, 3) this view saw free (in the image, in front of the camera
@@ -111,18 +115,29 @@ class FreeSpace:
                                    np.asarray(X_CW, dtype=float).reshape(4, 4).copy()))
         return FreeSpace(tuple(views), float(margin))
 
+    def with_views(self, other: FreeSpace) -> FreeSpace:
+        """This free space and ``other``'s views (each keeping its margin): what all of them saw
+        free."""
+        own = tuple(v if v.margin is not None else dataclasses.replace(v, margin=self.margin)
+                    for v in self.views)
+        more = tuple(v if v.margin is not None else dataclasses.replace(v, margin=other.margin)
+                     for v in other.views)
+        return FreeSpace(own + more, self.margin)
+
     def observed_free(self, points_W: np.ndarray, margin: float | None = None) -> np.ndarray:
         """(n,) bool: the points (n, 3, m, in W) at least one view saw free: in its image, in
-        front of the camera and at least ``margin`` (m; default :attr:`margin`) nearer than the
-        depth at their pixel. Each view tests only the points the previous ones did not free."""
-        margin = self.margin if margin is None else float(margin)
+        front of the camera and at least ``margin`` (m; default: the view's own
+        :attr:`DepthView.margin`, else :attr:`margin`) nearer than the depth at their pixel.
+        Each view tests only the points the previous ones did not free."""
         p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
         free = np.zeros(len(p), dtype=bool)
         todo = np.arange(len(p))
         for view in self.views:
             if len(todo) == 0:
                 break
-            hit = view.free_mask(p[todo], margin)
+            m = float(margin) if margin is not None else \
+                self.margin if view.margin is None else view.margin
+            hit = view.free_mask(p[todo], m)
             free[todo[hit]] = True
             todo = todo[~hit]
         return free

@@ -89,6 +89,25 @@ def test_a_second_view_frees_what_the_first_did_not_see():
     assert not two.observed_free(np.zeros((1, 3))).any()  # inside the box
 
 
+def test_views_joined_keep_their_own_margins():
+    """``with_views``: what either free space saw is free, each view judged at its own margin
+    (a far, coarse view's larger one), and an explicit margin overrides them all."""
+    box = trimesh.creation.box((0.1, 0.1, 0.1))
+    X1 = camera_X_CW((0.0, -0.6, 0.0), (0.0, 0.0, 0.0))
+    X2 = camera_X_CW((0.0, 0.6, 0.0), (0.0, 0.0, 0.0))
+    near = FreeSpace.from_depth_images([rendered_depth(box, X1)], F, F, CX, CY, [X1], 0.005, 3.0)
+    far = FreeSpace.from_depth_images([rendered_depth(box, X2)], F, F, CX, CY, [X2], 0.03, 3.0)
+    both = near.with_views(far)
+    assert [v.margin for v in both.views] == [0.005, 0.03] and both.margin == 0.005
+    behind = np.array([[0.0, 0.1, 0.0]])  # seen free by the second view only
+    skin = np.array([[0.0, 0.07, 0.0]])  # 2 cm in front of the box for view 2: within its 3 cm
+    front = np.array([[0.0, -0.07, 0.0]])  # 2 cm in front for view 1: beyond its 5 mm
+    assert both.observed_free(np.concatenate([behind, skin, front])).tolist() == \
+        [True, False, True]
+    assert both.observed_free(skin, margin=0.005).all()
+    assert not near.observed_free(behind).any()
+
+
 def front_of(mesh: trimesh.Trimesh, X_CW: np.ndarray) -> trimesh.Trimesh:
     """The faces of ``mesh`` the camera sees (a one-view scan without its hidden side)."""
     X_WC = np.linalg.inv(X_CW)
