@@ -15,20 +15,15 @@ def scan_unseen(scan: ScanResult, cell: float = UNSEEN_CELL) -> np.ndarray:
     """Centres (m, 3, W) of the unseen cells connected to ``scan``'s mesh (see
     :func:`~gbh_drake.core.unseen.unseen_cells`); empty for an empty scan or one without its
     views' free space or region (a scan made before they were recorded)."""
-    views = [f for f in (scan.free_space, scan.first_look_free_space) if f is not None]
     if scan.empty or scan.free_space is None or scan.region is None or len(scan.mesh_W.faces) == 0:
         return np.zeros((0, 3))
+    free = scan.free_space if scan.first_look_free_space is None else \
+        scan.free_space.with_views(scan.first_look_free_space)
     vertices = np.asarray(scan.mesh_W.vertices, dtype=float)
-
-    def observed_free(p: np.ndarray) -> np.ndarray:
-        free = np.zeros(len(p), dtype=bool)
-        for view in views:
-            todo = np.flatnonzero(~free)
-            free[todo] = view.observed_free(p[todo])
-        return free
 
     # From the cut above the table, raised by the views' margin: nearer the table than that no
     # pixel can prove a point free (its depth there is the table's, within the noise margin).
     lower = np.array(scan.region.lower_W, dtype=float)
-    lower[2] = max(lower[2], float(vertices[:, 2].min()) + max(v.margin for v in views))
-    return unseen_cells(vertices, observed_free, lower, scan.region.upper_W, cell)
+    margin = max(free.margin if v.margin is None else v.margin for v in free.views)
+    lower[2] = max(lower[2], float(vertices[:, 2].min()) + margin)
+    return unseen_cells(vertices, free.observed_free, lower, scan.region.upper_W, cell)

@@ -35,3 +35,13 @@ def test_one_view_of_the_teapot_leaves_its_far_side_in_the_unseen_cells(scene_ca
     true_reach = farthest_distance(scene.mesh_W.vertices, centre)
     assert scan_reach < true_reach - 0.01  # the one view misses the far end
     assert farthest_distance(cells, centre) >= true_reach - UNSEEN_CELL
+
+
+def test_a_scan_without_a_first_look_has_unseen_space_from_its_views_alone(scene_cache):
+    """``aim_views: false``: no first look, the fused views' free space bounds it alone."""
+    scene = scene_cache("teapot", yaw_deg=60.0)
+    result = scan_object(scene.query_object, ScanConfig(num_views=1, aim_views=False),
+                         np.array([0.55, 0.0, 0.06]))
+    assert not result.empty and result.first_look_free_space is None
+    cells = scan_unseen(result)
+    assert len(cells) and cells[:, 2].min() >= result.mesh_W.vertices[:, 2].min()
