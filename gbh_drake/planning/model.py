@@ -92,9 +92,12 @@ class PlanningModel:
     def free(self, q_arm, hand: HandPose) -> bool:
         return bool(self.checker.CheckConfigCollisionFree(self.q_full(q_arm, hand)))
 
-    def edge_free(self, q_a, q_b, hand: HandPose) -> bool:
-        return bool(self.checker.CheckEdgeCollisionFree(self.q_full(q_a, hand),
-                                                        self.q_full(q_b, hand)))
+    def edge_free(self, q_a, q_b, hand: HandPose, hand_b: HandPose | None = None) -> bool:
+        """Whether the straight move from arm joints ``q_a`` to ``q_b`` is collision-free, the
+        hand at ``hand`` throughout, or moving from ``hand`` to ``hand_b`` with the arm (the
+        checker interpolates all joints together)."""
+        return bool(self.checker.CheckEdgeCollisionFree(
+            self.q_full(q_a, hand), self.q_full(q_b, hand if hand_b is None else hand_b)))
 
     def X_WG(self, q_arm, hand: HandPose) -> RigidTransform:
         """Forward kinematics: the gripper frame G in W."""

@@ -298,14 +298,17 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     q.update(release_path(setup.near, q["place"], kind, cfg, bar))
 
     if cfg.plan_paths:
-        segments = (("descend", q["grasp"], q["closed"], open_hand),
-                    ("close", q["closed"], q["closed"], closed_hand),
-                    ("lift", q["closed"], q["lift"], closed_hand),
-                    *(("carry", a, b, closed_hand) for a, b in zip(carry[:-1], carry[1:],
-                                                                    strict=True)))
-        for name, a, b, hand in segments:
+        # "descend": from the grasp pose to the closed one as the hand closes (a vertical grasp's
+        # arm moves along +y_G while its fingers close, so the straight rod stays where it is:
+        # the fingers close with the arm, not open all the way).
+        segments = (("descend", q["grasp"], q["closed"], open_hand, closed_hand),
+                    ("close", q["closed"], q["closed"], closed_hand, closed_hand),
+                    ("lift", q["closed"], q["lift"], closed_hand, closed_hand),
+                    *(("carry", a, b, closed_hand, closed_hand)
+                      for a, b in zip(carry[:-1], carry[1:], strict=True)))
+        for name, a, b, hand, hand_b in segments:
             if not (check if name in ("descend", "close", "lift") else setup.near).edge_free(
-                    a, b, hand):
+                    a, b, hand, hand_b):
                 return refuse("collision", name)
 
     transfer = approach_transfer(setup, X_WG, q["grasp"], open_hand, q_start, check)

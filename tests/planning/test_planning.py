@@ -82,3 +82,24 @@ def test_ik_restarts_find_what_one_seed_misses():
     np.testing.assert_allclose(X.translation(), X_WG.translation(), atol=1.01e-3)
     assert X.rotation().InvertAndCompose(X_WG.rotation()).ToAngleAxis().angle() <= 0.0101
     np.testing.assert_array_equal(found, model.ik(X_WG, q_home, OPEN, restarts=3))
+
+
+def test_an_edge_can_move_the_hand_with_the_arm():
+    """``edge_free(q_a, q_b, hand, hand_b)`` interpolates the fingers with the arm: a block where
+    the open straight rod is blocks the open hand and a closing one (it starts open), not the
+    closed hand."""
+    import trimesh
+
+    scenario = Scenario()
+    q = np.asarray(scenario.robot.q_home)
+    g = HOOK_GRIPPER
+    open_hand, closed = HandPose(g.q_open), HandPose(g.q_closed)
+    X = PlanningModel(scenario.directives).X_WG(q, open_hand)
+    p = X.multiply([0.0, g.q_open, 0.5 * g.finger_length])  # the open straight rod's middle
+    block = trimesh.creation.box((0.006, 0.006, 0.006),
+                                 trimesh.transformations.translation_matrix(p))
+    model = PlanningModel(scenario.directives, obstacles=[block], padding=0.0)
+    assert not model.edge_free(q, q, open_hand)
+    assert model.edge_free(q, q, closed)
+    assert not model.edge_free(q, q, open_hand, closed)
+    assert not model.edge_free(q, q, closed, open_hand)
