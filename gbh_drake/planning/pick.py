@@ -62,6 +62,9 @@ CARRY_IK_RESTARTS = 2
 CARRY_RISES = (0.03, 0.06, 0.10)
 #: Joint-space spacing (rad, max-norm) of the configurations whose hook height is checked.
 CARRY_CHECK_STEP = 0.02
+#: IK tolerances (m, rad) of the grasp and closed poses solved again when the close collides
+#: (:func:`plan_pick`): a tenth of the usual ones.
+TIGHT_IK = (1e-4, 1e-3)
 
 
 @dataclass
@@ -159,11 +162,17 @@ class PickSetup:
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
-              bar: float = 0.0, min_lift: float = 0.0) -> PickPlan | Refusal:
+              bar: float = 0.0, min_lift: float = 0.0, *, tight: bool = False
+              ) -> PickPlan | Refusal:
     """The plan that picks with the open gripper at ``X_WG`` (4, 4) starting from the arm at
     ``q_start`` (7,), or the reason it cannot (see the module docstring). ``bar`` (rad): the
     bar's angle during the pick; ``min_lift`` (m): a lift this grasp needs at least, besides
-    the config's ``min_lift``. Without ``setup.far`` the transfer is a straight move."""
+    the config's ``min_lift``. Without ``setup.far`` the transfer is a straight move.
+
+    The grasp and closed poses are solved to the IK's usual tolerance (1 mm, 0.01 rad); when
+    the close near the table then collides, they are solved again ``tight``
+    (:data:`TIGHT_IK`) before the grasp is refused: the IK's slack, up to 2-3 mm at the
+    fingertips, is as large as the grasp's table clearance (3 mm) less the planner's padding."""
     cfg = setup.config
     if min_lift > cfg.min_lift:
         cfg = dataclasses.replace(cfg, min_lift=min(min_lift, cfg.max_lift))
@@ -185,16 +194,19 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     def refuse(reason: str, where: str = "", detail: str = "") -> Refusal:
         return Refusal(rank, kind, reason, where, detail)
 
-    def ik(X: RigidTransform, seed, hand: HandPose, restarts: int = 0):
+    def ik(X: RigidTransform, seed, hand: HandPose, restarts: int = 0, precise: bool = False):
         # Waypoints after the grasp follow from the previous one (no restarts: a restart could
         # land in another arm configuration and swing the arm while it holds the object).
+        if precise:
+            return setup.near.ik(X, seed, hand, restarts=restarts, position_tolerance=TIGHT_IK[0],
+                                 angle_tolerance=TIGHT_IK[1])
         return setup.near.ik(X, seed, hand, restarts=restarts)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3)
+    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3, precise=tight)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
-    q["closed"] = ik(X_closed, q["grasp"], closed_hand)
+    q["closed"] = ik(X_closed, q["grasp"], closed_hand, precise=tight)
     if q["closed"] is None:
         return refuse("ik", "closed")
 
@@ -309,6 +321,11 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         for name, a, b, hand, hand_b in segments:
             if not (check if name in ("descend", "close", "lift") else setup.near).edge_free(
                     a, b, hand, hand_b):
+                if name in ("descend", "close") and not tight:
+                    again = plan_pick(setup, X_WG.GetAsMatrix4(), kind, rank, q_start, bar,
+                                      min_lift, tight=True)
+                    if isinstance(again, PickPlan):
+                        return again
                 return refuse("collision", name)
 
     transfer = approach_transfer(setup, X_WG, q["grasp"], open_hand, q_start, check)

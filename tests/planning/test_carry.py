@@ -80,3 +80,24 @@ def test_the_plan_reports_a_short_lift_and_the_carry_dip():
     assert plan.carry_dip == pytest.approx(0.03)
     text = Refusal(1, "vertical", "ik", "lift", "the hanging object needs a 0.45 m lift").text()
     assert text.endswith("(the hanging object needs a 0.45 m lift)")
+
+
+def test_a_tight_plan_places_the_grasp_within_a_tenth_of_a_millimetre(model):
+    """``plan_pick(tight=True)`` (what a close that collides near the table is solved again
+    with): the grasp and closed poses within :data:`TIGHT_IK`, where the usual IK may leave 1 mm."""
+    from gbh_drake.core.results import PARALLEL
+    from gbh_drake.planning.pick import TIGHT_IK, PickSetup, plan_pick
+
+    scenario = Scenario()
+    ring = np.array([[0.55 + 0.02 * np.cos(a), 0.0, 0.06 + 0.02 * np.sin(a)]
+                     for a in np.linspace(0, 2 * np.pi, 40, endpoint=False)])
+    setup = PickSetup(model, None, ring, ring.mean(axis=0), scenario.pick, 0)
+    X = RigidTransform(DOWN, [0.55, 0.0, 0.08 + HOOK_GRIPPER.finger_length]).GetAsMatrix4()
+    q_home = np.asarray(scenario.robot.q_home)
+    plans = [plan_pick(setup, X, PARALLEL, 0, q_home, tight=tight) for tight in (False, True)]
+    assert all(isinstance(p, PickPlan) for p in plans), plans
+    open_hand = HandPose(HOOK_GRIPPER.q_open)
+    errors = [np.linalg.norm(model.X_WG(p.q["grasp"], open_hand).translation() - X[:3, 3])
+              for p in plans]
+    assert errors[1] <= TIGHT_IK[0] * np.sqrt(3) + 1e-9
+    assert errors[0] <= 1e-3 * np.sqrt(3) + 1e-9
