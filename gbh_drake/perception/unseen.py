@@ -1,7 +1,7 @@
 """The unseen space next to a scan (:mod:`gbh_drake.core.unseen`), from a :class:`ScanResult`:
 the cells of the scan's region, above the height the scan was cut at (and the views' noise
-margin), that neither the fused
-views nor the first look's side views saw free and that connect to the scanned mesh."""
+margin), that neither the fused views nor the first look's side views saw free and that
+connect to the scanned mesh."""
 
 from __future__ import annotations
 

@@ -229,7 +229,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     else:
         need_any = need = lift_for_clearance(setup.points_W, setup.com_W, hook_W,
                                              cfg.lift_clearance, swings=False)
-    need_unseen = unseen_lift(setup.unseen_W, hook_W, rest, cfg.lift_clearance)
+    need_unseen = unseen_lift(setup.unseen_W, rest, cfg.lift_clearance)
     if need_unseen > need_any:
         notes.append(f"the lift allows for unseen space: {need_unseen:.3f} m keeps it clear, "
                      f"{need_any:.3f} m the scan")
@@ -341,8 +341,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     notes=notes)
 
 
-def unseen_lift(unseen_W: np.ndarray, hook_W: np.ndarray, rest: LoopRest | None,
-                clearance: float) -> float:
+def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float) -> float:
     """The lift (m) after which the unseen space ``unseen_W`` (m, 3) is ``clearance`` above the
     table (W z = 0), as the scan's points must be: a hooked object (``rest``: how it rests on
     the loop) hangs from its contact and may turn any way about it, so the farthest unseen cell

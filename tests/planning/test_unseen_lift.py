@@ -30,7 +30,7 @@ def test_clearing_the_scan_and_the_unseen_cells_clears_both(seed, share):
     rest = rest_on_loop(points[seen], points[seen].mean(axis=0), _top_down([0.5, 0.0, 0.17]),
                         PARALLEL)
     need_scan = CLEARANCE - rest.lowest_any_turn
-    need = max(need_scan, unseen_lift(points[~seen], None, rest, CLEARANCE))
+    need = max(need_scan, unseen_lift(points[~seen], rest, CLEARANCE))
     sunk = points - np.array([0.0, 0.0, rest.drop])
     whole = CLEARANCE - (rest.contact_W[2] - farthest_distance(sunk, rest.contact_W))
     assert need == pytest.approx(whole, abs=1e-12)
@@ -38,5 +38,5 @@ def test_clearing_the_scan_and_the_unseen_cells_clears_both(seed, share):
 
 def test_a_rigid_hold_lifts_the_lowest_unseen_cell_and_no_cells_ask_for_nothing():
     cells = np.array([[0.5, 0.0, 0.03], [0.5, 0.1, 0.01]])
-    assert unseen_lift(cells, None, None, CLEARANCE) == pytest.approx(0.04)
-    assert unseen_lift(np.zeros((0, 3)), None, None, CLEARANCE) == float("-inf")
+    assert unseen_lift(cells, None, CLEARANCE) == pytest.approx(0.04)
+    assert unseen_lift(np.zeros((0, 3)), None, CLEARANCE) == float("-inf")
