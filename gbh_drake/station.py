@@ -1,15 +1,18 @@
 """The simulation station: a sub-diagram named ``station`` that exports its ports by name.
 
-Inside: a discrete ``MultibodyPlant`` (hydroelastic contact) and a ``SceneGraph`` with a VTK
-render engine, holding the Franka arm ``panda``, the ``hook_gripper`` welded to its flange, the
-``table`` (all from the scenario's directives) and the free object (added in memory). The arm's
+Inside: a discrete ``MultibodyPlant`` (hydroelastic contact) and its ``SceneGraph``, holding
+the Franka arm ``panda``, the ``hook_gripper`` welded to its flange, the ``table`` (all from the
+scenario's directives) and the free object (added in memory). The arm's
 seven joints are driven by the plant's implicit PD controllers (joint position control, like
 Franka's joint impedance mode; gains set by actuator name); the fingers, which a coupler
 constraint moves together as Franka's rack does, by the force-limited
 :class:`~gbh_drake.systems.hand_driver.HandDriver`. Gravity is compensated on the robot (disabled
 on its model instances), as Franka's controller does, and acts fully on the object. Cameras
 (``CameraConfig``) and Meshcat visualisation (``VisualizationConfig``) are applied as in Drake's
-``hardware_sim``. As in the manipulation course's ``MakeHardwareStation``, callers wire to the
+``hardware_sim``. The scanner's VTK renderer ``default`` lives in a second scene graph that
+holds only the perception geometry and is posed only when it renders
+(:mod:`gbh_drake.systems.camera_scene`): in the plant's scene graph it would be re-posed at every
+time step. As in the manipulation course's ``MakeHardwareStation``, callers wire to the
 exported ports and never reach inside:
 
 ========================== ======= ======================================================
@@ -24,7 +27,10 @@ port                        kind    what
 ``object.state``            output  the object's [quaternion (4), p (3), w (3), v (3)] in W
 ``body_poses``              output  every body's pose in W (the plant's ``body_poses``)
 ``contact_results``         output  the plant's ``contact_results``
-``query_object``            output  the scene graph's query object
+``query_object``            output  the plant's scene graph's query object (contact queries;
+                                    renders with the scenario cameras' renderers)
+``camera_query_object``     output  the camera scene's query object: renders with the
+                                    station's VTK renderer ``default`` (the scanner's)
 ``<camera>.color_image``    output  each camera's images (``color_image``,
                                     ``depth_image_32f``, ``label_image``)
 ========================== ======= ======================================================
@@ -35,7 +41,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from pydrake.geometry import Meshcat, RenderEngineVtkParams
+from pydrake.geometry import Meshcat
 from pydrake.lcm import DrakeLcm
 from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import (
@@ -59,10 +65,11 @@ from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.schema import RobotConfig
 from gbh_drake.seeds import derive_seeds
+from gbh_drake.systems.camera_scene import add_camera_scene
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
 
-#: Name of the VTK render engine that cameras use.
+#: Name of the camera scene's VTK render engine, the scanner's.
 RENDERER_NAME = "default"
 #: PD gains (N m/rad, N m s/rad) of the bar's servo.
 BAR_KP, BAR_KD = 20.0, 0.5
@@ -90,12 +97,9 @@ class Station(Diagram):
         super().__init__()
         builder = DiagramBuilder()
 
-        # The plant and scene graph, with a VTK renderer for the cameras.
+        # The plant and its scene graph (contact and visualisation; the scanner renders in the
+        # camera scene, added below).
         plant, scene_graph = AddMultibodyPlant(plant_config, builder)
-        if not scene_graph.HasRenderer(RENDERER_NAME):
-            from pydrake.geometry import MakeRenderEngineVtk
-
-            scene_graph.AddRenderer(RENDERER_NAME, MakeRenderEngineVtk(RenderEngineVtkParams()))
 
         # The fixed models (arm, gripper, table and whatever the scenario adds), the object.
         parser = make_parser(plant)
@@ -126,6 +130,7 @@ class Station(Diagram):
             prefinalize(parser)
         plant.Finalize()
         filter_object_contacts(plant, scene_graph, collision_id, support_id, (arm, gripper))
+        camera_scene = add_camera_scene(builder, plant, scene_graph, RENDERER_NAME)
         q_home = np.asarray(robot.q_home, dtype=float)
         plant.SetDefaultPositions(arm, q_home)
         q_finger = HOOK_GRIPPER.q_open if robot.gripper_open else HOOK_GRIPPER.q_closed
@@ -165,6 +170,7 @@ class Station(Diagram):
         builder.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
         builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
         builder.ExportOutput(scene_graph.get_query_output_port(), "query_object")
+        builder.ExportOutput(camera_scene.get_query_output_port(), "camera_query_object")
         for camera in camera_systems:
             _export_camera(builder, camera)
         builder.BuildInto(self)
@@ -176,6 +182,12 @@ class Station(Diagram):
         self.asset = asset
         self.X_WO_initial = X_WO
         self.q_home = q_home
+
+
+def scene_query_port(renderer_name: str) -> str:
+    """The station's query output port that renders with ``renderer_name``: the camera scene's
+    for the station's own renderer, the plant's scene graph's for a scenario camera's."""
+    return "camera_query_object" if renderer_name == RENDERER_NAME else "query_object"
 
 
 def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,

@@ -34,7 +34,7 @@ from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_name
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds, derive_seeds
-from gbh_drake.station import Station, make_station
+from gbh_drake.station import Station, make_station, scene_query_port
 from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict, verdict_final
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
 from gbh_drake.systems.pick_and_carry import PickAndCarry, PickStatus
@@ -175,7 +175,8 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     scanner = builder.AddNamedSystem("scanner", Scanner(
         scenario.scan, scenario.scan_target, scan_time=scenario.settle_time,
         noise_seed=seeds.noise))
-    builder.Connect(station.GetOutputPort("query_object"), scanner.GetInputPort("query_object"))
+    builder.Connect(station.GetOutputPort(scene_query_port(scenario.scan.renderer_name)),
+                    scanner.GetInputPort("query_object"))
     builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
     scan = scanner.GetOutputPort("mesh_W")
     source = method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)

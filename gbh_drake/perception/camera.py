@@ -68,10 +68,17 @@ def make_depth_camera(config: ScanConfig) -> DepthRenderCamera:
 
 def render_depth_images(query_object: QueryObject, camera: DepthRenderCamera,
                         X_WCs: Sequence[RigidTransform]) -> list[np.ndarray]:
-    """One depth image (height, width) float32 (m) per camera pose X_WC, camera C in W."""
+    """One depth image (height, width) float32 (m) per camera pose X_WC, camera C in W.
+    Raises ValueError (naming the port to use) when its scene graph lacks the camera's renderer."""
     world = query_object.inspector().world_frame_id()
     images = []
     for X_WC in X_WCs:
-        image = query_object.RenderDepthImage(camera, world, X_WC)
+        try:
+            image = query_object.RenderDepthImage(camera, world, X_WC)
+        except RuntimeError as e:
+            if "No renderer exists" not in str(e):
+                raise
+            raise ValueError(f"{e}: in a Station, render with its camera_query_object port (the "
+                             "station's renderer 'default' lives in its camera scene)") from None
         images.append(np.array(image.data[:, :, 0], dtype=np.float32))
     return images

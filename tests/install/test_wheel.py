@@ -150,7 +150,8 @@ def test_a_diagram_of_ones_own_builds(installed):
         builder = DiagramBuilder()
         station = builder.AddSystem(make_station(scenario))
         scanner = builder.AddSystem(Scanner(scenario.scan, scenario.scan_target, scan_time=0.3))
-        builder.Connect(station.GetOutputPort("query_object"), scanner.GetInputPort("query_object"))
+        builder.Connect(station.GetOutputPort("camera_query_object"),
+                        scanner.GetInputPort("query_object"))
         diagram = build_checked(builder)
         print(gbh_drake.__file__)
         print(sorted(s.get_name() for s in diagram.GetSystems()))

@@ -15,7 +15,7 @@ from gbh_drake.scenario import load_scenario
 STATION_PORTS = {
     "inputs": {"panda.desired_state", "hook_gripper.command"},
     "outputs": {"panda.state", "hook_gripper.state", "hook_gripper.actuation", "object.state",
-                "body_poses", "contact_results", "query_object"},
+                "body_poses", "contact_results", "query_object", "camera_query_object"},
 }
 
 

@@ -116,8 +116,9 @@ def test_an_object_dropped_from_a_few_cm_is_scanned_once_still():
     builder = DiagramBuilder()
     station = builder.AddSystem(make_station(scenario))
     scanner = builder.AddSystem(Scanner(scenario.scan, scenario.scan_target, scan_time=0.05))
-    for name in ("query_object", "object.state"):
-        builder.Connect(station.GetOutputPort(name), scanner.GetInputPort(name))
+    builder.Connect(station.GetOutputPort("camera_query_object"),
+                    scanner.GetInputPort("query_object"))
+    builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))
     diagram = builder.Build()
     simulator = Simulator(diagram)
     context = simulator.get_mutable_context()
