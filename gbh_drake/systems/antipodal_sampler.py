@@ -44,6 +44,9 @@ class AntipodalGraspSampler(AbstractStage):
         self.params = params
         self._seed = int(seed)
 
+    def memo_key(self, value) -> tuple:
+        return (value.mesh_W,) if isinstance(value, ScanResult) else (value,)
+
     def compute(self, value):
         if isinstance(value, ScanResult):
             if value.empty:

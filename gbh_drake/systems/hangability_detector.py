@@ -52,6 +52,11 @@ class HangabilityDetector(AbstractStage):
         self.params = params or GbhParams()
         self.seed = int(seed)
 
+    def memo_key(self, value) -> tuple:
+        if isinstance(value, ScanResult):
+            return (value.mesh_W, value.free_space)  # (an empty scan has a mesh of its own)
+        return (value,)
+
     def compute(self, value) -> Hangability:
         if isinstance(value, ScanResult) and value.empty:
             return Hangability(None, [], value.message or "empty scan")

@@ -16,7 +16,16 @@ class AbstractStage(LeafSystem):
     A value of the wrong type on the input fails in :meth:`compute`'s caller with a message
     naming the system and port. The output is cached and depends only on the input
     (``prerequisites_of_calc`` is the input port's ticket), so a stage runs once per new input,
-    not at every simulator step."""
+    not at every simulator step.
+
+    Drake re-validates that input more often than it changes: every unrestricted update in the
+    diagram (the plant's step, the Scanner's stillness watch) marks the updated systems' state,
+    hence the Scanner's scan, as changed, and a later ``Eval`` (the GraspVisualizer's, the
+    trial's record) recalculated GbH on the same scan, three times per trial. So each stage also
+    keeps its last result with the objects it was computed from (:meth:`memo_key`, compared by
+    identity, held so that no other object can take their identity): the same input objects give
+    the same result object, without computing. ``compute`` is a pure function of its input, so
+    this holds in any context."""
 
     def __init__(self, input_name: str, input_model, output_name: str, output_model,
                  accepts: tuple[type, ...] = ()):
@@ -26,6 +35,7 @@ class AbstractStage(LeafSystem):
         self.input_types = {input_name: self._accepts}
         """The types the input accepts (read by :func:`gbh_drake.systems.ports.check_connections`)."""
         self._input = self.DeclareAbstractInputPort(input_name, AbstractValue.Make(input_model))
+        self._memo: tuple[tuple, object] | None = None
         self.DeclareAbstractOutputPort(
             output_name, lambda: AbstractValue.Make(output_model), self._calc,
             prerequisites_of_calc={self._input.ticket()},
@@ -34,6 +44,13 @@ class AbstractStage(LeafSystem):
     def compute(self, value):  # pragma: no cover - overridden
         raise NotImplementedError
 
+    def memo_key(self, value) -> tuple:
+        """The objects whose identity decides ``compute(value)``: ``value`` itself by default
+        (an upstream stage hands on the same result object while its own input is unchanged);
+        a scan's consumers name the parts of it they read, which Drake's copies of the
+        Scanner's state share."""
+        return (value,)
+
     def _calc(self, context, output) -> None:
         value = self._input.Eval(context)
         if not isinstance(value, self._accepts):
@@ -41,7 +58,14 @@ class AbstractStage(LeafSystem):
             raise TypeError(f"{self.get_name() or type(self).__name__}: input "
                             f"{self._input.get_name()!r} expects {names}, got "
                             f"{type(value).__name__}")
-        output.set_value(self.compute(value))
+        key = self.memo_key(value)
+        if self._memo is not None and len(self._memo[0]) == len(key) and all(
+                a is b for a, b in zip(self._memo[0], key, strict=True)):
+            output.set_value(self._memo[1])
+            return
+        result = self.compute(value)
+        self._memo = (key, result)
+        output.set_value(result)
 
 
 class CopiedShallowly:
