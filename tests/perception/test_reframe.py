@@ -24,7 +24,7 @@ def tilted_can():
         "y: [-0.18, 0.18], yaw_deg: [-180, 180], stable: true}}, scan: {num_views: 1}}"))
     station = make_station(scenario)
     context = station.CreateDefaultContext()
-    return station.GetOutputPort("query_object").Eval(context), scenario
+    return station.GetOutputPort("camera_query_object").Eval(context), scenario
 
 
 def _frame_warnings(result):
