@@ -29,7 +29,9 @@ class ScoopSynthesizer(LeafSystem):
     :class:`~gbh_drake.core.scoop.ScoopResult` (every pose, the rules' counts, why none passed);
     ``scoop_grasps``: its ranked scoops (``list[GraspCandidate]`` of kind ``scoop``, best
     first), what a :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` executes. Cached;
-    computed once per new input.
+    computed once per new input object (kept with it, as an
+    :class:`~gbh_drake.systems.stage.AbstractStage` keeps its last result: Drake re-validates
+    the input more often than it changes).
     """
 
     def __init__(self, params: GbhParams | None = None, scoop: ScoopParams | None = None,
@@ -42,6 +44,7 @@ class ScoopSynthesizer(LeafSystem):
         self.gripper = gripper
         self._input = self.DeclareAbstractInputPort("hanging_structures",
                                                     AbstractValue.Make(Hangability()))
+        self._memo: tuple[Hangability, ScoopResult] | None = None
         self.input_types = {"hanging_structures": (Hangability,)}
         self._result = self.DeclareAbstractOutputPort(
             "scoops", lambda: AbstractValue.Make(ScoopResult()), self._calc_result,
@@ -53,8 +56,13 @@ class ScoopSynthesizer(LeafSystem):
 
     def _calc_result(self, context, output) -> None:
         value = self._input.Eval(context)
-        if value.object is None or not value.structures:
-            output.set_value(ScoopResult())
+        if self._memo is not None and self._memo[0] is value:
+            output.set_value(self._memo[1])
             return
-        output.set_value(plan_scoops(value.object, value.structures, self.params, self.scoop,
-                                     self.gripper))
+        if value.object is None or not value.structures:
+            result = ScoopResult()
+        else:
+            result = plan_scoops(value.object, value.structures, self.params, self.scoop,
+                                 self.gripper)
+        self._memo = (value, result)
+        output.set_value(result)
