@@ -124,6 +124,10 @@ class FreeSpace:
                      for v in other.views)
         return FreeSpace(own + more, self.margin)
 
+    def view_margin(self, view: DepthView) -> float:
+        """The margin (m) ``view`` is asked with: its own, else this free space's."""
+        return self.margin if view.margin is None else view.margin
+
     def observed_free(self, points_W: np.ndarray, margin: float | None = None) -> np.ndarray:
         """(n,) bool: the points (n, 3, m, in W) at least one view saw free: in its image, in
         front of the camera and at least ``margin`` (m; default: the view's own
@@ -135,9 +139,8 @@ class FreeSpace:
         for view in self.views:
             if len(todo) == 0:
                 break
-            m = float(margin) if margin is not None else \
-                self.margin if view.margin is None else view.margin
-            hit = view.free_mask(p[todo], m)
+            hit = view.free_mask(p[todo], self.view_margin(view) if margin is None
+                                 else float(margin))
             free[todo[hit]] = True
             todo = todo[~hit]
         return free

@@ -24,6 +24,6 @@ def scan_unseen(scan: ScanResult, cell: float = UNSEEN_CELL) -> np.ndarray:
     # From the cut above the table, raised by the views' margin: nearer the table than that no
     # pixel can prove a point free (its depth there is the table's, within the noise margin).
     lower = np.array(scan.region.lower_W, dtype=float)
-    margin = max(free.margin if v.margin is None else v.margin for v in free.views)
+    margin = max(free.view_margin(v) for v in free.views)
     lower[2] = max(lower[2], float(vertices[:, 2].min()) + margin)
     return unseen_cells(vertices, free.observed_free, lower, scan.region.upper_W, cell)

@@ -197,10 +197,9 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     def ik(X: RigidTransform, seed, hand: HandPose, restarts: int = 0, precise: bool = False):
         # Waypoints after the grasp follow from the previous one (no restarts: a restart could
         # land in another arm configuration and swing the arm while it holds the object).
-        if precise:
-            return setup.near.ik(X, seed, hand, restarts=restarts, position_tolerance=TIGHT_IK[0],
-                                 angle_tolerance=TIGHT_IK[1])
-        return setup.near.ik(X, seed, hand, restarts=restarts)
+        tolerances = dict(zip(("position_tolerance", "angle_tolerance"), TIGHT_IK,
+                              strict=True)) if precise else {}
+        return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
     q: dict[str, np.ndarray] = {}
     q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3, precise=tight)

@@ -10,6 +10,7 @@ from gbh_drake.core.gripper import WEDGE_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import GbhParams, ScoopParams
 from gbh_drake.core.scoop import ScoopResult, plan_scoops
 from gbh_drake.systems.hangability_detector import Hangability
+from gbh_drake.systems.stage import LastResult
 
 
 class ScoopSynthesizer(LeafSystem):
@@ -30,7 +31,8 @@ class ScoopSynthesizer(LeafSystem):
     ``scoop_grasps``: its ranked scoops (``list[GraspCandidate]`` of kind ``scoop``, best
     first), what a :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` executes. Cached;
     computed once per new input object (kept with it, as an
-    :class:`~gbh_drake.systems.stage.AbstractStage` keeps its last result: Drake re-validates
+    :class:`~gbh_drake.systems.stage.AbstractStage` does, with a
+    :class:`~gbh_drake.systems.stage.LastResult`: Drake re-validates
     the input more often than it changes).
     """
 
@@ -44,7 +46,7 @@ class ScoopSynthesizer(LeafSystem):
         self.gripper = gripper
         self._input = self.DeclareAbstractInputPort("hanging_structures",
                                                     AbstractValue.Make(Hangability()))
-        self._memo: tuple[Hangability, ScoopResult] | None = None
+        self._last = LastResult()
         self.input_types = {"hanging_structures": (Hangability,)}
         self._result = self.DeclareAbstractOutputPort(
             "scoops", lambda: AbstractValue.Make(ScoopResult()), self._calc_result,
@@ -56,13 +58,10 @@ class ScoopSynthesizer(LeafSystem):
 
     def _calc_result(self, context, output) -> None:
         value = self._input.Eval(context)
-        if self._memo is not None and self._memo[0] is value:
-            output.set_value(self._memo[1])
-            return
+        output.set_value(self._last.get((value,), lambda: self._plan(value)))
+
+    def _plan(self, value: Hangability) -> ScoopResult:
         if value.object is None or not value.structures:
-            result = ScoopResult()
-        else:
-            result = plan_scoops(value.object, value.structures, self.params, self.scoop,
-                                 self.gripper)
-        self._memo = (value, result)
-        output.set_value(result)
+            return ScoopResult()
+        return plan_scoops(value.object, value.structures, self.params, self.scoop,
+                           self.gripper)

@@ -8,6 +8,24 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
 
 
+class LastResult:
+    """The last result of a pure computation and the objects it was computed from: ``get`` gives
+    it back while the same objects (by identity) are asked for again. The objects are held, so no
+    other object can take their identity."""
+
+    def __init__(self):
+        self._key: tuple | None = None
+        self._result = None
+
+    def get(self, key: tuple, compute):
+        """The result for ``key``: the last one if ``key`` holds the same objects, else
+        ``compute()`` (kept as the last)."""
+        if self._key is None or len(self._key) != len(key) or any(
+                a is not b for a, b in zip(self._key, key, strict=True)):
+            self._result, self._key = compute(), key
+        return self._result
+
+
 class AbstractStage(LeafSystem):
     """One abstract input port, one abstract output port computed by ``self.compute(value)``.
 
@@ -35,7 +53,7 @@ class AbstractStage(LeafSystem):
         self.input_types = {input_name: self._accepts}
         """The types the input accepts (read by :func:`gbh_drake.systems.ports.check_connections`)."""
         self._input = self.DeclareAbstractInputPort(input_name, AbstractValue.Make(input_model))
-        self._memo: tuple[tuple, object] | None = None
+        self._last = LastResult()
         self.DeclareAbstractOutputPort(
             output_name, lambda: AbstractValue.Make(output_model), self._calc,
             prerequisites_of_calc={self._input.ticket()},
@@ -58,14 +76,7 @@ class AbstractStage(LeafSystem):
             raise TypeError(f"{self.get_name() or type(self).__name__}: input "
                             f"{self._input.get_name()!r} expects {names}, got "
                             f"{type(value).__name__}")
-        key = self.memo_key(value)
-        if self._memo is not None and len(self._memo[0]) == len(key) and all(
-                a is b for a, b in zip(self._memo[0], key, strict=True)):
-            output.set_value(self._memo[1])
-            return
-        result = self.compute(value)
-        self._memo = (key, result)
-        output.set_value(result)
+        output.set_value(self._last.get(self.memo_key(value), lambda: self.compute(value)))
 
 
 class CopiedShallowly:

@@ -81,35 +81,31 @@ def test_the_chain_runs_once_per_scan_however_often_drake_invalidates_it():
     assert len(runs) == 2 and again is not first and len(again) == len(first)
 
 
-def test_the_scoop_synthesizer_plans_once_per_hangability_object():
+def test_the_scoop_synthesizer_plans_once_per_hangability_object(monkeypatch):
     """As the stages: re-validating the same scan (a copy of it: Drake's copy of the Scanner's
     state) plans no scoop again, fed by the detector as in a trial; another scan does."""
     import copy
 
+    import gbh_drake.systems.scoop_synthesizer as module
     from gbh_drake.perception.scan import ScanResult
-    from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
 
     ring = make_object("key_ring").mesh.copy()
     ring.apply_translation([0.55, 0.0, -ring.bounds[0][2]])  # lying flat on the table
     builder = DiagramBuilder()
     detector = builder.AddSystem(HangabilityDetector(GbhParams()))
-    scoops = builder.AddSystem(ScoopSynthesizer())
+    scoops = builder.AddSystem(module.ScoopSynthesizer())
     builder.Connect(detector.get_output_port(), scoops.get_input_port())
     builder.ExportInput(detector.get_input_port(), "mesh_W")
     builder.ExportOutput(scoops.GetOutputPort("scoop_grasps"), "scoop_grasps")
     diagram = builder.Build()
-    module = ScoopSynthesizer._calc_result.__globals__
-    plan, runs = module["plan_scoops"], []
-    module["plan_scoops"] = lambda *a, **k: runs.append(1) or plan(*a, **k)
-    try:
-        context = diagram.CreateDefaultContext()
-        scan = ScanResult(ring, ring.vertices)
-        diagram.get_input_port().FixValue(context, scan)
-        first = diagram.get_output_port().Eval(context)
-        diagram.get_input_port().FixValue(context, copy.deepcopy(scan))
-        assert diagram.get_output_port().Eval(context) is first and len(runs) == 1
-        diagram.get_input_port().FixValue(context, ScanResult(ring.copy(), ring.vertices))
-        again = diagram.get_output_port().Eval(context)
-        assert len(runs) == 2 and len(again) == len(first) > 0
-    finally:
-        module["plan_scoops"] = plan
+    plan, runs = module.plan_scoops, []
+    monkeypatch.setattr(module, "plan_scoops", lambda *a, **k: runs.append(1) or plan(*a, **k))
+    context = diagram.CreateDefaultContext()
+    scan = ScanResult(ring, ring.vertices)
+    diagram.get_input_port().FixValue(context, scan)
+    first = diagram.get_output_port().Eval(context)
+    diagram.get_input_port().FixValue(context, copy.deepcopy(scan))
+    assert diagram.get_output_port().Eval(context) is first and len(runs) == 1
+    diagram.get_input_port().FixValue(context, ScanResult(ring.copy(), ring.vertices))
+    again = diagram.get_output_port().Eval(context)
+    assert len(runs) == 2 and len(again) == len(first) > 0
