@@ -68,7 +68,14 @@ def detect_hangable_structures(
     free = active_free_space(obj, params)
     if free is not None:
         floor = unknown_floor(obj, free, params)
-        if params.through_proof_angle_deg > 0:
+        if params.through_proof_exit:
+            if params.ground_clearance < 0:
+                floor = -np.inf
+            through &= observed_through_exit(obj, free, c, v, params.ground_normal,
+                                             params.ground_height, floor,
+                                             params.through_proof_max_length,
+                                             params.through_proof_angle_deg)
+        elif params.through_proof_angle_deg > 0:
             if params.ground_clearance < 0:  # no supporting surface: no table band either
                 floor = -np.inf
             through &= observed_through_line(obj, free, c, v, params.ground_normal, floor,
@@ -298,17 +305,7 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
     of azimuth."""
     if len(c) == 0:
         return np.zeros(0, dtype=bool)
-    v = np.asarray(v, dtype=float)
-    v = v / np.linalg.norm(v, axis=1, keepdims=True)
-    e1, e2 = orthonormal_basis(v)
-    tilts = np.radians(max_angle_deg) * np.asarray(_LINE_TILTS)
-    azimuths = np.radians(np.arange(0.0, 360.0, _LINE_AZIMUTH_STEP_DEG))
-    pairs = [(0.0, 0.0)] + [(t, a) for t in tilts[1:] for a in azimuths]
-    ct = np.array([np.cos(t) for t, _ in pairs])
-    st_ca = np.array([np.sin(t) * np.cos(a) for t, a in pairs])
-    st_sa = np.array([np.sin(t) * np.sin(a) for t, a in pairs])
-    d = (ct[None, :, None] * v[:, None] + st_ca[None, :, None] * e1[:, None]
-         + st_sa[None, :, None] * e2[:, None])  # (P, L, 3)
+    d = _proof_lines(v, max_angle_deg)  # (P, L, 3)
     step = 0.5 * obj.spacing
     s = np.arange(-length, length + 0.5 * step, step)  # (S,)
     samples = c[:, None, None] + s[None, None, :, None] * d[:, :, None]  # (P, L, S, 3)
@@ -319,6 +316,77 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
     ask = ok[:, :, None] & np.ones(len(s), dtype=bool)
     free_mask[ask] = free.observed_free(samples[ask])
     return (ok & free_mask.all(axis=2)).any(axis=1)
+
+
+def _proof_lines(v: np.ndarray, max_angle_deg: float) -> np.ndarray:
+    """(P, L, 3) unit directions of the proof lines through each hole: the axis v (P, 3), then
+    tilts of 1/4 ... 1 x ``max_angle_deg`` from it, every 30 deg of azimuth."""
+    v = np.asarray(v, dtype=float)
+    v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    e1, e2 = orthonormal_basis(v)
+    tilts = np.radians(max_angle_deg) * np.asarray(_LINE_TILTS)
+    azimuths = np.radians(np.arange(0.0, 360.0, _LINE_AZIMUTH_STEP_DEG))
+    pairs = [(0.0, 0.0)] + [(t, a) for t in tilts[1:] for a in azimuths]
+    ct = np.array([np.cos(t) for t, _ in pairs])
+    st_ca = np.array([np.sin(t) * np.cos(a) for t, a in pairs])
+    st_sa = np.array([np.sin(t) * np.sin(a) for t, a in pairs])
+    return (ct[None, :, None] * v[:, None] + st_ca[None, :, None] * e1[:, None]
+            + st_sa[None, :, None] * e2[:, None])
+
+
+def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
+                          ground_normal=(0.0, 0.0, 1.0), ground_height: float = 0.0,
+                          floor: float = -np.inf, max_length: float = 0.15,
+                          max_angle_deg: float = 60.0) -> np.ndarray:
+    """Mask (P,): some straight line through c (P, 3) within ``max_angle_deg`` of the hole's
+    axis v (P, 3) leads out of the object on both sides through space the cameras saw free
+    (``GbhParams.through_proof_exit``). Each half-line is followed from c, every half sample
+    spacing, until it
+
+    * leaves the mesh's bounding box grown by ``_RAY_BEYOND_BOX_SPACINGS`` sample spacings:
+      out of the object;
+    * or comes down to ``floor`` (the table band, :func:`unknown_floor`, along
+      ``ground_normal``): out of the object only if a camera saw the table there, through
+      everything above it (:meth:`FreeSpace.saw_plane` with the plane ``ground_normal . p =
+      ground_height``). A container's floor or a cup's bottom inside the band is not the table;
+    * or runs ``max_length`` (m) from c: far enough;
+
+    and every sample before that end must be observed free (:meth:`FreeSpace.observed_free`).
+    A hole's neighbourhood seen free proves only that much: the cup one view looked into has a
+    far wall 4-7 cm out that the view never saw, and a line that ends there leads nowhere
+    (docs/thresholds.md)."""
+    if len(c) == 0:
+        return np.zeros(0, dtype=bool)
+    d = _proof_lines(v, max_angle_deg)  # (P, L, 3)
+    n_g = np.asarray(ground_normal, dtype=float)
+    n_g = n_g / np.linalg.norm(n_g)
+    step = 0.5 * obj.spacing
+    t = np.arange(0.0, max_length + 0.5 * step, step)  # (K,)
+    grow = _RAY_BEYOND_BOX_SPACINGS * obj.spacing
+    lo, hi = np.asarray(obj.mesh.bounds, dtype=float)
+    ok = np.ones(d.shape[:2], dtype=bool)  # (P, L)
+    for sign in (1.0, -1.0):
+        dirs = sign * d
+        samples = c[:, None, None] + t[None, None, :, None] * dirs[:, :, None]  # (P, L, K, 3)
+        out = ((samples < lo - grow) | (samples > hi + grow)).any(axis=3)
+        below = samples @ n_g <= floor
+        ends = out | below
+        end = np.where(ends.any(axis=2), ends.argmax(axis=2), len(t))  # (P, L)
+        asked = np.arange(len(t))[None, None, :] < end[:, :, None]
+        free_mask = np.ones(asked.shape, dtype=bool)
+        free_mask[asked] = free.observed_free(samples[asked])
+        side = free_mask.all(axis=2)
+        at_floor = (end < len(t)) & below[np.arange(len(c))[:, None],
+                                          np.arange(d.shape[1])[None], np.minimum(end, len(t) - 1)]
+        ask = at_floor & side
+        if ask.any():
+            down = dirs[ask] @ n_g  # < 0: the line comes down to the floor
+            c_at = np.broadcast_to(c[:, None], dirs.shape)[ask]
+            s_floor = (floor - c_at @ n_g) / np.where(down < 0, down, -1.0)
+            crossing = c_at + np.maximum(s_floor, 0.0)[:, None] * dirs[ask]
+            side[ask] = free.saw_plane(crossing, n_g, ground_height)
+        ok &= side
+    return ok.any(axis=1)
 
 
 def _structure(

@@ -315,12 +315,25 @@ def free_space_margin(config: ScanConfig, depth: float) -> float:
     ``config.noise``, plus three standard deviations of the axial noise at ``depth`` and one
     disparity step (a measured depth can lie that far behind the true surface). Noise-free at
     2.5 mm voxels: 2.5 mm; with noise at 0.6 m: about 7 mm."""
-    margin = config.voxel_size
-    if config.noise:
-        z = max(float(depth), config.depth_min)
-        margin += 3.0 * (config.noise_sigma + config.noise_sigma_quadratic * (z - 0.4) ** 2)
-        margin += config.noise_depth_step * z * z
-    return float(margin)
+    return float(config.voxel_size + depth_error(config, depth))
+
+
+def depth_error(config: ScanConfig, depth: float) -> float:
+    """How far (m) a measured depth at about ``depth`` (m) may lie from the surface it hit:
+    with ``config.noise``, three standard deviations of the axial noise and one disparity
+    step; 0 without noise."""
+    if not config.noise:
+        return 0.0
+    z = max(float(depth), config.depth_min)
+    return float(3.0 * (config.noise_sigma + config.noise_sigma_quadratic * (z - 0.4) ** 2)
+                 + config.noise_depth_step * z * z)
+
+
+def plane_tolerance(config: ScanConfig, depth: float) -> float:
+    """How near (m) to the table plane a depth measured at about ``depth`` (m) must end to
+    count as the table (``FreeSpace.saw_plane``): the table fit's ``table_tolerance``, as the
+    bottom cap judges a hole seen through (``perception.cap``), plus :func:`depth_error`."""
+    return float(config.table_tolerance + depth_error(config, depth))
 
 
 def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
@@ -332,7 +345,7 @@ def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
     return FreeSpace.from_depth_images(
         depths, intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
         [X_WC.inverse().GetAsMatrix4() for X_WC in X_WCs], free_space_margin(config, depth),
-        config.depth_max if far_is_free else None)
+        config.depth_max if far_is_free else None, plane_tolerance(config, depth))
 
 
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,

@@ -188,16 +188,62 @@ def test_a_hole_is_proven_by_a_line_seen_free_within_the_angle_of_its_axis(param
     assert any(abs(s.v[2]) > 0.9 and np.linalg.norm(s.c[:2]) < 0.01 for s in found) == proven
 
 
-def test_a_ring_lying_on_the_table_is_closed_by_the_table(params):
-    """Seen from above, a ring lying flat has its hole seen free down to the table; but every
-    line through its hole within 60 deg of the axis runs into the table band: the table
-    closes the hole (no bar can pass under material that lies on the table). The axis rule,
-    which skips the table band, calls it a hole."""
+def test_a_ring_lying_on_the_table_is_closed_by_the_table_for_the_local_proof(params):
+    """Seen from above, a ring lying flat has its hole seen free down to the table. For the
+    local proof (``through_proof_exit: false``) every line through its hole within 60 deg of
+    the axis runs into the table band: the table closes the hole (no bar can pass under
+    material that lies on the table). The axis rule, which skips the table band, and the exit
+    proof, which follows the line down to the table the camera saw through the hole, call it
+    a hole (the grasps' table clearance then refuses what cannot pass under it)."""
     bottom = -0.008
     ring, X, fs = _ring_free_space((0.0, 0.02, 0.6), table_z=bottom)
     on_table = dataclasses.replace(params, ground_height=bottom)
     scan = front_of(ring, X)
+    local = dataclasses.replace(on_table, through_proof_exit=False)
     assert not any(abs(s.v[2]) > 0.9 for s in
-                   detect_hangable_structures(scan, on_table, free_space=fs))
-    axis = dataclasses.replace(on_table, through_proof_angle_deg=0.0)
+                   detect_hangable_structures(scan, local, free_space=fs))
+    axis = dataclasses.replace(local, through_proof_angle_deg=0.0)
     assert any(abs(s.v[2]) > 0.9 for s in detect_hangable_structures(scan, axis, free_space=fs))
+    assert any(abs(s.v[2]) > 0.9 for s in
+               detect_hangable_structures(scan, on_table, free_space=fs))
+
+
+def test_saw_plane_tells_the_table_from_a_floor_standing_on_it():
+    """A camera above a table (z = 0) with a 6 mm plate on part of it: a point above the bare
+    table saw the table; one above the plate saw the plate, not the table; one under the plate
+    was not seen free at all."""
+    table = trimesh.creation.box((0.6, 0.6, 0.02))
+    table.apply_translation((0.0, 0.0, -0.01))
+    plate = trimesh.creation.box((0.1, 0.2, 0.006))
+    plate.apply_translation((0.1, 0.0, 0.003))
+    X = camera_X_CW((0.0, -0.05, 0.5), (0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0))
+    depth = rendered_depth(trimesh.util.concatenate([table, plate]), X, 160, 120, 150.0)
+    fs = FreeSpace.from_depth_images([depth], 150.0, 150.0, 79.5, 59.5, [X], 0.0025, 3.0)
+    pts = np.array([(-0.1, 0.0, 0.02), (0.1, 0.0, 0.02), (0.1, 0.0, 0.004)])
+    assert fs.saw_plane(pts, (0.0, 0.0, 1.0), 0.0).tolist() == [True, False, False]
+    assert fs.saw_plane(pts[1:2], (0.0, 0.0, 1.0), 0.006).all()  # the plate's own top
+
+
+@pytest.mark.parametrize("floor_plate", [False, True])
+def test_the_exit_proof_ends_at_the_table_only_where_the_table_was_seen(params, floor_plate):
+    """A ring lying flat 2.2 cm above a table, seen from above through its hole: the proof line
+    runs down through the hole to the table band; it leads out only if the camera saw the table
+    itself there. A 6 mm plate under the ring (a bucket's floor, which the scan's cut removes
+    with the table) is not the table: the line ends in it, and the hole is refused."""
+    ring = trimesh.creation.torus(0.03, 0.008, major_sections=64, minor_sections=24)
+    table_z = -0.03
+    table = trimesh.creation.box((0.6, 0.6, 0.02))
+    table.apply_translation((0.0, 0.0, table_z - 0.01))
+    parts = [ring, table]
+    if floor_plate:
+        plate = trimesh.creation.box((0.12, 0.12, 0.006))
+        plate.apply_translation((0.0, 0.0, table_z + 0.003))
+        parts.append(plate)
+    X = camera_X_CW((0.0, 0.02, 0.6), (0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0))
+    depth = rendered_depth(trimesh.util.concatenate(parts), X, 160, 120, 150.0)
+    fs = FreeSpace.from_depth_images([depth], 150.0, 150.0, 79.5, 59.5, [X], 0.0025, 3.0)
+    q = dataclasses.replace(params, ground_clearance=0.0, ground_height=table_z,
+                            through_proof_exit=True)
+    found = detect_hangable_structures(front_of(ring, X), q, free_space=fs)
+    assert any(abs(s.v[2]) > 0.9 and np.linalg.norm(s.c[:2]) < 0.01 for s in found) \
+        == (not floor_plate)
