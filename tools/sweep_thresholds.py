@@ -21,9 +21,12 @@ pre-execution counts, the stage a threshold decides. Usage::
         --sweep contact_angle_deg=25,30,35,40,45 --sweep snap_tilt_max_deg=0,30,45,60 \\
         --sweep "approach_rotations_deg=[0];[0,-20,20];[0,-20,20,-40,40]"
 
-``free_views`` (``scan`` or ``all``) is not a GbH parameter: it gives the core the free space
-of the fused views alone, or also that of the first look's two side views
-(``FreeSpace.with_views``), e.g. ``--set unknown_is_occupied=true --sweep free_views=scan,all``.
+``free_views`` (``scan`` or ``all``) is not a GbH parameter: it gives the core the scan's free
+space alone, or also that of the first look's two side views (``FreeSpace.with_views``), e.g.
+``--set unknown_is_occupied=true --sweep free_views=scan,all``. Since the exit proof
+(``GbhParams.through_proof_exit``) a scan's ``free_space`` already holds the first look's
+views, as the trial's GbH gets it; scans stored before hold the fused views alone, and ``all``
+is what the trial does now.
 
 writes ``<out>/scans.pkl`` (the scans, reused by later runs), ``<out>/rows.jsonl`` and prints the
 Markdown tables (``<out>/README.md``).

@@ -97,9 +97,10 @@ class ScanResult:
     cap: CapReport = field(default_factory=CapReport)
     """What capping the bottom did."""
     free_space: FreeSpace | None = None
-    """What the views saw free (their depth images as measured, noise included, with the
-    intrinsics and poses; :func:`free_space_margin`): the GbH core treats the rest as possibly
-    occupied (``GbhParams.unknown_is_occupied``). None for an empty scan."""
+    """What the cameras saw free: the fused views' depth images as measured (noise included,
+    with the intrinsics and poses; :func:`free_space_margin`) and, after a first look, its two
+    side views' (``first_look_free_space``, each view at its own margin). The GbH core treats
+    the rest as possibly occupied (``GbhParams.unknown_is_occupied``). None for an empty scan."""
     taken_at: float = float("nan")
     """Simulated time (s) at which the ``Scanner`` took the scan; nan for a scan taken outside a
     simulation and for the Scanner's "not scanned yet" placeholder."""
@@ -107,9 +108,8 @@ class ScanResult:
     """The region the object was looked for in (the workspace box, around the first look's
     sphere when there was one): the scan says nothing beyond it."""
     first_look_free_space: FreeSpace | None = None
-    """What the first look's two wide side views saw free (low resolution; not fused, not used
-    by the GbH core's checks): with ``free_space`` it bounds the unseen space next to the
-    object (``perception.unseen``). None without a first look."""
+    """What the first look's two wide side views saw free (low resolution, not fused; its
+    views are also in ``free_space``). None without a first look."""
     request: int = 0
     """Which scan request this answers: 0 for the Scanner's first scan, n for the scan taken on
     its ``scan_request`` input's n-th request (a re-scan after the object was set down anew)."""
@@ -201,6 +201,8 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
         result.first_look_X_WCs = look.X_WCs
         result.object_radius = look.radius
         result.first_look_free_space = look.free_space
+        if result.free_space is not None and look.free_space is not None:
+            result.free_space = result.free_space.with_views(look.free_space)
     result.timing = timing
     return result
 

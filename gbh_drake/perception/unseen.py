@@ -1,7 +1,7 @@
 """The unseen space next to a scan (:mod:`gbh_drake.core.unseen`), from a :class:`ScanResult`:
 the cells of the scan's region, above the height the scan was cut at (and the views' noise
-margin), that neither the fused views nor the first look's side views saw free and that
-connect to the scanned mesh."""
+margin), that neither the fused views nor the first look's side views saw free
+(``ScanResult.free_space`` holds both) and that connect to the scanned mesh."""
 
 from __future__ import annotations
 
@@ -17,8 +17,7 @@ def scan_unseen(scan: ScanResult, cell: float = UNSEEN_CELL) -> np.ndarray:
     views' free space or region (a scan made before they were recorded)."""
     if scan.empty or scan.free_space is None or scan.region is None or len(scan.mesh_W.faces) == 0:
         return np.zeros((0, 3))
-    free = scan.free_space if scan.first_look_free_space is None else \
-        scan.free_space.with_views(scan.first_look_free_space)
+    free = scan.free_space  # the fused views' and the first look's
     vertices = np.asarray(scan.mesh_W.vertices, dtype=float)
 
     # From the cut above the table, raised by the views' margin: nearer the table than that no

@@ -20,6 +20,13 @@ def test_one_view_of_the_teapot_leaves_its_far_side_in_the_unseen_cells(scene_ca
     config = ScanConfig(num_views=1)
     result = scan_object(scene.query_object, config, np.array([0.55, 0.0, 0.06]))
     assert not result.empty, result.message
+    # What the cameras saw free: the fused view and the first look's two side views, each at
+    # its own margin (the GbH core's through-hole proof and the unseen cells use them all).
+    look = result.first_look_free_space
+    assert look is not None and len(result.free_space.views) == 1 + len(look.views) == 3
+    assert all(v.depth is w.depth and v.margin == look.margin
+               for v, w in zip(result.free_space.views[1:], look.views, strict=True))
+    assert result.free_space.views[0].margin == result.free_space.margin
     cells = scan_unseen(result)
     assert len(cells)
     floor = float(result.mesh_W.vertices[:, 2].min()) + result.free_space.margin + UNSEEN_CELL
