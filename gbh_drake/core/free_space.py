@@ -84,10 +84,10 @@ class FreeSpace:
     point must be to count as seen free. It covers the depth noise and the TSDF's
     discretisation, so that the fused surface's own points are never "seen free" (the scan
     derives it: ``perception.scan.free_space_margin``)."""
-    plane_tolerance: float | None = None
-    """How near (m) to a plane a measured depth must end for :meth:`saw_plane` to call it the
-    plane: the depth's error and the plane's (the scan derives it from its table fit and noise
-    model: ``perception.scan.plane_tolerance``); None: :attr:`margin`."""
+    depth_error: float = 0.0
+    """How far (m) a measured depth may lie from the surface it hit (the sensor's noise bound;
+    0 for a noise-free simulated camera): :meth:`saw_plane` widens its tolerance by it (the
+    scan derives it: ``perception.scan.depth_error``)."""
 
     def __deepcopy__(self, memo) -> FreeSpace:
         """Shared, not copied: never modified (Drake copies abstract port values)."""
@@ -97,7 +97,7 @@ class FreeSpace:
     def from_depth_images(depths: Sequence[np.ndarray], fx: float, fy: float, cx: float,
                           cy: float, X_CWs: Sequence[np.ndarray], margin: float,
                           depth_max: float | None = None,
-                          plane_tolerance: float | None = None) -> FreeSpace:
+                          depth_error: float = 0.0) -> FreeSpace:
         """From raw depth images (h, w) (m; 0, NaN or negative: no measurement; inf: nothing
         hit within the sensor's range) taken with one pinhole model from poses X_CW (4, 4).
 
@@ -105,7 +105,7 @@ class FreeSpace:
         surface up to depth_max" (a simulated camera: Drake's renderer writes inf where nothing
         was hit in range); the ray is then free up to depth_max. ``None``: inf proves nothing
         (a real sensor also returns nothing from black, specular or grazing surfaces).
-        ``plane_tolerance``: :attr:`plane_tolerance`."""
+        ``depth_error``: :attr:`depth_error`."""
         views = []
         for depth, X_CW in zip(depths, X_CWs, strict=True):
             d = np.asarray(depth, dtype=np.float32)
@@ -119,8 +119,7 @@ class FreeSpace:
             views.append(DepthView(free.astype(np.float32), float(fx), float(fy), float(cx),
                                    float(cy), int(w), int(h),
                                    np.asarray(X_CW, dtype=float).reshape(4, 4).copy()))
-        return FreeSpace(tuple(views), float(margin),
-                         None if plane_tolerance is None else float(plane_tolerance))
+        return FreeSpace(tuple(views), float(margin), float(depth_error))
 
     def with_views(self, other: FreeSpace) -> FreeSpace:
         """This free space and ``other``'s views (each keeping its margin): what all of them saw
@@ -129,43 +128,41 @@ class FreeSpace:
                     for v in self.views)
         more = tuple(v if v.margin is not None else dataclasses.replace(v, margin=other.margin)
                      for v in other.views)
-        tolerances = [f.plane_tolerance for f in (self, other) if f.plane_tolerance is not None]
-        return FreeSpace(own + more, self.margin, max(tolerances) if tolerances else None)
+        return FreeSpace(own + more, self.margin, max(self.depth_error, other.depth_error))
 
     def view_margin(self, view: DepthView) -> float:
         """The margin (m) ``view`` is asked with: its own, else this free space's."""
         return self.margin if view.margin is None else view.margin
 
-    def saw_plane(self, points_W: np.ndarray, normal, height: float) -> np.ndarray:
+    def saw_plane(self, points_W: np.ndarray, normal, height: float,
+                  tolerance: float) -> np.ndarray:
         """(n,) bool: the points (n, 3, m, in W) through which some view saw the plane
         ``normal . p = height`` (W; a table): the point is in that view's image and seen free
-        (:meth:`observed_free`'s test at the view's margin), and the depth measured at its
-        pixel, taken along the point's own ray, ends within :attr:`plane_tolerance` of the
-        plane. What the pixel measured there is the plane itself, not something standing on it
-        (a container's floor a few millimetres up)."""
+        (:meth:`observed_free`'s test at the view's margin), and the surface its pixel measured
+        (the pixel's own ray out to its depth) lies within ``tolerance`` (m) + :attr:`depth_error`
+        of the plane: the plane itself, not something standing on it (a container's floor a
+        millimetre or two up)."""
         p = np.asarray(points_W, dtype=float).reshape(-1, 3)
         n = np.asarray(normal, dtype=float)
         n = n / np.linalg.norm(n)
-        tolerance = self.margin if self.plane_tolerance is None else self.plane_tolerance
+        tolerance = float(tolerance) + self.depth_error
         seen = np.zeros(len(p), dtype=bool)
         for view in self.views:
             todo = np.flatnonzero(~seen)
             if len(todo) == 0:
                 break
-            margin = self.view_margin(view)
-            free = view.free_mask(p[todo], margin)
+            free = view.free_mask(p[todo], self.view_margin(view))
             i = todo[free]
             if len(i) == 0:
                 continue
             R, t = view.X_CW[:3, :3], view.X_CW[:3, 3]
             p_C = p[i] @ R.T + t
-            u = np.clip(np.floor(view.fx * p_C[:, 0] / p_C[:, 2] + view.cx), 0,
-                        view.width - 1).astype(np.intp)
-            w = np.clip(np.floor(view.fy * p_C[:, 1] / p_C[:, 2] + view.cy), 0,
-                        view.height - 1).astype(np.intp)
-            d = view.depth[w, u].astype(float)
-            q_C = p_C * (d / p_C[:, 2])[:, None]  # the point's ray, out to the measured depth
-            q_W = (q_C - t) @ R  # X_WC = X_CW^-1
+            u = np.clip(np.floor(view.fx * p_C[:, 0] / p_C[:, 2] + view.cx), 0, view.width - 1)
+            w = np.clip(np.floor(view.fy * p_C[:, 1] / p_C[:, 2] + view.cy), 0, view.height - 1)
+            d = view.depth[w.astype(np.intp), u.astype(np.intp)].astype(float)
+            ray_C = np.stack([(u + 0.5 - view.cx) / view.fx, (w + 0.5 - view.cy) / view.fy,
+                              np.ones_like(u)], axis=1)  # the pixel centre's ray, z = 1
+            q_W = (ray_C * d[:, None] - t) @ R  # the point it measured; X_WC = X_CW^-1
             seen[i] = np.abs(q_W @ n - height) <= tolerance
         return seen
 

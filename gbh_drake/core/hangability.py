@@ -74,7 +74,8 @@ def detect_hangable_structures(
             through &= observed_through_exit(obj, free, c, v, params.ground_normal,
                                              params.ground_height, floor,
                                              params.through_proof_max_length,
-                                             params.through_proof_angle_deg)
+                                             params.through_proof_angle_deg,
+                                             params.table_seen_tolerance)
         elif params.through_proof_angle_deg > 0:
             if params.ground_clearance < 0:  # no supporting surface: no table band either
                 floor = -np.inf
@@ -336,8 +337,9 @@ def _proof_lines(v: np.ndarray, max_angle_deg: float) -> np.ndarray:
 
 def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
                           ground_normal=(0.0, 0.0, 1.0), ground_height: float = 0.0,
-                          floor: float = -np.inf, max_length: float = 0.15,
-                          max_angle_deg: float = 60.0) -> np.ndarray:
+                          floor: float = -np.inf, max_length: float = 0.3,
+                          max_angle_deg: float = 60.0,
+                          table_tolerance: float = 0.001) -> np.ndarray:
     """Mask (P,): some straight line through c (P, 3) within ``max_angle_deg`` of the hole's
     axis v (P, 3) leads out of the object on both sides through space the cameras saw free
     (``GbhParams.through_proof_exit``). Each half-line is followed from c, every half sample
@@ -348,7 +350,8 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
     * or comes down to ``floor`` (the table band, :func:`unknown_floor`, along
       ``ground_normal``): out of the object only if a camera saw the table there, through
       everything above it (:meth:`FreeSpace.saw_plane` with the plane ``ground_normal . p =
-      ground_height``). A container's floor or a cup's bottom inside the band is not the table;
+      ground_height``, within ``table_tolerance`` m). A container's floor or a cup's bottom
+      inside the band is not the table;
     * or runs ``max_length`` (m) from c: far enough;
 
     and every sample before that end must be observed free (:meth:`FreeSpace.observed_free`).
@@ -384,7 +387,7 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
             c_at = np.broadcast_to(c[:, None], dirs.shape)[ask]
             s_floor = (floor - c_at @ n_g) / np.where(down < 0, down, -1.0)
             crossing = c_at + np.maximum(s_floor, 0.0)[:, None] * dirs[ask]
-            side[ask] = free.saw_plane(crossing, n_g, ground_height)
+            side[ask] = free.saw_plane(crossing, n_g, ground_height, table_tolerance)
         ok &= side
     return ok.any(axis=1)
 

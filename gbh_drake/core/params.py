@@ -218,6 +218,11 @@ class GbhParams:
     far wall the view never saw leads nowhere; a container's floor inside the table band is
     not the table. False: the local proof, ``through_proof_length`` either side of c, which
     kept 20 of the 28 false one-view best grasps and lost 7 true ones (docs/thresholds.md)."""
+    table_seen_tolerance: float = ranged(0.001, NonNeg(0.01, "m"))
+    """Ours, metres, with ``through_proof_exit``: how near to the table plane
+    (``ground_height``) the surface a pixel measured through a hole must lie to be the table
+    itself (plus the scan's depth error, 0 without noise; ``FreeSpace.saw_plane``). Below the
+    height a container's floor stands at (its thickness less what it sinks into the table)."""
     through_proof_max_length: float = ranged(0.3, Pos(1.0, "m"))
     """Ours, metres, with ``through_proof_exit``: a proof line that has run this far from c in
     observed-free space leads out. 0.3: the object set's largest objects span about 30 cm, so

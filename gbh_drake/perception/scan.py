@@ -331,13 +331,6 @@ def depth_error(config: ScanConfig, depth: float) -> float:
                  + config.noise_depth_step * z * z)
 
 
-def plane_tolerance(config: ScanConfig, depth: float) -> float:
-    """How near (m) to the table plane a depth measured at about ``depth`` (m) must end to
-    count as the table (``FreeSpace.saw_plane``): the table fit's ``table_tolerance``, as the
-    bottom cap judges a hole seen through (``perception.cap``), plus :func:`depth_error`."""
-    return float(config.table_tolerance + depth_error(config, depth))
-
-
 def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                     X_WCs: Sequence[RigidTransform], config: ScanConfig, depth: float, *,
                     far_is_free: bool = True) -> FreeSpace:
@@ -347,7 +340,7 @@ def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
     return FreeSpace.from_depth_images(
         depths, intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
         [X_WC.inverse().GetAsMatrix4() for X_WC in X_WCs], free_space_margin(config, depth),
-        config.depth_max if far_is_free else None, plane_tolerance(config, depth))
+        config.depth_max if far_is_free else None, depth_error(config, depth))
 
 
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
