@@ -15,9 +15,11 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
    hit distance, which is the plane that cuts the material most squarely;
 5. through-hole test: rays from c along +v and -v must both miss. When the object comes with
    what the cameras saw free (``ObjectModel.free_space``, a scan's) and
-   ``GbhParams.unknown_is_occupied`` is set, the rays must also run in observed-free space
-   until they leave the object's bounding box: a ray that "misses" because the material it
-   would meet was never seen proves no hole (:func:`observed_through`).
+   ``GbhParams.unknown_is_occupied`` is set, a straight line through c near the axis must also
+   lead out of the object through observed-free space (:func:`observed_through_exit`; or, with
+   ``through_proof_exit`` off, stay free for ``through_proof_length`` round c,
+   :func:`observed_through_line`; or the axis alone, :func:`observed_through`): a ray that
+   "misses" because the material it would meet was never seen proves no hole.
 """
 
 from __future__ import annotations
