@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import weakref
 
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
@@ -10,8 +11,14 @@ from pydrake.systems.framework import LeafSystem
 
 class LastResult:
     """The last result of a pure computation and the objects it was computed from: ``get`` gives
-    it back while the same objects (by identity) are asked for again. The objects are held, so no
-    other object can take their identity."""
+    it back while the same objects (by identity) are asked for again.
+
+    The objects are held by weak reference where they allow it (a scan's mesh, its free space, a
+    Hangability): a dead reference matches nothing, so no later object can pass for one that
+    died, and the result is dropped as soon as one of them dies. A Python LeafSystem is never
+    freed (pydrake keeps it alive through its own callbacks), so a memo that held its inputs and
+    result would keep every trial's scans and GbH results of a worker: 12 GB after a few hundred
+    ``gbh+`` trials. Objects that allow no weak reference are held."""
 
     def __init__(self):
         self._key: tuple | None = None
@@ -19,11 +26,39 @@ class LastResult:
 
     def get(self, key: tuple, compute):
         """The result for ``key``: the last one if ``key`` holds the same objects, else
-        ``compute()`` (kept as the last)."""
-        if self._key is None or len(self._key) != len(key) or any(
-                a is not b for a, b in zip(self._key, key, strict=True)):
-            self._result, self._key = compute(), key
+        ``compute()`` (kept as the last, while ``key``'s objects live)."""
+        held = self._key
+        if held is None or len(held) != len(key) or any(
+                _target(a) is not b for a, b in zip(held, key, strict=True)):
+            result = compute()
+            self._key, self._result = tuple(self._hold(k) for k in key), result
         return self._result
+
+    def _hold(self, obj):
+        try:
+            return weakref.ref(obj, self._forget)
+        except TypeError:  # no weak reference to this type: hold it
+            return _Strong(obj)
+
+    def _forget(self, _ref) -> None:
+        self._key, self._result = None, None
+
+
+class _Strong:
+    """A held object, read as a weak reference is: ``ref()``."""
+
+    __slots__ = ("obj",)
+
+    def __init__(self, obj):
+        self.obj = obj
+
+    def __call__(self):
+        return self.obj
+
+
+def _target(ref):
+    """The object behind a weak reference or a :class:`_Strong` (None once it died)."""
+    return ref()
 
 
 class AbstractStage(LeafSystem):
