@@ -173,7 +173,7 @@ class GbhParams:
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
-    unknown_is_occupied: bool = False
+    unknown_is_occupied: bool = True
     """Ours: when the object comes with what the cameras saw free (a scan's
     ``core.free_space.FreeSpace``), space no camera saw is possibly occupied: a hanging
     structure's through-hole must be proven by a line through c that the cameras saw free
@@ -183,11 +183,10 @@ class GbhParams:
     paper's "holes on the cup wall"). With the exit proof, over the experiment's 230 stable
     scans (docs/thresholds.md), the one-view best grasps on a false part fall from 28 to 9 and
     those on a true part rise from 36 to 38; ten views keep every ranked list. In the
-    experiment (docs/experiment/exit_proof, stable): gbh-1 41/95 carried, 37 caged, 0 pinches
-    on no true part (off: 50, 31 caged, 15 pinches on no true part); gbh-10 the same 57 trials
-    either way. Off by default until the reference experiment is rerun with it (every trial's
-    digest holds the GbH fields). False: the paper's reading (the mesh alone); a plain mesh
-    (no free space) is always so."""
+    experiment (docs/experiment, stable): gbh-1 41/95 carried, 37 caged, 0 pinches on no true
+    part (off: 50, 31 caged, 15 pinches on no true part); gbh-10 the same 57 trials either way.
+    False: the paper's reading (the mesh alone, preset ``paper``); a plain mesh (no free
+    space) is always so."""
     unknown_sweep: bool = False
     """Ours, with ``unknown_is_occupied``: also count the unknown space the closing motion
     sweeps in N_sweep. Off by default, as measured: on one view it refused every grasp of the
