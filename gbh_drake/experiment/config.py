@@ -115,7 +115,7 @@ ENGINES = ("local", "ray")
 
 #: Fields that say where the trials run, not what they are: left out of the folder's
 #: ``experiment.yaml`` (:func:`experiment_yaml`); no trial's scenario holds them.
-WHERE_FIELDS = ("engine", "ray_address")
+WHERE_FIELDS = ("engine", "ray_address", "trials_per_worker")
 
 
 class ExperimentError(ValueError):
@@ -191,6 +191,12 @@ class Experiment:
     """With ``engine: ray``: ``local`` (a Ray started for this experiment, loopback only),
     ``auto`` (the cluster this machine is a node of) or a cluster's address (``host:port``,
     ``ray://host:port``)."""
+    trials_per_worker: int = ranged(
+        20, Int(1, 100_000, "trials a worker process runs before a fresh one replaces it"))
+    """Trials a worker process (local, or a Ray worker) runs before a fresh process replaces it.
+    pydrake never frees a trial's Python LeafSystems (their callbacks hold them), so a worker
+    grows by about 20-30 MB per trial (``bench/bench_worker_memory.py``); a fresh process costs
+    its imports (about 3 s). It changes no row (see :data:`WHERE_FIELDS`)."""
     source_path: str = ""
     """Set by the loader: the experiment file itself (do not write it in YAML)."""
 

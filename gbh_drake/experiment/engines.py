@@ -2,7 +2,9 @@
 
 * :func:`local_results`: a ``concurrent.futures.ProcessPoolExecutor`` of ``workers`` processes
   (``spawn``: fresh interpreters, nothing inherited from this process's state). Each process runs
-  one trial at a time and keeps its imported modules and its Meshcat across trials.
+  one trial at a time and keeps its imported modules and its Meshcat across trials, until it has
+  run ``trials_per_worker`` trials: then a fresh process takes its place (pydrake never frees a
+  trial's Python systems, so a worker grows with every trial it runs).
 * :func:`ray_results`: the same function as Ray tasks (one CPU each) on a cluster: ``auto`` (the
   cluster this machine belongs to), ``ray://host:port`` or ``host:port`` (a cluster's address),
   or ``local`` (a one-machine Ray started here, listening on the loopback only, dashboard and
@@ -19,6 +21,7 @@ timing fields aside, whatever the number of workers or the engine.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import importlib.util
 import multiprocessing
@@ -102,26 +105,50 @@ def environment(values: dict[str, str]):
                 os.environ[k] = v
 
 
-def local_results(tasks: Sequence[TrialTask], workers: int) -> Iterator[TrialResult]:
-    """Runs ``tasks`` on ``workers`` local processes; yields each result as it finishes."""
+def local_results(tasks: Sequence[TrialTask], workers: int, *,
+                  trials_per_worker: int | None = None) -> Iterator[TrialResult]:
+    """Runs ``tasks`` on ``workers`` local processes, each replaced by a fresh one after
+    ``trials_per_worker`` trials (None: never); yields each result as it finishes.
+
+    Each worker is a one-process ``ProcessPoolExecutor`` (a dead worker still raises
+    ``BrokenProcessPool``); a worker due for replacement is shut down and a new executor takes
+    its place. (``ProcessPoolExecutor(max_tasks_per_child=...)`` is not used: on Python 3.11 it
+    stops replacing exited workers once one counts as idle, and the experiment hangs.)"""
     if not tasks:
         return
     context = multiprocessing.get_context("spawn")
-    with environment(WORKER_ENV):
-        pool = ProcessPoolExecutor(max_workers=max(1, workers), mp_context=context,
+    queue = collections.deque(tasks)
+
+    def fresh() -> ProcessPoolExecutor:
+        return ProcessPoolExecutor(max_workers=1, mp_context=context,
                                    initializer=set_single_threaded)
+
+    with environment(WORKER_ENV):
+        slots = [fresh() for _ in range(min(max(1, workers), len(tasks)))]
+        ran = [0] * len(slots)
+        running = {}
         finished = False
         try:
-            pending = {pool.submit(run_trial_task, task) for task in tasks}
-            while pending:
-                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for i, slot in enumerate(slots):
+                running[slot.submit(run_trial_task, queue.popleft())] = i
+            while running:
+                done, _ = wait(running, return_when=FIRST_COMPLETED)
                 for future in done:
-                    yield future.result()
+                    i = running.pop(future)
+                    result = future.result()
+                    ran[i] += 1
+                    if queue:
+                        if trials_per_worker and ran[i] >= trials_per_worker:
+                            slots[i].shutdown(wait=True)
+                            slots[i], ran[i] = fresh(), 0
+                        running[slots[i].submit(run_trial_task, queue.popleft())] = i
+                    yield result
             finished = True
         finally:
-            if not finished:  # Ctrl-C, SIGTERM, an error, or the caller stopped early
-                _stop_workers(pool)
-            pool.shutdown(wait=True, cancel_futures=True)
+            for slot in slots:
+                if not finished:  # Ctrl-C, SIGTERM, an error, or the caller stopped early
+                    _stop_workers(slot)
+                slot.shutdown(wait=True, cancel_futures=True)
 
 
 def _stop_workers(pool: ProcessPoolExecutor) -> None:
@@ -145,10 +172,12 @@ RAY_PROGRESS_EVERY = 5.0
 
 
 def ray_results(tasks: Sequence[TrialTask], address: str, *, workers: int = 0,
-                log=print) -> Iterator[TrialResult]:
+                trials_per_worker: int | None = None, log=print) -> Iterator[TrialResult]:
     """Runs ``tasks`` as Ray tasks (see the module docstring for ``address``); ``workers`` is the
-    number of CPUs of a ``local`` Ray (0: this machine's). Ray is started or reached now (a
-    :class:`RayError` before any trial runs); the results are yielded as they finish."""
+    number of CPUs of a ``local`` Ray (0: this machine's); a Ray worker process runs at most
+    ``trials_per_worker`` of them (Ray's ``max_calls``; None: no limit). Ray is started or
+    reached now (a :class:`RayError` before any trial runs); the results are yielded as they
+    finish."""
     if not tasks:
         return iter(())
     started_here = address == "local"
@@ -161,12 +190,14 @@ def ray_results(tasks: Sequence[TrialTask], address: str, *, workers: int = 0,
     except BaseException:
         ray.shutdown()
         raise
-    return _ray_results(ray, tasks)
+    return _ray_results(ray, tasks, trials_per_worker)
 
 
-def _ray_results(ray, tasks: Sequence[TrialTask]) -> Iterator[TrialResult]:
+def _ray_results(ray, tasks: Sequence[TrialTask],
+                 trials_per_worker: int | None) -> Iterator[TrialResult]:
     try:
-        remote = ray.remote(num_cpus=1, max_retries=1)(run_trial_task)
+        remote = ray.remote(num_cpus=1, max_retries=1,
+                            max_calls=trials_per_worker or 0)(run_trial_task)
         pending = [remote.remote(task) for task in tasks]
         try:
             while pending:

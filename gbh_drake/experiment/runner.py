@@ -126,8 +126,10 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         log(f"{experiment.name}: {len(tasks)} trials ({len(experiment.objects)} objects x "
             f"{experiment.trials} x {len(experiment.methods)} methods{protocols}) in {folder}; "
             f"{len(done)} done before, {len(pending)} to run on {engine}")
-        results = ray_results(pending, ray_address, workers=workers, log=log) if ray_address \
-            else local_results(pending, workers)
+        per_worker = experiment.trials_per_worker
+        results = ray_results(pending, ray_address, workers=workers, log=log,
+                              trials_per_worker=per_worker) if ray_address \
+            else local_results(pending, workers, trials_per_worker=per_worker)
         started = datetime.datetime.now().isoformat(timespec="seconds")
         ran, interrupted = 0, True
         bar = _progress_bar(len(pending), experiment.name, enabled=progress)

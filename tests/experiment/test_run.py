@@ -12,6 +12,7 @@ import ipaddress
 import json
 import re
 import shutil
+from collections import Counter
 from pathlib import Path
 
 import psutil
@@ -51,6 +52,8 @@ def test_every_trial_has_one_row(first_run):
         assert set(r["stage_times"]) >= {"build", "scan", "plan", "simulate", "total"}
         assert r["record"]["object"] == obj and r["record"]["sim_time"] <= 0.6 + 1e-9
         assert len(r["pose"]) == 6 and r["pose"] == r["record"]["pose"]
+    per_worker = Counter(r["worker"] for r in rows)  # trials_per_worker: 5 in the file
+    assert len(per_worker) >= 5 and max(per_worker.values()) <= 5, per_worker
     for obj in OBJECTS:  # every method saw the same pose; the trials' poses differ
         poses = [{tuple(by_key[(obj, m, t, "stable")]["pose"]) for m in METHODS}
                  for t in range(TRIALS)]
