@@ -195,8 +195,9 @@ class Experiment:
         20, Int(1, 100_000, "trials a worker process runs before a fresh one replaces it"))
     """Trials a worker process (local, or a Ray worker) runs before a fresh process replaces it.
     pydrake never frees a trial's Python LeafSystems (their callbacks hold them), so a worker
-    grows by about 20-30 MB per trial (``bench/bench_worker_memory.py``); a fresh process costs
-    its imports (about 3 s). It changes no row (see :data:`WHERE_FIELDS`)."""
+    grows by about 25 MB per trial (``bench/bench_worker_memory.py``); a fresh process costs
+    its imports and first build (about 6.5 s, docs/speed.md). It changes no row (see
+    :data:`WHERE_FIELDS`)."""
     source_path: str = ""
     """Set by the loader: the experiment file itself (do not write it in YAML)."""
 

@@ -1,6 +1,6 @@
 """Where the trials run: local worker processes, or Ray tasks. Both yield results as trials finish.
 
-* :func:`local_results`: a ``concurrent.futures.ProcessPoolExecutor`` of ``workers`` processes
+* :func:`local_results`: ``workers`` local processes, each a one-process ``ProcessPoolExecutor``
   (``spawn``: fresh interpreters, nothing inherited from this process's state). Each process runs
   one trial at a time and keeps its imported modules and its Meshcat across trials, until it has
   run ``trials_per_worker`` trials: then a fresh process takes its place (pydrake never frees a
