@@ -390,6 +390,9 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     timing["segment"] = time.perf_counter() - start
 
     message = _empty_reason(depths, points, segmentation, first_look, config, p_WT, box)
+    blocked = _blocked_views(depths, X_WCs, config) if message else ""
+    if blocked:
+        message = message.removesuffix(IN_VIEW_QUESTION) + blocked
     if not message:
         t = time.perf_counter()
         low = np.flatnonzero(segmentation.low_mask)
@@ -467,8 +470,28 @@ def _nothing_found(dropped: dict[str, int], config: ScanConfig, p_WT, box: CropB
     seen = ", ".join(f"{n} {reason}" for reason, n in dropped.items() if n)
     return (f"empty scan: nothing stands on the table within {config.object_search_radius} m of "
             f"the scan target {np.round(p_WT, 3).tolist()} in the workspace box {_box_text(box)}"
-            + (f" (clusters dropped: {seen})" if seen else "")
-            + "; is the object at the scan target and in view of the cameras?")
+            + (f" (clusters dropped: {seen})" if seen else "") + IN_VIEW_QUESTION)
+
+
+#: A view is blocked at the camera when at least this fraction of its pixels is nearer than
+#: ``depth_min`` (Drake's depth images hold 0 there).
+BLOCKED_FRACTION = 0.5
+IN_VIEW_QUESTION = "; is the object at the scan target and in view of the cameras?"
+
+
+def _blocked_views(depths, X_WCs, config: ScanConfig) -> str:
+    """For an empty scan: why, when views are blocked at the camera (most of the image nearer
+    than ``depth_min``: the camera is inside or against something, e.g. the robot's arm at its
+    home pose); "" when no view is."""
+    blocked = [(i, float(np.mean(d == 0.0))) for i, d in enumerate(depths)
+               if np.mean(d == 0.0) >= BLOCKED_FRACTION]
+    if not blocked:
+        return ""
+    views = ", ".join(f"view {i} (camera at p_WC {np.round(X_WCs[i].translation(), 3).tolist()}"
+                      f" m: {100 * f:.0f} % of its pixels)" for i, f in blocked)
+    return (f"; blocked at the lens: {views} nearer than depth_min = {config.depth_min} m, "
+            "something is in front of the camera (the robot at its home pose?); a larger object "
+            "puts the views farther from it, up to distance_max")
 
 
 def _empty_reason(depths, points, segmentation, first_look: FirstLook | None,
@@ -480,7 +503,7 @@ def _empty_reason(depths, points, segmentation, first_look: FirstLook | None,
                 f"{config.depth_min}-{config.depth_max} m)")
     if len(points.p_WQ) == 0:
         return (f"empty scan: no depth pixel of the {n} views falls inside the workspace box "
-                f"{_box_text(box)}; is the object at the scan target and in view of the cameras?")
+                f"{_box_text(box)}" + IN_VIEW_QUESTION)
     if segmentation.found:
         return ""
     if first_look is not None and first_look.message:

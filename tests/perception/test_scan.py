@@ -131,3 +131,24 @@ def test_a_copied_scan_shares_its_mesh_but_not_its_lists(ten_views):
     assert "only on the copy" not in scan.warnings
     assert copy.deepcopy(scan).timing == scan.timing
     assert len(clone.X_WCs) == len(scan.X_WCs) == 10
+
+
+def test_a_view_inside_the_robot_says_so(mug_scene):
+    """One view from the robot's side (azimuth 180 deg), far back: its camera lands in the arm's
+    elbow at the home pose, so nearly every pixel is nearer than depth_min; the empty scan says
+    which view is blocked and where its camera is, instead of asking whether the object is in
+    view. (As in the held-out experiment's tote bag, natural trial 0, seed 1.)"""
+    config = ScanConfig(num_views=1, aim_views=False, distance=0.9)
+    result = scan_object(mug_scene.query_object, config, mug_scene.p_WT)
+    assert result.empty, "the view should be blocked by the arm"
+    assert "blocked at the lens: view 0 (camera at p_WC" in result.message, result.message
+    assert "in view of the cameras" not in result.message
+    # A view at the default distance sees the mug: nothing blocked, nothing said.
+    assert not scan_object(mug_scene.query_object, ScanConfig(num_views=1, aim_views=False),
+                           mug_scene.p_WT).empty
+
+
+def test_the_empty_bare_table_scan_names_no_blocked_view(mug_scene):
+    result = scan_object(mug_scene.query_object, ScanConfig(num_views=3),
+                         mug_scene.p_WT + [0.0, 0.6, 0.0])
+    assert result.empty and "blocked" not in result.message
