@@ -62,3 +62,4 @@ def test_a_real_settle_at_two_steps(tmp_path, monkeypatch):
     # A second run finds the row done and runs nothing again.
     settle_convergence.main()
     assert len((tmp_path / "rows.jsonl").read_text().splitlines()) == 1
+
