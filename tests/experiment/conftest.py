@@ -32,3 +32,12 @@ def first_run(tmp_path_factory):
     """The short experiment on 2 local workers: (folder, its rows by key, its rows)."""
     return _experiment_rows(SHORT, tmp_path_factory.mktemp("experiment") / "short",
                             "--workers", "2")
+
+
+@pytest.fixture
+def mug_experiment(tmp_path) -> Path:
+    """An experiment file of one trial: the default scenario's mug, seed 0 (for the tools)."""
+    path = tmp_path / "exp.yaml"
+    path.write_text("name: t\nbase: %s\nobjects: [mug_classic]\ntrials: 1\nseed: 0\n"
+                    % (Path(__file__).parents[2] / "scenarios" / "default.yaml"))
+    return path

@@ -13,15 +13,11 @@ spec.loader.exec_module(scan_vs_truth)
 
 
 @pytest.mark.sim
-def test_a_scan_compared_with_its_object(tmp_path, monkeypatch, capsys):
+def test_a_scan_compared_with_its_object(tmp_path, monkeypatch, capsys, mug_experiment):
     """tools/scan_vs_truth.py on the default mug (10 views): the scan's top is the mug's and
     nearly all of it lies on the mug; a row per trial."""
-    experiment = tmp_path / "exp.yaml"
-    experiment.write_text(
-        "name: t\nbase: %s\nobjects: [mug_classic]\ntrials: 1\nseed: 0\n"
-        % (Path(__file__).parents[2] / "scenarios" / "default.yaml"))
     monkeypatch.setattr("sys.argv", [
-        "scan_vs_truth", "--experiment", str(experiment), "--max-time", "0.8",
+        "scan_vs_truth", "--experiment", str(mug_experiment), "--max-time", "0.8",
         "--out", str(tmp_path / "rows.jsonl")])
     scan_vs_truth.main()
     (row,) = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]

@@ -41,13 +41,9 @@ def test_summary_counts_the_rest_poses_past_a_millimetre_or_a_degree():
 
 
 @pytest.mark.sim
-def test_a_real_settle_at_two_steps(tmp_path, monkeypatch):
-    experiment = tmp_path / "exp.yaml"
-    experiment.write_text(
-        "name: t\nbase: %s\nobjects: [mug_classic]\ntrials: 1\nseed: 0\n"
-        % (Path(__file__).parents[2] / "scenarios" / "default.yaml"))
+def test_a_real_settle_at_two_steps(tmp_path, monkeypatch, mug_experiment):
     monkeypatch.setattr("sys.argv", [
-        "settle_convergence", "--experiment", str(experiment), "--objects", "mug_classic",
+        "settle_convergence", "--experiment", str(mug_experiment), "--objects", "mug_classic",
         "--steps", "0.002", "0.004", "--settle-time", "0.05", "--out", str(tmp_path / "rows.jsonl")])
     settle_convergence.main()
     rows = [json.loads(line) for line in (tmp_path / "rows.jsonl").read_text().splitlines()]
