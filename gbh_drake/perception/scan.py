@@ -483,8 +483,8 @@ def _blocked_views(depths, X_WCs, config: ScanConfig) -> str:
     """For an empty scan: why, when views are blocked at the camera (most of the image nearer
     than ``depth_min``: the camera is inside or against something, e.g. the robot's arm at its
     home pose); "" when no view is."""
-    blocked = [(i, float(np.mean(d == 0.0))) for i, d in enumerate(depths)
-               if np.mean(d == 0.0) >= BLOCKED_FRACTION]
+    near = [float(np.mean(d == 0.0)) for d in depths]
+    blocked = [(i, f) for i, f in enumerate(near) if f >= BLOCKED_FRACTION]
     if not blocked:
         return ""
     views = ", ".join(f"view {i} (camera at p_WC {np.round(X_WCs[i].translation(), 3).tolist()}"
