@@ -54,7 +54,7 @@ class GraspSource:
     """What a method added to the diagram: the output ports the rest of the trial reads.
 
     ``grasps``: the grasps to try, best first (lists of objects with ``X_WG`` and ``kind``);
-    ``search``: why there are none (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`);
+    ``search``: why there are none (:class:`~gbh_drake.messages.GraspSearch`);
     ``scoop``: scoops tried when none of ``grasps`` could be planned (None: no scoop);
     ``regrasp_poses`` and ``regrasp_grasps``: resting poses to set the object down in and the
     pinches to do it with, when none of those could be planned (None: no regrasp);

@@ -30,14 +30,15 @@ from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
 
 from gbh_drake import interrupts
+from gbh_drake.messages import HeldBy, Outcome, PickStatus, Verdict, verdict_final
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.station import Station, make_station, scene_query_port
-from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict, verdict_final
+from gbh_drake.systems.cage_monitor import CageMonitor
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
-from gbh_drake.systems.pick_and_carry import PickAndCarry, PickStatus
+from gbh_drake.systems.pick_and_carry import PickAndCarry
 from gbh_drake.systems.ports import build_checked
 from gbh_drake.systems.scanner import Scanner
 
@@ -140,7 +141,7 @@ class TrialRecord:
     place: list[float] = field(default_factory=list)
     """Where the hook point was when the object was released (W)."""
     verdict: Verdict = field(default_factory=Verdict)
-    """The :class:`~gbh_drake.systems.cage_monitor.Verdict` at the end."""
+    """The :class:`~gbh_drake.messages.Verdict` at the end."""
     phases: dict[str, float] = field(default_factory=dict)
     """Simulated time at which each phase began."""
     sim_time: float = 0.0

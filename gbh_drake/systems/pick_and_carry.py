@@ -48,7 +48,6 @@ fingers over the place position.
 from __future__ import annotations
 
 import copy
-import enum
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -62,13 +61,13 @@ from pydrake.systems.framework import BasicVector, LeafSystem
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
 from gbh_drake.core.params import RegraspParams, ScoopParams
 from gbh_drake.core.results import GraspKind
+from gbh_drake.messages import FINAL_MODES, Attempt, Mode, PickStatus
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.perception.unseen import scan_unseen
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.pick import (
     PickPlan,
     PickSetup,
-    Refusal,
     plan_pick,
     release_path,
 )
@@ -90,116 +89,6 @@ EMPTY_LOAD = 0.2
 #: this close to a failed one's (same kind), are skipped: what came away empty from an object
 #: that barely moved would come away empty again.
 TRIED_RADIUS = 0.02
-
-
-class Mode(enum.Enum):
-    SETTLE = "settle"
-    PLAN = "plan"
-    # A regrasp (pick with a pinch, set down anew, re-scan), before the pick that is judged.
-    REGRASP_APPROACH = "regrasp_approach"
-    REGRASP_INSERT = "regrasp_insert"
-    REGRASP_CLOSE = "regrasp_close"
-    REGRASP_LIFT = "regrasp_lift"
-    REGRASP_TURN = "regrasp_turn"
-    REGRASP_LOWER = "regrasp_lower"
-    REGRASP_RELEASE = "regrasp_release"
-    REGRASP_RETREAT = "regrasp_retreat"
-    REGRASP_HOME = "regrasp_home"
-    RESCAN = "rescan"
-    # A retry after a lift that came away empty: open, go home, re-scan, plan again.
-    RETRY_RELEASE = "retry_release"
-    RETRY_HOME = "retry_home"
-    APPROACH = "approach"
-    INSERT = "insert"
-    CLOSE = "close"
-    LIFT = "lift"
-    CARRY = "carry"
-    HOLD = "hold"
-    CAGE_TEST = "cage_test"
-    LOWER = "lower"
-    RELEASE = "release"
-    RETREAT = "retreat"
-    DONE = "done"
-    NO_GRASP = "no_grasp"
-    NO_REACHABLE_GRASP = "no_reachable_grasp"
-
-
-#: Modes in which the machine has stopped for good.
-FINAL_MODES = (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP)
-
-
-@dataclass
-class Attempt:
-    """An executed grasp that came away empty (a retry followed). W frame, metres, newtons."""
-
-    kind: str
-    rank: int
-    score: float
-    source: str
-    """The input port the grasp came from."""
-    p_WG: np.ndarray
-    """(3,) the open gripper's origin at the grasp."""
-    c_W: np.ndarray | None
-    """(3,) the centre c of the hanging structure it hooked (None: a grasp without one)."""
-    load: float
-    """What the lift added to the hand's vertical load (below :data:`EMPTY_LOAD`)."""
-    time: float
-    """Simulated time (s) the lift ended."""
-
-    def as_dict(self) -> dict:
-        """Plain numbers and lists (a record's ``attempts`` entry)."""
-        return {"kind": self.kind, "rank": int(self.rank), "score": float(self.score),
-                "source": self.source, "p_WG": np.asarray(self.p_WG, dtype=float).tolist(),
-                "c_W": None if self.c_W is None else np.asarray(self.c_W, dtype=float).tolist(),
-                "load": float(self.load), "time": float(self.time)}
-
-
-@dataclass
-class PickStatus:
-    """What the machine is doing and has done (the ``status`` output)."""
-
-    mode: Mode = Mode.SETTLE
-    phase_start: dict[str, float] = field(default_factory=dict)
-    """Simulated time (s) at which each mode was entered, by mode value."""
-    n_grasps: int = 0
-    """How many grasps were offered (primary and fallback)."""
-    plan: PickPlan | None = None
-    """The plan being executed (None until PLAN succeeds)."""
-    score: float = float("nan")
-    """The executed grasp's score."""
-    fallback: bool = False
-    """Whether the executed grasp came from ``fallback_grasps``."""
-    source: str = ""
-    """The input port the executed grasp came from (``grasps``, ``scoop_grasps``,
-    ``fallback_grasps``; "" until one is planned)."""
-    refusals: list[Refusal] = field(default_factory=list)
-    """Every grasp that was tried and could not be planned, with its reason."""
-    plan_seconds: float = 0.0
-    """Wall seconds spent in PLAN (the grasps' evaluation included)."""
-    grasp_seconds: list[float] = field(default_factory=list)
-    """Wall seconds planning each grasp tried, in order."""
-    grasps_seconds: float = 0.0
-    """Wall seconds the grasps' evaluation took (GbH or the antipodal sampler on the scan)."""
-    regrasps: list[RegraspPlan] = field(default_factory=list)
-    """The regrasps executed (each a pick-and-place into a resting pose, then a re-scan)."""
-    regrasp_note: str = ""
-    """Why a regrasp the method offered was not executed ("" if it was, or none was offered)."""
-    grasp_X_WG: np.ndarray | None = None
-    """(4, 4) the executed grasp's open-gripper pose in W (None until one is planned)."""
-    grasp_c_W: np.ndarray | None = None
-    """(3,) the centre of the hanging structure it hooks (None: none, or not planned yet)."""
-    attempts: list[Attempt] = field(default_factory=list)
-    """Executed grasps whose lift came away empty, each followed by a retry (beyond the paper)."""
-    skipped: int = 0
-    """Grasps skipped on retries for lying within :data:`TRIED_RADIUS` of a failed one."""
-
-    @property
-    def phase(self) -> str:
-        return self.mode.value
-
-    @property
-    def finished(self) -> bool:
-        return self.mode in FINAL_MODES
 
 
 @dataclass
