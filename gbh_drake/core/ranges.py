@@ -14,6 +14,7 @@ Pure Python and numpy (no pydrake): the core and the perception config import it
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,6 +149,20 @@ class OneOf:
 
 
 @dataclass(frozen=True)
+class Registered:
+    """One of the names of a registry that may grow at run time (``names()`` lists them now)."""
+
+    names: Callable[[], tuple]
+    note: str = ""
+
+    def doc(self) -> str:
+        return OneOf(tuple(self.names()), self.note).doc()
+
+    def check(self, path: Path_, value) -> None:
+        OneOf(tuple(self.names()), self.note).check(path, value)
+
+
+@dataclass(frozen=True)
 class Items:
     """A list of ``length`` numbers (any length when None), each within ``each``."""
 
@@ -181,7 +196,7 @@ class Fixed:
             raise FieldError(path, f"must be {self.value!r} ({self.why}); got {value!r}")
 
 
-Rule = Range | OneOf | Items | Fixed
+Rule = Range | OneOf | Registered | Items | Fixed
 
 # ---- declaring and checking -------------------------------------------------------------------
 

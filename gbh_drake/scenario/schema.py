@@ -22,7 +22,19 @@ from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
 from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams, ScoopParams
-from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    Registered,
+    ranged,
+    sibling,
+)
+from gbh_drake.method_spec import method_names, method_spec
 from gbh_drake.modeling.names import GRIPPER_FILES, TABLE
 from gbh_drake.perception.config import ScanConfig
 
@@ -63,22 +75,6 @@ def without_table(directives: list[ModelDirective]) -> list[ModelDirective]:
             and not (d.add_weld and d.add_weld.child.startswith(f"{TABLE}::"))]
 
 
-#: How grasps are chosen (``Scenario.grasp_method``):
-#:
-#: * ``gbh``: Grasping by Hanging (the paper): the hook gripper's bar deployed;
-#: * ``antipodal``: a learning-free antipodal baseline with two straight fingers (the bar
-#:   retracted), the paper's fairness rule for its baseline;
-#: * ``gbh_fallback``: GbH, and when it finds nothing hangable or nothing reachable, an antipodal
-#:   grasp with the bar retracted (the revolute joint the paper proposes in Sec. 4).
-#: * ``gbh_scoop`` (beyond the paper): GbH, then a scoop of material lying flat on the table
-#:   (the wedge bar slid under it at table level, :mod:`gbh_drake.core.scoop`);
-#: * ``gbh_regrasp`` (beyond the paper): GbH, then, when it finds a structure but no hook grasp
-#:   of the object as it lies, a pinch sets it down in a resting pose GbH can hook, a re-scan,
-#:   GbH again (:mod:`gbh_drake.core.regrasp`);
-#: * ``gbh_plus`` (beyond the paper): GbH, the scoop, the regrasp, then the antipodal fallback.
-GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop", "gbh_regrasp", "gbh_plus")
-#: The gripper each method needs where it is not the paper's (``robot.gripper: auto``).
-METHOD_GRIPPERS = {"gbh_scoop": "wedge", "gbh_plus": "wedge"}
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
@@ -213,7 +209,8 @@ class RobotConfig:
     the bar's tip is chamfered underneath, a 16 mm ramp at 26.6 deg inside the paper's bar
     (``core.gripper.WEDGE_GRIPPER``, docs/scoop.md), so that it can slide under material lying
     on the table, as the scoop does) or ``auto``: the grasp method's
-    (:data:`METHOD_GRIPPERS`: the wedge for the methods that scoop, else the paper's). It picks
+    (its :attr:`~gbh_drake.method_spec.MethodSpec.gripper`: the wedge for the methods that
+    scoop, else the paper's). It picks
     the gripper's model file where the directives add a packaged one."""
 
 
@@ -354,9 +351,11 @@ class Scenario:
     gbh: GbhParams = field(default_factory=GbhParams)
     """Grasping-by-Hanging parameters (paper values by default). Its surface sampling is seeded
     from the scenario's ``seed``."""
-    grasp_method: str = ranged("gbh", OneOf(GRASP_METHODS))
-    """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
-    (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
+    grasp_method: str = ranged("gbh", Registered(method_names, "registered in gbh_drake/method_spec.py"))
+    """How grasps are chosen: a registered method (:mod:`gbh_drake.method_spec`): ``gbh`` (the
+    paper), ``antipodal`` (the two-straight-finger baseline), ``gbh_fallback`` (GbH, then an
+    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``
+    and ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
     scoop: ScoopParams = field(default_factory=ScoopParams)
@@ -382,10 +381,10 @@ class Scenario:
     @property
     def gripper(self) -> str:
         """The gripper variant this scenario runs: ``robot.gripper``, or the grasp method's
-        (:data:`METHOD_GRIPPERS`) when that is ``auto``."""
+        (:attr:`~gbh_drake.method_spec.MethodSpec.gripper`) when that is ``auto``."""
         if self.robot.gripper != "auto":
             return self.robot.gripper
-        return METHOD_GRIPPERS.get(self.grasp_method, "paper")
+        return method_spec(self.grasp_method).gripper
 
     def station_directives(self) -> list[ModelDirective]:
         """The directives the station and the planner build from: ``directives`` with the
