@@ -172,7 +172,8 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     builder = DiagramBuilder()
 
     # The station: robot, table, object, cameras, visualisation.
-    station = builder.AddSystem(make_station(scenario, meshcat=meshcat, object_asset=asset))
+    station = builder.AddSystem(make_station(scenario, meshcat=meshcat, object_asset=asset,
+                                              seeds=seeds))
 
     # Perception: one scan once the object has settled; the method's grasps from it.
     scanner = builder.AddNamedSystem("scanner", Scanner(

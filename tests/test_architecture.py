@@ -103,3 +103,23 @@ def test_the_core_is_pure():
                 assert not name.startswith("pydrake"), f"{path.name} imports {name}"
                 if name.startswith("gbh_drake"):
                     assert name.startswith("gbh_drake.core"), f"{path.name} imports {name}"
+
+
+def _room(module: str) -> str:
+    """The room (sub-package or top-level module) a module lives in."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def test_no_room_imports_a_room_that_imports_it_back():
+    """Rooms (sub-packages and top-level modules) import downward only: configuration
+    (scenario, with the ground-floor configs of core, modeling, perception) below modeling and
+    perception, those below planning and systems, those below the trial and the experiment."""
+    rooms: dict[str, set[str]] = {}
+    for module, imported in _graph().items():
+        for other in imported:
+            if _room(module) != _room(other) and "gbh_drake" not in (module, other):
+                rooms.setdefault(_room(module), set()).add(_room(other))
+    both_ways = sorted({tuple(sorted((a, b))) for a, bs in rooms.items() for b in bs
+                        if a in rooms.get(b, set())})
+    assert both_ways == []

@@ -51,9 +51,9 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
+from pydrake.common.yaml import yaml_dump_typed
 
-from gbh_drake.core.ranges import FieldError, Int, check_ranges, format_path, ranged
+from gbh_drake.core.ranges import FieldError, Int, Items, OneOf, check_fields, format_path, ranged
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -64,16 +64,12 @@ from gbh_drake.scenario import (
     load_scenario,
     validate_scenario,
 )
+from gbh_drake.scenario.layers import LayerError, Layers, load_layers
 from gbh_drake.scenario.loader import apply_overrides
 from gbh_drake.scenario.yaml_text import (
-    YamlFieldError,
     YamlTextError,
-    check_document,
     compose,
-    decode,
     line_of,
-    line_of_node,
-    locate_load_error,
     node_at,
     read_text,
 )
@@ -118,8 +114,10 @@ ENGINES = ("local", "ray")
 WHERE_FIELDS = ("engine", "ray_address", "trials_per_worker")
 
 
-class ExperimentError(ValueError):
-    """An experiment file or folder is invalid; the message names the file and the field."""
+class ExperimentError(LayerError):
+    """An experiment file or folder is invalid; the message names the file (or ``--set``
+    text), the field and its line: ``<origin>: <field> (line N): <problem>`` as a scenario's
+    errors read (:class:`~gbh_drake.scenario.layers.LayerError`)."""
 
 
 @dataclass
@@ -161,7 +159,7 @@ class Experiment:
     """The base scenario file (required), relative to the experiment file."""
     base_overrides: str = ""
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
-    objects: list[str] = field(default_factory=list)
+    objects: list[str] = ranged(list, Items(None, None, what="object names", unique=True))
     """Names of objects of the set (``gbh objects list``), each once."""
     trials: int = ranged(5, Int(1, 1000, "per object, method and protocol; the paper ran 5"))
     """Trials per object and method (in each protocol). At most :data:`MAX_TOTAL_TRIALS`
@@ -172,18 +170,20 @@ class Experiment:
     """Where each trial's object starts: a random stable resting pose, a yaw and a position on
     the reachable part of the table (``object.random_pose`` of the trial's scenario; its
     ``rest`` is set by ``protocols``)."""
-    protocols: list[str] = field(default_factory=lambda: ["stable"])
+    protocols: list[str] = ranged(lambda: ["stable"], Items(None, OneOf(PROTOCOLS),
+                                                            what="protocols", unique=True))
     """How the objects are set down, each a full run of objects x trials x methods: ``stable``
     (a random stable resting pose by its probability) and/or ``natural`` (the rest a person
     would set each object down in, declared in the object set); see :data:`PROTOCOLS`."""
     methods: list[MethodConfig] = field(default_factory=default_methods)
     """The methods compared; every one runs every (object, trial)."""
-    replays: str = "failures"
+    replays: str = ranged("failures", OneOf(REPLAY_MODES))
     """Meshcat replays kept: ``failures`` (every failed trial), ``all`` or ``none``."""
     output_dir: str = ""
     """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
     under the working folder."""
-    engine: str = "local"
+    engine: str = ranged("local", OneOf(ENGINES, note="local worker processes, or Ray tasks at "
+                                                      "ray_address"))
     """Where the trials run: ``local`` (worker processes on this machine, ``--workers``) or
     ``ray`` (Ray tasks at ``ray_address``). ``gbh experiment --ray ADDRESS`` overrides it; it
     changes no row (see :data:`WHERE_FIELDS`)."""
@@ -244,65 +244,28 @@ def _name_key(name: str) -> int:
 
 def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
     """Loads and validates an experiment file; ``overrides`` is YAML applied over it (e.g.
-    ``trials: 1``), or a list of such texts applied in order. Raises :class:`ExperimentError`
-    naming the file, the field and its line (as the scenario loader does: the file's text is
-    read, composed and checked by :mod:`gbh_drake.scenario.yaml_text`: UTF-8 only, no key given
-    twice, no string where a list is expected). An empty or comment-only file, or one that is
-    only ``---``, is the defaults (which list no objects: refused at ``objects``)."""
+    ``trials: 1``), or a list of such texts applied in order. The file and each override are
+    layers of one loader, the scenario's (:func:`gbh_drake.scenario.layers.load_layers`): a
+    problem raises :class:`ExperimentError` naming the file (or ``--set`` text), the field and
+    its line. An empty or comment-only file, or one that is only ``---``, is the defaults (which
+    list no objects: refused at ``objects``)."""
     path = Path(filename)
     origin = str(path)
     try:
         text = read_text(path, "experiment")
     except YamlTextError as e:
-        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
+        raise ExperimentError(origin, "", e.line, e.problem, e.column) from None
     layers = [(origin, text)] + [(f"{path} (--set {t!r})", t)
                                  for t in ([overrides] if isinstance(overrides, str) else overrides)
                                  if t.strip()]
-    experiment, roots = Experiment(), []
-    for layer_origin, layer_text in layers:
-        experiment, root = _load_text(layer_text, layer_origin, experiment)
-        roots.append((layer_origin, root))
+    experiment, trees = load_layers(Experiment, layers, Experiment(), what="experiment",
+                                    error=ExperimentError, prepare=_overrides_as_text)
     experiment.source_path = str(path.resolve())
     if not experiment.name:
         experiment.name = path.stem
-    experiment._roots = roots  # where each field is written (lines in errors; not a field)
+    experiment._layers = trees  # where each field is written (lines in errors; not a field)
     validate_experiment(experiment, origin)
     return experiment
-
-
-def experiment_error(origin: str, field: str, line: int | None, problem: str,
-                     column: int | None = None) -> ExperimentError:
-    """``<origin>: <field> (line N): <problem>`` (``<origin>: line N, column C: <problem>``
-    for the file as a whole), as a scenario's errors read."""
-    if field:
-        where = f"{field}{f' (line {line})' if line else ''}: "
-    else:
-        where = f"line {line}{f', column {column}' if column else ''}: " if line else ""
-    return ExperimentError(f"{origin}: {where}{problem}")
-
-
-def _load_text(text: str, origin: str, defaults: Experiment) -> tuple[Experiment, yaml.Node | None]:
-    """``defaults`` updated by one YAML document, and the document's node tree (None: empty)."""
-    try:
-        if "\0" in text:
-            decode(text.encode("utf-8", "surrogatepass"))  # names the NUL's line and column
-        root = compose(text, "experiment")
-    except YamlTextError as e:
-        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
-    if root is None:  # empty, comments only, or only "---": nothing changes
-        return copy.deepcopy(defaults), None
-    try:
-        check_document(root, Experiment, "experiment")
-    except YamlFieldError as e:
-        raise experiment_error(origin, format_path(e.path), e.line, e.problem) from None
-    loaded = _overrides_as_text(root)
-    data = text if loaded is root else yaml.serialize(loaded)
-    try:
-        return yaml_load_typed(schema=Experiment, data=data, defaults=defaults), root
-    except Exception as e:  # noqa: BLE001  (Drake names the unknown or mistyped key)
-        found = locate_load_error(loaded, Experiment, e, "experiment")
-        raise experiment_error(origin, format_path(found.path), found.line,
-                               found.problem) from None
 
 
 def _overrides_as_text(root: yaml.Node) -> yaml.Node:
@@ -341,24 +304,14 @@ def _overrides_as_text(root: yaml.Node) -> yaml.Node:
     return yaml.MappingNode(root.tag, items, root.start_mark, root.end_mark, root.flow_style)
 
 
-def _written_at(experiment: Experiment, path: tuple, *, key: bool = False
-                ) -> tuple[str | None, yaml.Node | None]:
-    """(origin, node) of the layer that wrote ``path`` last (a list replaces a list: the layer
-    that wrote its first part), or (None, None); with ``key``, the node of its key."""
-    for origin, root in reversed(getattr(experiment, "_roots", [])):
-        if root is not None and node_at(root, path[:1]) is not None:
-            return origin, node_at(root, path, key=key)
-    return None, None
+def _layers(experiment: Experiment) -> Layers:
+    """Where the fields of a loaded experiment were written (none for one built in code)."""
+    return getattr(experiment, "_layers", None) or Layers()
 
 
 def _line(experiment: Experiment, path: tuple) -> int | None:
-    """The line where ``path`` is written (of its key, or of its list, as the scenario's)."""
-    for end in range(len(path), 0, -1):
-        if end == len(path) or isinstance(path[end], int):
-            _, node = _written_at(experiment, path[:end], key=True)
-            if node is not None:
-                return line_of_node(node)
-    return None
+    """The line where ``path`` (or the list holding it) was written last."""
+    return _layers(experiment).wrote(path)[1]
 
 
 def field_error(experiment: Experiment, field_path: str | tuple, message: str,
@@ -366,9 +319,9 @@ def field_error(experiment: Experiment, field_path: str | tuple, message: str,
     """``message`` about the field at ``field_path`` (``methods[2].name``), naming the file (or
     ``--set`` text) and line where it is written (else ``origin``, else the experiment file)."""
     path = field_path if isinstance(field_path, tuple) else _parse_path(field_path)
-    where, _ = _written_at(experiment, path)
-    return experiment_error(where or origin or experiment.source_path or "<experiment>",
-                            format_path(path), _line(experiment, path), message)
+    written, line = _layers(experiment).wrote(path)
+    return ExperimentError(written or origin or experiment.source_path or "<experiment>",
+                           format_path(path), line, message)
 
 
 def validate_experiment(experiment: Experiment, origin: str) -> None:
@@ -383,8 +336,8 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         raise field_error(experiment, field_path, message, origin)
 
     try:
-        check_ranges(experiment)
-        check_ranges(experiment.pose, ("pose",))
+        check_fields(experiment)
+        check_fields(experiment.pose, ("pose",))
     except FieldError as e:
         fail(e.path, e.problem)
     if not experiment.objects:
@@ -394,8 +347,6 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
     for i, name in enumerate(experiment.objects):
         if name not in known:
             fail(f"objects[{i}]", f"unknown object {name!r} (known: {', '.join(known)})")
-        if experiment.objects.index(name) != i:
-            fail(f"objects[{i}]", f"{name!r} is listed twice")
     if not experiment.methods:
         fail("methods", "give at least one method")
     names = [m.name for m in experiment.methods]
@@ -420,12 +371,6 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         fail("pose.rest", f"is set by each protocol (protocols: [{pose.rest}]); remove it")
     if not experiment.protocols:
         fail("protocols", f"give at least one of {', '.join(PROTOCOLS)}")
-    for i, protocol in enumerate(experiment.protocols):
-        if protocol not in PROTOCOLS:
-            fail(f"protocols[{i}]", f"unknown protocol {protocol!r} (one of "
-                                    f"{', '.join(PROTOCOLS)})")
-        if experiment.protocols.index(protocol) != i:
-            fail(f"protocols[{i}]", f"{protocol!r} is listed twice")
     if "natural" in experiment.protocols:
         from gbh_drake.objects.catalog import natural_rest
 
@@ -442,11 +387,6 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
                                     "without: " + ", ".join(o for _, o in missing) + "); "
                                     "declare one where it is registered (rest=...) or drop "
                                     "the protocol")
-    if experiment.replays not in REPLAY_MODES:
-        fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
-    if experiment.engine not in ENGINES:
-        fail("engine", f"one of {', '.join(ENGINES)} (local worker processes, or Ray tasks at "
-                       f"ray_address), got {experiment.engine!r}")
     problem = address_problem(experiment.ray_address)
     if problem:
         fail("ray_address", problem)
@@ -483,10 +423,10 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
     try:
         base = load_scenario(experiment.base_path, overrides=experiment.base_overrides)
     except ScenarioError as e:
-        raise ExperimentError(f"{origin}: base: {e}") from e
+        raise ExperimentError(origin, "base", None, str(e)) from e
     if base.object.mesh:
         line = line_of(_scenario_root(experiment.base_path), ("object", "mesh"))
-        raise experiment_error(origin, "base", _line(experiment, ("base",)),
+        raise ExperimentError(origin, "base", _line(experiment, ("base",)),
                                f"{experiment.base_path}: object.mesh"
                                f"{f' (line {line})' if line else ''}: an experiment runs the "
                                "named objects of its objects list, not a mesh file; remove "
@@ -508,7 +448,7 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
                 else:
                     field = format_path(at + path)
                     line = line or _line(experiment, at)
-                raise experiment_error(layer, field, line, e.problem) from None
+                raise ExperimentError(layer, field, line, e.problem) from None
         scenario.source_path = base.source_path
         scenario.output_dir = ""
         where = f"{origin}: methods[{i}] ({method.name})"
@@ -517,9 +457,9 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
             try:
                 validate_scenario(scenario, where)
             except ScenarioError as e:
-                raise ExperimentError(str(e)) from e
+                raise ExperimentError(e.origin, e.field, e.line, e.problem) from e
         if scenario.task != "pick":
-            raise experiment_error(layer, format_path(at + ("task",)),
+            raise ExperimentError(layer, format_path(at + ("task",)),
                                    _line(experiment, at + ("task",)) or _line(experiment, at),
                                    f"an experiment picks (task: pick), got {scenario.task!r}")
         scenarios[method.name] = scenario
@@ -531,15 +471,15 @@ def _overrides_root(experiment: Experiment, at: tuple, text: str, origin: str
     """(origin, node tree, written as a mapping in the file) of the overrides at ``at``;
     refuses (:class:`ExperimentError`) fields the experiment sets itself
     (:data:`SET_BY_EXPERIMENT`)."""
-    layer, node = _written_at(experiment, at)
-    layer = layer or origin
+    layer = _layers(experiment).wrote(at)[0] or origin
+    node = _layers(experiment).node(at)
     in_file = isinstance(node, yaml.MappingNode)
     root = node
     if not in_file:
         try:
             root = compose(text) if text.strip() else None
         except YamlTextError as e:  # the scenario loader says it again with its line
-            raise experiment_error(layer, format_path(at), _line(experiment, at),
+            raise ExperimentError(layer, format_path(at), _line(experiment, at),
                                    e.problem) from None
     for path, why in SET_BY_EXPERIMENT.items():
         value = node_at(root, path) if root is not None else None
@@ -549,7 +489,7 @@ def _overrides_root(experiment: Experiment, at: tuple, text: str, origin: str
                 not value.value:
             continue  # mesh: '' clears a mesh
         line = line_of(root, path) if in_file else None
-        raise experiment_error(layer, format_path(at + path), line or _line(experiment, at),
+        raise ExperimentError(layer, format_path(at + path), line or _line(experiment, at),
                                f"{why}: the experiment sets it for every trial, so this "
                                "value would be replaced; remove it")
     return layer, root, in_file
@@ -653,7 +593,8 @@ def trial_scenario(experiment: Experiment | str | Path, object_name: str, method
     experiment.objects = [object_name]
     by_name = {m.name: m for m in experiment.methods}
     if method not in by_name:
-        raise ExperimentError(f"{experiment.source_path or '<experiment>'}: methods: no method "
+        raise ExperimentError(experiment.source_path or "<experiment>", "methods", None,
+                              f"no method "
                               f"{method!r} (known: {', '.join(by_name)})")
     experiment.methods = [by_name[method]]
     scenario = copy.deepcopy(method_scenarios(experiment)[method])

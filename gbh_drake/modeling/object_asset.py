@@ -19,8 +19,8 @@ import trimesh
 from pydrake.common import RandomGenerator
 from pydrake.math import RigidTransform
 
+from gbh_drake.modeling.object_config import ObjectConfig
 from gbh_drake.modeling.object_sdf import model_name
-from gbh_drake.scenario.schema import ObjectConfig
 
 
 @dataclass

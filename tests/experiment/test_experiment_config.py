@@ -211,7 +211,8 @@ def assert_refused(tmp_path, text: str, where: str, words: str) -> None:
 
 
 @pytest.mark.parametrize("text, where, words", [
-    ("protocols: [stable, upright]\n", "protocols[1]", "unknown protocol 'upright'"),
+    ("protocols: [stable, upright]\n", "protocols[1]", "must be one of stable, natural; got "
+                                                        "'upright'"),
     ("protocols: [natural, natural]\n", "protocols[1]", "listed twice"),
     ("protocols: []\n", "protocols", "at least one"),
     ("protocols: [natural]\npose: {rest: natural}\n", "pose.rest", "set by each protocol"),
@@ -278,8 +279,8 @@ def test_the_engine_changes_no_trial_nor_the_folders_definition():
 
 
 @pytest.mark.parametrize("text, where, words", [
-    ("engine: Ray\n", "engine", "one of local, ray (local worker processes, or Ray tasks at "
-                                "ray_address), got 'Ray'"),
+    ("engine: Ray\n", "engine", "must be one of local, ray; got 'Ray' (local worker processes, "
+                                "or Ray tasks at ray_address)"),
     ("engine: slurm\n", "engine", "got 'slurm'"),
     ("engine: ray\nray_address: 10.0.0.5\n", "ray_address", "not 'local', 'auto' or a "
                                                             "cluster's address host:port"),
