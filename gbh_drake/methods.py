@@ -117,8 +117,8 @@ def _add(builder: DiagramBuilder, systems: dict[str, System], name: str, system:
     return systems[name]
 
 
-def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
-             systems: dict[str, System]) -> GraspScorer:
+def add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+            systems: dict[str, System]) -> GraspScorer:
     """The paper's three stages on ``scan``; returns the scorer (its ``ranked_grasps``)."""
     detector = _add(builder, systems, "hangability_detector",
                     HangabilityDetector(scenario.gbh, seed=seeds.sampling))
@@ -132,8 +132,8 @@ def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return scorer
 
 
-def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
-                   systems: dict[str, System]) -> AntipodalGraspSampler:
+def add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+                  systems: dict[str, System]) -> AntipodalGraspSampler:
     """The antipodal sampler on ``scan``, keeping GbH's table clearance."""
     sampler = _add(builder, systems, "antipodal_sampler", AntipodalGraspSampler(
         scenario.antipodal, seed=seeds.grasps, ground_clearance=scenario.gbh.ground_clearance))
@@ -141,7 +141,7 @@ def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return sampler
 
 
-def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopSynthesizer:
+def add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopSynthesizer:
     """Scoops of the GbH detector's flat structures (the wedge gripper's)."""
     scoop = _add(builder, systems, "scoop_synthesizer",
                  ScoopSynthesizer(scenario.gbh, scenario.scoop))
@@ -149,8 +149,8 @@ def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> Scoop
     return scoop
 
 
-def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
-                 systems: dict[str, System]) -> RegraspPlanner:
+def add_regrasp(builder, scenario: Scenario, seeds: Seeds,
+                systems: dict[str, System]) -> RegraspPlanner:
     """The resting poses in which GbH can hook the scanned object."""
     planner = _add(builder, systems, "regrasp_planner", RegraspPlanner(
         scenario.gbh, scenario.regrasp, seed=seeds.sampling, antipodal=scenario.antipodal,
@@ -159,8 +159,11 @@ def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
     return planner
 
 
-def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
-                scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+def add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
+               scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+    """Why the method has no grasp (for the monitor): ``hook``, it runs GbH (``add_gbh`` first:
+    its structures and candidates are counted); ``fallback``, an antipodal fallback was tried
+    too. Each ``add_*`` adds its systems to ``builder`` under their names into ``systems``."""
     scoop = systems.get("scoop_synthesizer")
     report = _add(builder, systems, "grasp_search", GraspSearchReport(
         hook=hook, fallback=fallback, params=scenario.gbh, scoop=scoop is not None))
@@ -190,8 +193,8 @@ class Gbh(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        return _gbh_source(systems, _add_search(builder, systems, scan, hook=True, scenario=scenario))
+        add_gbh(builder, scenario, seeds, scan, systems)
+        return _gbh_source(systems, add_search(builder, systems, scan, hook=True, scenario=scenario))
 
 
 class Antipodal(GraspMethod):
@@ -201,8 +204,8 @@ class Antipodal(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=False, scenario=scenario)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        report = add_search(builder, systems, scan, hook=False, scenario=scenario)
         return GraspSource(tiers=[GraspTier(Tier.GRASPS, sampler.get_output_port())],
                            search=report.get_output_port(), systems=systems)
 
@@ -214,9 +217,9 @@ class GbhFallback(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+        add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
         return _gbh_source(systems, report, GraspTier(Tier.FALLBACK, sampler.get_output_port()))
 
@@ -229,9 +232,9 @@ class GbhScoop(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        scoop = _add_scoop(builder, scenario, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
+        add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = add_scoop(builder, scenario, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario)
         return _gbh_source(systems, report,
                            GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")))
 
@@ -245,10 +248,10 @@ class GbhRegrasp(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = _add_regrasp(builder, scenario, seeds, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
+        add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = add_regrasp(builder, scenario, seeds, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario)
         return _gbh_source(systems, report, GraspTier(Tier.REGRASP, sampler.get_output_port(),
                                                       poses=planner.get_output_port()))
 
@@ -262,11 +265,11 @@ class GbhPlus(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        scoop = _add_scoop(builder, scenario, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = _add_regrasp(builder, scenario, seeds, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+        add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = add_scoop(builder, scenario, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = add_regrasp(builder, scenario, seeds, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
         return _gbh_source(systems, report,
                            GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")),
