@@ -64,9 +64,9 @@ from gbh_drake.scenario import (
     load_scenario,
     validate_scenario,
 )
-from gbh_drake.scenario.layers import LayerError, Layers, load_layers
 from gbh_drake.scenario.loader import apply_overrides
-from gbh_drake.scenario.yaml_text import (
+from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers
+from gbh_drake.yamlfiles.yaml_text import (
     YamlTextError,
     compose,
     line_of,
@@ -117,7 +117,7 @@ WHERE_FIELDS = ("engine", "ray_address", "trials_per_worker")
 class ExperimentError(LayerError):
     """An experiment file or folder is invalid; the message names the file (or ``--set``
     text), the field and its line: ``<origin>: <field> (line N): <problem>`` as a scenario's
-    errors read (:class:`~gbh_drake.scenario.layers.LayerError`)."""
+    errors read (:class:`~gbh_drake.yamlfiles.layers.LayerError`)."""
 
 
 @dataclass
@@ -245,7 +245,7 @@ def _name_key(name: str) -> int:
 def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
     """Loads and validates an experiment file; ``overrides`` is YAML applied over it (e.g.
     ``trials: 1``), or a list of such texts applied in order. The file and each override are
-    layers of one loader, the scenario's (:func:`gbh_drake.scenario.layers.load_layers`): a
+    layers of one loader, the scenario's (:func:`gbh_drake.yamlfiles.layers.load_layers`): a
     problem raises :class:`ExperimentError` naming the file (or ``--set`` text), the field and
     its line. An empty or comment-only file, or one that is only ``---``, is the defaults (which
     list no objects: refused at ``objects``)."""

@@ -49,7 +49,7 @@ from gbh_drake.scenario.object_checks import check_object, object_model_name
 from gbh_drake.scenario.poses import check_poses
 from gbh_drake.scenario.schema import Scenario
 from gbh_drake.scenario.start_state import check_start_state
-from gbh_drake.scenario.yaml_text import optional_of, struct_fields
+from gbh_drake.yamlfiles.yaml_text import optional_of, struct_fields
 
 #: The ranges and allowed values of Drake's own config structs (not ours: their fields carry no
 #: rules), by section. Fields not listed are checked for finiteness only.

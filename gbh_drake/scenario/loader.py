@@ -24,9 +24,9 @@ from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 from gbh_drake.core.params import PRESETS
 from gbh_drake.core.ranges import FieldError, format_path
 from gbh_drake.scenario.checks import check_scenario
-from gbh_drake.scenario.layers import LayerError, Layers, load_layers, override_layers, written
 from gbh_drake.scenario.schema import ObjectConfig, Scenario
-from gbh_drake.scenario.yaml_text import YamlTextError, read_text
+from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers, override_layers, written
+from gbh_drake.yamlfiles.yaml_text import YamlTextError, read_text
 
 
 class ScenarioError(LayerError):

@@ -2,7 +2,7 @@
 
 A file is loaded, then each override (``--set`` text) on top of it, every layer with Drake's
 ``yaml_load_typed`` over the result of the ones before (typos fail loudly). Each layer's text is
-first read and composed by :mod:`gbh_drake.scenario.yaml_text` (UTF-8 only, no key given twice,
+first read and composed by :mod:`gbh_drake.yamlfiles.yaml_text` (UTF-8 only, no key given twice,
 no string where a list is expected), and its node tree is kept, so that an error found later,
 by a field's range or a rule between fields, names the layer (the file, or ``<file>
 (overrides)``) and the line where the field was written last (:meth:`Layers.locate`).
@@ -21,7 +21,7 @@ import yaml
 from pydrake.common.yaml import yaml_load_typed
 
 from gbh_drake.core.ranges import FieldError, format_path
-from gbh_drake.scenario.yaml_text import (
+from gbh_drake.yamlfiles.yaml_text import (
     YamlFieldError,
     YamlTextError,
     check_document,
