@@ -69,7 +69,8 @@ def _object_asset(scenario):
     from gbh_drake.modeling.object_asset import load_object_asset
 
     o = scenario.object
-    key = (o.name, o.mesh, o.scale, o.orientation, o.density, o.mass, str(scenario.directory))
+    key = (o.name, o.set, o.mesh, o.scale, o.orientation, o.density, o.mass,
+           str(scenario.directory))
     if key not in _assets:
         while len(_assets) >= ASSET_CACHE_SIZE:
             _assets.pop(next(iter(_assets)))
