@@ -6,7 +6,9 @@ or mistyped keys fail loudly)::
     name: table1                     # optional; default: the file's stem
     base: default.yaml               # the base scenario file (relative to this file)
     base_overrides: {max_time: 60}   # YAML applied over the base for every method (optional)
-    objects: [mug_classic, kettle, ball]
+    objects: [mug_classic, kettle, ball]  # built-in names, or names of the object set's
+    object_set: my_set.yaml          # an object set's manifest (optional; relative to this
+                                     # file): objects empty = all of its objects
     trials: 5                        # trials per object and method
     seed: 0                          # with (object, trial), seeds every trial
     pose: {x: [0.45, 0.62], y: [-0.18, 0.18], yaw_deg: [-180, 180], stable: true}
@@ -43,7 +45,9 @@ resumed whatever engine ran them (docs/ray.md).
 """
 
 import copy
+import dataclasses
 import hashlib
+import os
 import re
 import subprocess
 from dataclasses import dataclass, field
@@ -86,6 +90,8 @@ SET_BY_EXPERIMENT = {
     ("object", "name"): "each trial's object is one of the experiment's objects",
     ("object", "mesh"): "each trial's object is one of the experiment's objects (named "
                         "objects of the set)",
+    ("object", "set"): "each trial's object is one of the experiment's objects (give the "
+                       "experiment's object_set)",
     ("object", "pose"): "each trial's start pose is drawn from the experiment's pose",
     ("object", "random_pose"): "each trial's start pose is drawn from the experiment's pose "
                                "(set it there)",
@@ -160,7 +166,11 @@ class Experiment:
     base_overrides: str = ""
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
     objects: list[str] = ranged(list, Items(None, None, what="object names", unique=True))
-    """Names of objects of the set (``gbh objects list``), each once."""
+    """Names of objects: of ``object_set`` (looked up first) or of the built-in set (``gbh
+    objects list``), each once; empty with an ``object_set``: every object of the set."""
+    object_set: str = ""
+    """An object set's manifest (:mod:`gbh_drake.objects.sets`), relative to the experiment
+    file: its objects (meshes with their masses, rests and ground truth, or built-in ones)."""
     trials: int = ranged(5, Int(1, 1000, "per object, method and protocol; the paper ran 5"))
     """Trials per object and method (in each protocol). At most :data:`MAX_TOTAL_TRIALS`
     trials in all (objects x trials x methods x protocols)."""
@@ -206,6 +216,14 @@ class Experiment:
         return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
 
     @property
+    def object_set_path(self) -> Path | None:
+        """The object set's manifest, or None."""
+        if not self.object_set:
+            return None
+        p = Path(self.object_set).expanduser()
+        return p if p.is_absolute() else self.directory / p
+
+    @property
     def base_path(self) -> Path:
         p = Path(self.base).expanduser()
         return p if p.is_absolute() else self.directory / p
@@ -223,6 +241,46 @@ class Experiment:
     def ray_engine_address(self) -> str:
         """The Ray address the trials run at (``engine: ray``), or empty (local workers)."""
         return self.ray_address if self.engine == "ray" else ""
+
+
+@dataclass(frozen=True)
+class TrialObject:
+    """An object of an experiment, resolved: its ``name`` (in rows), whether it is a
+    ``control``, its ``tags`` (the report groups by them), whether it has a natural rest, and
+    ``set_path``: the manifest a trial's scenario names (``object.set``) for an object set's
+    mesh, None for a built-in object."""
+
+    name: str
+    control: bool
+    tags: tuple[str, ...]
+    has_natural_rest: bool
+    set_path: Path | None = None
+
+
+def experiment_objects(experiment: Experiment) -> list[TrialObject]:
+    """The experiment's objects, resolved (:class:`TrialObject`), in order. A built-in object's
+    tags are the built-in set's (``scenarios/object_sets/own.yaml``) unless the experiment's
+    object set lists it with its own."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.objects import make_object
+    from gbh_drake.objects.catalog import natural_rest
+    from gbh_drake.objects.sets import load_object_set
+
+    own = load_object_set(SCENARIOS_DIR / "object_sets" / "own.yaml")
+    chosen = load_object_set(experiment.object_set_path) if experiment.object_set else None
+    found = []
+    for name in experiment.objects:
+        object_set = chosen if chosen is not None and name in chosen.names else own
+        entry = object_set.entry(name) if name in object_set.names else None
+        builtin = entry.builtin if entry is not None else name
+        tags = tuple(entry.tags) if entry is not None else ()
+        if builtin:
+            found.append(TrialObject(name, bool(make_object(builtin).is_control), tags,
+                                     natural_rest(builtin) is not None))
+        else:
+            found.append(TrialObject(name, bool(entry.control), tags, entry.rest is not None,
+                                     object_set.path))
+    return found
 
 
 def trial_seed(seed: int, object_name: str, trial: int, protocol: str = "stable") -> int:
@@ -340,13 +398,36 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         check_fields(experiment.pose, ("pose",))
     except FieldError as e:
         fail(e.path, e.problem)
+    object_set = None
+    if experiment.object_set:
+        from gbh_drake.objects.sets import ObjectSetError, load_object_set
+
+        path = experiment.object_set_path
+        if not path.is_file():
+            fail("object_set", f"{'is a folder' if path.is_dir() else 'file not found'}: {path}")
+        try:
+            object_set = load_object_set(path)
+        except ObjectSetError as e:
+            fail("object_set", str(e))
+        if not experiment.objects:  # every object of the set
+            experiment.objects = list(object_set.names)
     if not experiment.objects:
-        fail("objects", "list at least one object of the set (gbh objects list); the "
-                        "defaults (an empty file) have none")
-    known = list_objects()
+        fail("objects", "list at least one object of the set (gbh objects list), or give an "
+                        "object_set; the defaults (an empty file) have none")
+    known = [*(object_set.names if object_set else []), *list_objects()]
     for i, name in enumerate(experiment.objects):
         if name not in known:
-            fail(f"objects[{i}]", f"unknown object {name!r} (known: {', '.join(known)})")
+            fail(f"objects[{i}]", f"unknown object {name!r} (known: "
+                                  f"{', '.join(dict.fromkeys(known))})")
+    if object_set is not None:
+        for i, name in enumerate(experiment.objects):
+            if name in object_set.names:
+                from gbh_drake.objects.sets import ObjectSetError
+
+                try:
+                    object_set.object(name)  # its mesh is found (fetched)
+                except ObjectSetError as e:
+                    fail(f"objects[{i}]", str(e))
     if not experiment.methods:
         fail("methods", "give at least one method")
     names = [m.name for m in experiment.methods]
@@ -372,21 +453,21 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
     if not experiment.protocols:
         fail("protocols", f"give at least one of {', '.join(PROTOCOLS)}")
     if "natural" in experiment.protocols:
-        from gbh_drake.objects.catalog import natural_rest
-
         i = experiment.protocols.index("natural")
         if not pose.stable:
             fail("pose.stable", "false (as modelled) contradicts the natural protocol "
                                 f"(protocols[{i}]), which sets each object in its declared "
                                 "natural rest: remove pose.stable")
-        missing = [(j, o) for j, o in enumerate(experiment.objects) if natural_rest(o) is None]
+        objects = experiment_objects(experiment)
+        missing = [(j, o.name) for j, o in enumerate(objects) if not o.has_natural_rest]
         if missing:
             j, name = missing[0]
             fail(f"protocols[{i}]", f"natural: objects[{j}] {name!r} has no natural rest "
                                     f"declared in the object set ({len(missing)} objects "
                                     "without: " + ", ".join(o for _, o in missing) + "); "
-                                    "declare one where it is registered (rest=...) or drop "
-                                    "the protocol")
+                                    "declare one (rest: in its object set's entry, or rest=... "
+                                    "where a built-in object is registered) or drop the "
+                                    "protocol")
     problem = address_problem(experiment.ray_address)
     if problem:
         fail("ray_address", problem)
@@ -452,8 +533,10 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
         scenario.source_path = base.source_path
         scenario.output_dir = ""
         where = f"{origin}: methods[{i}] ({method.name})"
+        first = experiment_objects(dataclasses.replace(experiment,
+                                                       objects=experiment.objects[:1]))[0]
         for protocol in reversed(experiment.protocols):  # (the first one is kept)
-            _set_trial(scenario, experiment, experiment.objects[0], 0, protocol)
+            _set_trial(scenario, experiment, first, 0, protocol)
             try:
                 validate_scenario(scenario, where)
             except ScenarioError as e:
@@ -503,11 +586,15 @@ def _scenario_root(path: Path) -> yaml.Node | None:
         return None
 
 
-def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int,
+def _set_trial(scenario: Scenario, experiment: Experiment, obj: TrialObject, trial: int,
                protocol: str = "stable") -> int:
-    """Makes ``scenario`` the one of (object, trial, protocol): name, random pose (its rest the
-    protocol) and seed."""
+    """Makes ``scenario`` the one of (object, trial, protocol): name (and its object set,
+    relative to the base scenario's folder: the trial's text does not depend on where the
+    experiment lives), random pose (its rest the protocol) and seed."""
+    object_name = obj.name
     scenario.object.name = object_name
+    scenario.object.set = "" if obj.set_path is None else \
+        os.path.relpath(obj.set_path, scenario.directory)
     scenario.object.mesh = ""
     scenario.object.random_pose = copy.deepcopy(experiment.pose)
     scenario.object.random_pose.rest = protocol
@@ -518,19 +605,23 @@ def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, tri
 def trial_scenario_yaml(scenario: Scenario) -> str:
     """The YAML of a trial's scenario, as a user would write it: without the fields that say
     where files are (so the same trial has the same digest wherever the experiment lives),
-    without ``object.pose`` when ``object.random_pose`` replaces it, and without
-    ``random_pose.rest`` when it is ``stable`` (the default: the ``stable`` trials keep the
-    text and digest they had before protocols existed)."""
+    without ``object.pose`` when ``object.random_pose`` replaces it, without ``random_pose.rest``
+    when it is ``stable`` and without an empty ``object.set`` (the defaults: the trials of
+    built-in objects keep the text and digest they had before protocols and object sets
+    existed)."""
     scenario = copy.copy(scenario)
     scenario.source_path = ""
     scenario.output_dir = ""
     text = yaml_dump_typed(scenario)
-    if scenario.object.random_pose is None:
+    if scenario.object.random_pose is None and scenario.object.set:
         return text
     root = yaml.compose(text, Loader=yaml.SafeLoader)
     for key, value in root.value:
         if key.value == "object":
-            value.value = [(k, v) for k, v in value.value if k.value != "pose"]
+            random = scenario.object.random_pose is not None
+            value.value = [(k, v) for k, v in value.value
+                           if not (k.value == "pose" and random)
+                           and not (k.value == "set" and v.value == "")]
             for k, v in value.value:
                 if k.value == "random_pose" and isinstance(v, yaml.MappingNode):
                     v.value = [(a, b) for a, b in v.value
@@ -552,10 +643,8 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
     """Every trial of ``experiment``, trial-major (all objects' first trials, in every protocol
     and by every method, come first, so an interrupted experiment has a little of everything).
     ``scenarios``: the methods' (default: :func:`method_scenarios`)."""
-    from gbh_drake.objects import make_object
-
     scenarios = scenarios or method_scenarios(experiment)
-    controls = {name: bool(make_object(name).is_control) for name in experiment.objects}
+    objects = {o.name: o for o in experiment_objects(experiment)}
     # The trials of one (method, object, protocol) differ only in their seed: the YAML is dumped
     # once (its first trial's) and the seed line set for the others (bench/bench_import.py).
     first: dict[tuple[str, str, str], tuple[int, str]] = {}
@@ -569,11 +658,12 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
                     text = _with_seed(*first[key], seed) if key in first else None
                     if text is None:
                         scenario = copy.deepcopy(scenarios[method.name])
-                        _set_trial(scenario, experiment, name, trial, protocol)
+                        _set_trial(scenario, experiment, objects[name], trial, protocol)
                         text = trial_scenario_yaml(scenario)
                         first.setdefault(key, (seed, text))
                     tasks.append(TrialTask(
-                        experiment=experiment.name, object=name, is_control=controls[name],
+                        experiment=experiment.name, object=name,
+                        is_control=objects[name].control, object_tags=objects[name].tags,
                         method=method.name, trial=trial, seed=seed, scenario_yaml=text,
                         source_path=scenarios[method.name].source_path,
                         digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
@@ -598,7 +688,7 @@ def trial_scenario(experiment: Experiment | str | Path, object_name: str, method
                               f"{method!r} (known: {', '.join(by_name)})")
     experiment.methods = [by_name[method]]
     scenario = copy.deepcopy(method_scenarios(experiment)[method])
-    _set_trial(scenario, experiment, object_name, trial, protocol)
+    _set_trial(scenario, experiment, experiment_objects(experiment)[0], trial, protocol)
     return scenario
 
 

@@ -157,6 +157,7 @@ def _base_row(task: TrialTask) -> dict:
     """The fields every row has, also an ``error`` row."""
     return {
         "experiment": task.experiment, "object": task.object, "is_control": task.is_control,
+        "object_tags": list(task.object_tags),
         "method": task.method, "trial": task.trial, "seed": task.seed,
         "grasp_method": "", "viewpoints": 0, "pose": [], "outcome": "", "success": False,
         "reason": "", "held_by": "", "grasp_kind": "", "grasp_score": None, "grasp_rank": -1,
