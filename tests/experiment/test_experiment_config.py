@@ -316,16 +316,17 @@ def test_each_task_is_the_trial_scenario_dumped_alone():
     import copy
     import hashlib
 
-    from gbh_drake.experiment.config import _set_trial, trial_scenario_yaml
+    from gbh_drake.experiment.config import _set_trial, experiment_objects, trial_scenario_yaml
 
     experiment = load_experiment(SCENARIOS_DIR / "experiment_small.yaml",
                                  overrides="trials: 3\nprotocols: [stable, natural]\n")
     scenarios = method_scenarios(experiment)
     tasks = make_tasks(experiment, scenarios=scenarios)
+    objects = {o.name: o for o in experiment_objects(experiment)}
     assert len(tasks) == 4 * 3 * 2 * len(experiment.methods)
     for task in tasks:
         scenario = copy.deepcopy(scenarios[task.method])
-        _set_trial(scenario, experiment, task.object, task.trial, task.protocol)
+        _set_trial(scenario, experiment, objects[task.object], task.trial, task.protocol)
         text = trial_scenario_yaml(scenario)
         assert (task.scenario_yaml, task.seed) == (text, scenario.seed)
         assert task.digest == hashlib.sha256(text.encode()).hexdigest()
