@@ -65,7 +65,9 @@ class MethodSpec:
     """rad: the bar before a grasp is chosen (each executed grasp then sets it by its kind)."""
     max_retries: int = 0
     """How often a lift that came away empty is followed by a re-scan and a new plan, unless
-    the scenario's ``pick.max_retries`` says otherwise (0: one attempt, as in the paper)."""
+    the scenario's ``pick.max_retries`` says otherwise (0: one attempt, as in the paper); once
+    they are used up, the tiers after the failed grasp's are still tried
+    (:func:`gbh_drake.planning.choice.tiers_after_empty_lifts`)."""
     beyond_paper: bool = False
     """Whether the method goes beyond the paper's (reported in their own section)."""
     hooks: bool = True
@@ -117,7 +119,7 @@ for _spec in (
                "hook, a re-scan, and GbH hooks it there", tiers=(Tier.GRASPS, Tier.REGRASP),
                beyond_paper=True),
     MethodSpec("gbh_plus", "GbH, the scoop, the regrasp, then the antipodal fallback; one retry "
-               "after a lift that came away empty",
+               "after a lift that came away empty, then the tiers after the failed one",
                tiers=(Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK), gripper="wedge",
                needs_gripper=True, max_retries=1, beyond_paper=True),
 ):

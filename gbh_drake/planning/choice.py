@@ -12,6 +12,10 @@ The :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine calls it at 
 
     choice = choose([Offer(Tier.GRASPS, lambda: ranked), Offer(Tier.FALLBACK, lambda: pinches)],
                     plan_grasp=..., plan_regrasp=..., max_grasps=10)
+
+After lifts that came away empty (beyond the paper: a method with retries), which tiers the
+next PLAN may try is :func:`tiers_after_empty_lifts`: every tier while the retries last, then
+the tiers after the one whose grasp came away empty last, until none is left.
 """
 
 from __future__ import annotations
@@ -88,6 +92,28 @@ def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Calla
             if _try(choice, result, is_plan, offer.tier, rank, grasp):
                 return choice
     return choice
+
+
+def tiers_after_empty_lifts(tiers: Sequence[Tier], failed: Sequence[Tier],
+                            max_retries: int) -> tuple[Tier, ...]:
+    """The tiers a plan may try after lifts that came away empty from grasps of the tiers
+    ``failed`` (in order; the grasps themselves are skipped by the caller's ``skip``), for a
+    method that retries ``max_retries`` times (0: the paper's one attempt).
+
+    No empty lift yet: every tier. Without retries: none (the trial ends). While the retries
+    last (at most ``max_retries`` empty lifts): every tier again, the failed grasps skipped.
+    After that, each further empty lift moves on to the tiers after the one whose grasp came
+    away empty last (a method's fallback pinch still follows two empty hooks), until no tier is
+    left: at most ``max_retries + len(tiers)`` attempts."""
+    tiers = tuple(tiers)
+    if not failed:
+        return tiers
+    if max_retries <= 0:
+        return ()
+    if len(failed) <= max_retries:
+        return tiers
+    last = failed[-1]
+    return tiers[tiers.index(last) + 1:] if last in tiers else ()
 
 
 def _try(choice: Choice, result, is_plan, tier: Tier, rank: int, grasp) -> bool:

@@ -170,8 +170,10 @@ class PickConfig:
                                                optional=True))
     """After a lift that came away empty (the hand's load did not grow), the hand opens, goes
     home, the object is scanned again and the pick planned anew, the grasps near the failed one
-    skipped: at most this many times (beyond the paper). Omitted: the method's own (``gbh_plus``
-    1; the paper's methods make one attempt, 0)."""
+    skipped: at most this many times (beyond the paper); once they are used up, a further empty
+    lift goes on to the method's tiers after the failed grasp's (a fallback pinch after two
+    empty hooks), until none is left. Omitted: the method's own (``gbh_plus`` 1; the paper's
+    methods make one attempt, 0: an empty lift ends the trial)."""
 
     def check_relations(self, at: tuple = ()) -> None:
         if self.max_approach_distance < self.approach_distance:

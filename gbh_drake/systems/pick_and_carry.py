@@ -41,7 +41,10 @@ new scan's grasps; at most ``RegraspParams.max_regrasps`` times. With ``max_retr
 since the approach came away empty: the fingers open, the arm goes home, the Scanner is asked
 for a new scan of where the object was, and PLAN plans anew, skipping the grasps of the hanging
 structure that failed (without a structure: those of the same kind where it was; both within
-:data:`TRIED_RADIUS`); the failed attempts are kept in the status (:class:`Attempt`). CLOSE drives the
+:data:`TRIED_RADIUS`); the failed attempts are kept in the status (:class:`Attempt`). Once
+the retries are used up, a further empty lift goes on to the tiers after the failed grasp's
+(:func:`~gbh_drake.planning.choice.tiers_after_empty_lifts`: a fallback pinch still follows
+two empty hooks), until no tier is left. CLOSE drives the
 fingers toward each other with the hand's grasp force until they stop; CAGE_TEST relaxes the
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
@@ -69,7 +72,7 @@ from gbh_drake.method_spec import Tier
 from gbh_drake.modeling.names import TABLE
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.perception.unseen import scan_unseen
-from gbh_drake.planning.choice import Offer, choose
+from gbh_drake.planning.choice import Offer, choose, tiers_after_empty_lifts
 from gbh_drake.planning.model import HandPose, PlanningModel, parse_robot
 from gbh_drake.planning.pick import PickPlan, PickSetup, Refusal, plan_pick, release_path
 from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
@@ -175,7 +178,8 @@ class PickAndCarry(LeafSystem):
         ``regrasp``: how often the object may be set down anew (``max_regrasps``) and how
         many pinches are planned for per resting pose; ``scan_height`` (m): the height of a
         re-scan's target (the scenario's ``scan_target`` z); ``max_retries``: how often a lift
-        that came away empty is followed by a re-scan and a new plan (0: never, the paper);
+        that came away empty is followed by a re-scan and a new plan through every tier (0:
+        never, the paper; once they are used up, the tiers after the failed one's are tried);
         ``tiers``: the grasp tiers to try, in order (a method's
         :attr:`~gbh_drake.method_spec.MethodSpec.tiers`; the first must be ``grasps``);
         ``gripper``: the hook gripper's geometry (the variant the station runs)."""
@@ -368,11 +372,18 @@ class PickAndCarry(LeafSystem):
 
     # The retry: a lift that came away empty; open, go home, re-scan, plan again.
     def _came_away_empty(self, context, s: _State) -> float | None:
-        """What the lift added to the hand's load (N), if it came away empty and may retry."""
-        if len(s.status.attempts) >= self._max_retries:
+        """What the lift added to the hand's load (N), if it came away empty and a tier is left
+        to try (:func:`tiers_after_empty_lifts`)."""
+        if not self._tiers_left(s, Tier(s.status.source)):
             return None
         gained = float(self._load.Eval(context)[2]) - s.load_free
         return gained if gained < EMPTY_LOAD else None
+
+    def _tiers_left(self, s: _State, *failing: Tier) -> tuple[Tier, ...]:
+        """The tiers the next plan may try, the attempts that came away empty (and
+        ``failing``) considered."""
+        failed = [*(Tier(a.source) for a in s.status.attempts), *failing]
+        return tiers_after_empty_lifts(self._tiers, failed, self._max_retries)
 
     def _retry(self, context, s: _State, t: float, gained: float) -> None:
         st = s.status
@@ -602,7 +613,7 @@ class PickAndCarry(LeafSystem):
             return plan_regrasp(get_setup(), X_WG, pose, rank, q_start, s.q_home)
 
         choice = choose(
-            self._offers(context), plan_grasp=plan_grasp, plan_regrasp=plan_regrasp_,
+            self._offers(context, self._tiers_left(s)), plan_grasp=plan_grasp, plan_regrasp=plan_regrasp_,
             is_plan=lambda result: isinstance(result, PickPlan | RegraspPlan),
             max_grasps=self._config.max_grasps, max_pinches=self._regrasp.max_pinches,
             regrasp_allowed=len(s.status.regrasps) < self._regrasp.max_regrasps,
@@ -626,11 +637,12 @@ class PickAndCarry(LeafSystem):
         return (choice.plan, float(getattr(choice.grasp, "score", float("nan"))),
                 choice.tier is Tier.FALLBACK)
 
-    def _offers(self, context) -> list[Offer]:
-        """The tiers' grasps, evaluated when :func:`choose` reaches them; a tier whose input is
-        not connected is passed over (the first, ``grasps``, must be)."""
+    def _offers(self, context, tiers: Sequence[Tier]) -> list[Offer]:
+        """The grasps of ``tiers`` (the machine's, in its order), evaluated when :func:`choose`
+        reaches them; a tier whose input is not connected is passed over (the first,
+        ``grasps``, must be)."""
         offers = []
-        for tier in self._tiers:
+        for tier in tiers:
             ports = [self._inputs[name] for name in tier.ports]
             if tier is not Tier.GRASPS and not all(p.HasValue(context) for p in ports):
                 continue

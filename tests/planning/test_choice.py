@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gbh_drake.method_spec import Tier
-from gbh_drake.planning.choice import Offer, choose
+from gbh_drake.planning.choice import Offer, choose, tiers_after_empty_lifts
 
 
 @dataclass
@@ -123,3 +123,40 @@ def test_an_offer_the_caller_refuses_raises():
     with pytest.raises(TypeError, match="grasps: a grasp without X_WG"):
         choose([Offer(Tier.GRASPS, lambda: [object()])], plan_grasp=lambda *a: None,
                is_plan=is_plan, max_grasps=10, check=check)
+
+
+PLUS = (Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)
+
+
+@pytest.mark.parametrize(("failed", "max_retries", "left"), [
+    ([], 0, PLUS),
+    ([Tier.GRASPS], 0, ()),  # the paper: an empty lift ends the trial
+    ([Tier.GRASPS], 1, PLUS),  # the retry: every tier again (the failed grasps skipped)
+    # The retry came away empty too: on to the tiers after the hook's (the fallback pinch).
+    ([Tier.GRASPS, Tier.GRASPS], 1, (Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)),
+    ([Tier.SCOOP, Tier.SCOOP], 1, (Tier.REGRASP, Tier.FALLBACK)),
+    ([Tier.GRASPS, Tier.GRASPS, Tier.SCOOP], 1, (Tier.REGRASP, Tier.FALLBACK)),
+    ([Tier.GRASPS, Tier.FALLBACK], 1, ()),  # nothing after the last tier
+    ([Tier.GRASPS, Tier.GRASPS], 2, PLUS),
+])
+def test_after_empty_lifts_the_retries_then_the_remaining_tiers_are_tried(failed, max_retries,
+                                                                          left):
+    assert tiers_after_empty_lifts(PLUS, failed, max_retries) == left
+
+
+def test_an_empty_retry_goes_on_to_the_fallback_skipping_what_was_tried():
+    """gbh+ on a spray bottle: its best hook came away empty, the retry's next hook too; the
+    plan after them offers the remaining tiers only, and the fallback pinch is planned."""
+    failed = [Tier.GRASPS, Tier.GRASPS]
+    log, seen = [], []
+    plan_grasp, plan_regrasp = planner({"a2", "f0"}, log)
+    tiers = tiers_after_empty_lifts(PLUS, failed, max_retries=1)
+    offers = {Tier.GRASPS: Offer(Tier.GRASPS, evaluated(["a0", "a1", "a2"], seen, Tier.GRASPS)),
+              Tier.SCOOP: Offer(Tier.SCOOP, evaluated([], seen, Tier.SCOOP)),
+              Tier.REGRASP: Offer(Tier.REGRASP, evaluated(["p0"], seen, Tier.REGRASP),
+                                  poses=lambda: []),
+              Tier.FALLBACK: Offer(Tier.FALLBACK, evaluated(["f0"], seen, Tier.FALLBACK))}
+    choice = choose([offers[t] for t in tiers], plan_grasp=plan_grasp,
+                    plan_regrasp=plan_regrasp, is_plan=is_plan, max_grasps=10, max_pinches=1)
+    assert choice.tier is Tier.FALLBACK and choice.plan == ("plan", "f0")
+    assert Tier.GRASPS not in seen  # the hooks are not offered again (a2 would plan)

@@ -7,9 +7,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.systems.primitives import ConstantValueSource
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.method_spec import MethodSpec, Tier
+from gbh_drake.methods import GraspMethod, GraspSource, GraspTier, add_search
 from gbh_drake.trial import build_trial, simulate_trial
 
 pytestmark = pytest.mark.sim
@@ -23,21 +27,24 @@ class Grasp:
     kind: str = "parallel"
 
 
-def _grasp(scenario, rod_depth: float) -> Grasp:
-    """Top-down (z_G = -z_W), the loop's plane normal to the rod (x_W), the rod ``rod_depth``
-    short of the bar's centre line along z_G (negative: beyond the bar)."""
+def _grasp(scenario, rod_depth: float, x: float = 0.0) -> Grasp:
+    """Top-down (z_G = -z_W), the loop's plane normal to the rod (x_W), ``x`` (m) along it from
+    its middle, the rod ``rod_depth`` short of the bar's centre line along z_G (negative:
+    beyond the bar)."""
     R_WG = RotationMatrix(np.diag([1.0, -1.0, -1.0]))
-    p_WRod = np.asarray(scenario.object.pose.translation) + [0.0, 0.0, ROD_HEIGHT]
+    p_WRod = np.asarray(scenario.object.pose.translation) + [x, 0.0, ROD_HEIGHT]
     p_GRod = np.array([0.0, 0.0, HOOK_GRIPPER.finger_length - rod_depth])
     return Grasp(RigidTransform(R_WG, p_WRod - R_WG.matrix() @ p_GRod).GetAsMatrix4())
 
 
-def _pick(scenario, staple_mesh, *rod_depths: float):
-    """The staple picked with the grasps of :func:`_grasp` at ``rod_depths``, in that order."""
+def _pick(scenario, staple_mesh, *rod_depths: float, method=None):
+    """The staple picked with the grasps of :func:`_grasp` at ``rod_depths``, in that order
+    (or with ``method``, made from the scenario)."""
     scenario.object.mesh = "staple.obj"
     staple_mesh.export(scenario.directory / "staple.obj")
     scenario.settle_time = 0.2
-    trial = build_trial(scenario, grasps=[_grasp(scenario, d) for d in rod_depths])
+    trial = build_trial(scenario, method=method(scenario)) if method else \
+        build_trial(scenario, grasps=[_grasp(scenario, d) for d in rod_depths])
     assert trial.station.plant.GetBodyByName(trial.station.object_name).is_floating_base_body()
     _, record = simulate_trial(trial)
     return record
@@ -87,3 +94,38 @@ def test_ending_after_the_cage_test_changes_no_verdict(scenario, staple_mesh):
     assert "release" in full.phases and "lower" not in short.phases
     assert not short.verdict.released_on_table  # still in the hand
     assert short.sim_time < full.sim_time - 1.0
+
+
+class _TwoTiers(GraspMethod):
+    """Given grasps in two tiers: ``hooks`` (the method's own) and ``fallback``, one retry."""
+
+    spec = MethodSpec("two_tiers", "given hooks, then given fallback grasps",
+                      tiers=(Tier.GRASPS, Tier.FALLBACK), max_retries=1, beyond_paper=True)
+
+    def __init__(self, hooks: list, fallback: list):
+        self.hooks, self.fallback = hooks, fallback
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems = {}
+        report = add_search(builder, systems, scan, hook=False, scenario=scenario)
+        ports = [builder.AddSystem(ConstantValueSource(AbstractValue.Make(list(grasps))))
+                 .get_output_port() for grasps in (self.hooks, self.fallback)]
+        return GraspSource(tiers=[GraspTier(Tier.GRASPS, ports[0]),
+                                  GraspTier(Tier.FALLBACK, ports[1])],
+                           search=report.get_output_port(), systems=systems)
+
+
+@pytest.mark.trial
+def test_after_an_empty_retry_the_remaining_tier_is_tried(scenario, staple_mesh):
+    """Two hooks of the method's own tier close their loop above the rod (4 cm apart: the
+    second is not skipped as tried) and come away empty, the first, then the retry's; with the
+    retry used up, the machine goes on to the next tier (issue 42: gbh+ ended there without
+    its fallback pinch), whose grasp cages the rod."""
+    scenario.pick.max_retries = 1
+    record = _pick(scenario, staple_mesh, method=lambda s: _TwoTiers(
+        hooks=[_grasp(s, -0.012), _grasp(s, -0.012, x=0.04)],
+        fallback=[_grasp(s, 0.025, x=-0.03)]))
+    assert record.success and record.held_by == "cage", record.reason
+    assert record.grasp_source == "fallback_grasps"
+    assert [(a["source"], a["rank"]) for a in record.attempts] == [("grasps", 0), ("grasps", 1)]
+    assert "2 earlier grasps came away empty" in record.reason
