@@ -139,7 +139,11 @@ class Outcome(enum.StrEnum):
     (a ``str`` enum: it compares equal to, and is written as, its value)."""
 
     SUCCESS = "success"
-    """Lifted and carried over the place without falling."""
+    """Lifted and carried over the place without falling, clear of the table while held."""
+    TOUCHED_DOWN = "touched_down"
+    """Lifted and carried over the place without falling, but after the lift it came down onto
+    the table while the hand held it (the table bore it for a moment: dragged, not carried
+    clear). Its own class, not a success (issue 42)."""
     NOT_LIFTED = "not_lifted"
     DROPPED_DURING_LIFT = "dropped_during_lift"
     DROPPED_DURING_CARRY = "dropped_during_carry"
@@ -206,6 +210,14 @@ class Verdict:
     """Gripper bodies that touched the object in each phase."""
     table_touch_while_carried: bool = False
     """Whether the object touched the table during the lift or carry after being lifted."""
+    touched_down_at: float = float("nan")
+    touched_down_phase: str = ""
+    """When and in which phase (lift, carry, hold) the object, lifted and still touched by a
+    gripper body, first touched the table ("" if it did not: the outcome ``touched_down``)."""
+    min_clearance_after_lift: float = float("nan")
+    """Lowest height (m) of its lowest point above the table from when it was first lifted to
+    the end of the hold (nan: never lifted); ``min_clearance_phase``: the phase it was in."""
+    min_clearance_phase: str = ""
     squeeze_force: float = float("nan")
     """Mean squeeze force of the fingers during the carry and hold (N)."""
     finger_q_cage_test: float = float("nan")
@@ -213,8 +225,24 @@ class Verdict:
     cage_test_held: bool = False
     """Whether the object was still held at the end of the cage test."""
     loop_closed: bool = False
+    """Whether both fingers ended the cage test within ``closed_tolerance`` of their closed
+    position (recorded; the cage is decided by ``loop_encloses``)."""
     bar_deployed: bool = True
     """Whether the bar was out (a hook) during the cage test; folded: two straight rods."""
+    loop_encloses: bool = False
+    """Whether the loop (palm, rods, bar at the fingers measured at the end of the cage test)
+    enclosed the object's material (:func:`gbh_drake.core.enclosure.loop_enclosure`): it links
+    the material, does not pass through it, and its gap is narrower than the material."""
+    loop_linked: bool = False
+    """Whether the loop linked the object's material (the topological test)."""
+    material_in_gap: bool = False
+    """Whether the loop passed through the material: it lay between the bar's tip and the
+    straight rod, where the fingers close (a pinch, however long it stayed)."""
+    loop_gap: float = float("nan")
+    """m: from the bar's tip to the straight rod's inner face at the end of the cage test (0:
+    closed; nan: not judged, e.g. the bar folded)."""
+    material_thickness: float = float("nan")
+    """m: the thinnest section of the material inside the loop (inf: none there)."""
     settled_at: list[float] = field(default_factory=list)
     """The object's position (W) when planning began (after settling, when it was scanned)."""
     planned_poses: list[list[float]] = field(default_factory=list)

@@ -211,7 +211,8 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     # The judge.
     p_OV = np.asarray(station.asset.mesh.convex_hull.vertices)
     monitor = builder.AddNamedSystem("cage_monitor", CageMonitor(
-        station.plant, station.object_name, p_OV, scenario.monitor))
+        station.plant, station.object_name, p_OV, scenario.monitor, mesh_O=station.asset.mesh,
+        gripper=GRIPPERS[scenario.gripper]))
     for name in ("body_poses", "contact_results", "hook_gripper.state",
                  "hook_gripper.actuation"):
         builder.Connect(station.GetOutputPort(name), monitor.GetInputPort(name))

@@ -56,3 +56,34 @@ def make_bottle() -> trimesh.Trimesh:
              (0.0, 0.21)]
     solid = m3d.Manifold.revolve(m3d.CrossSection([outer]), 64)
     return _to_trimesh(solid - m3d.Manifold.revolve(m3d.CrossSection([inner]), 64))
+
+
+# ---- shapes held by the hook gripper, in its frame G (core/enclosure.py, the cage test) ------
+def torus_at(centre, axis, major: float, minor: float) -> trimesh.Trimesh:
+    """A ring of tube radius ``minor`` about ``axis`` (unit) through ``centre``."""
+    ring = trimesh.creation.torus(major_radius=major, minor_radius=minor, major_sections=96,
+                                  minor_sections=24)
+    ring.apply_transform(trimesh.geometry.align_vectors([0.0, 0.0, 1.0], np.asarray(axis)))
+    ring.apply_translation(centre)
+    return ring
+
+
+def mug_on_the_bar(finger_length: float = 0.08) -> trimesh.Trimesh:
+    """A mug hung by its ring handle from the hook's bar, in G: the ring (tube 10 mm thick) in
+    the x-z plane around the bar (z = ``finger_length``), its top through the loop's hole at
+    z = l_f - 30 mm, its body beside the loop (x from 27 mm on)."""
+    handle = torus_at([0.0, 0.0, finger_length], [0.0, 1.0, 0.0], 0.030, 0.005)
+    body = trimesh.creation.cylinder(radius=0.040, height=0.100, sections=64)
+    body.apply_translation([0.067, 0.0, finger_length])
+    return trimesh.boolean.union([handle, body], engine="manifold")
+
+
+def cup_on_the_straight_rod(q: float, bar_length: float = 0.03) -> trimesh.Trimesh:
+    """A cup (outer radius 40 mm, 3.8 mm wall, 4 mm bottom, 100 mm tall) in G with the
+    straight rod inside it, its rim at z = 40 mm toward the palm and the outer face of its wall
+    on the bar's tip face (fingers at ``q``: y = ``bar_length`` - q)."""
+    outer = trimesh.creation.cylinder(radius=0.040, height=0.100, sections=96)
+    inner = trimesh.creation.cylinder(radius=0.0362, height=0.100, sections=96)
+    inner.apply_translation([0.0, 0.0, -0.004])
+    cup = trimesh.boolean.difference([outer, inner], engine="manifold")
+    return cup.apply_translation([0.0, bar_length - q + 0.040, 0.090])

@@ -27,6 +27,8 @@ The classes (:data:`CAUSES`, in pipeline order; the report lists every one, zero
   ``planner:*``, ``collision:*`` and ``approach:*``, a path or approach that could not be
   planned, are planner); a tie, or no refusal recorded, counts as IK.
 - ``lift too low``: held but not lifted clear of the table (``not_lifted``).
+- ``touched down``: carried to the place, but it came down onto the table while held after the
+  lift (``touched_down``: dragged, not carried clear; its own class, not a success).
 - ``slipped during carry``: dropped after the lift began (``dropped_during_lift``,
   ``dropped_during_carry``).
 - ``scan cut/partial``: ``empty_scan``, or a failure decided on the scan (no structure, no grasp,
@@ -44,7 +46,7 @@ from gbh_drake.core.rejections import RULES
 #: Every cause class, in pipeline order.
 CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearance",
           "collision N_c", "closing sweep", "no grasp found", "IK", "planner", "lift too low",
-          "slipped during carry", "scan cut/partial", "error")
+          "touched down", "slipped during carry", "scan cut/partial", "error")
 
 #: Classes no row can be given yet (listed with 0 so that the table's columns do not change).
 RESERVED: tuple[str, ...] = ()
@@ -65,6 +67,7 @@ _BY_OUTCOME = {
     "no_hangable_structure": "no structure",
     "no_grasp_found": "no grasp found",
     "not_lifted": "lift too low",
+    "touched_down": "touched down",
     "dropped_during_lift": "slipped during carry",
     "dropped_during_carry": "slipped during carry",
     "empty_scan": "scan cut/partial",

@@ -14,13 +14,22 @@ without falling), fixed in :class:`~gbh_drake.scenario.schema.MonitorConfig` bef
   and no gripper body touches it for ``DROP_CONFIRM`` (0.2 s; the drop's time is when that
   began); if one still does, it came down while held (dragged: "sank",
   not dropped, and judged by the next rule);
-* success: lifted during the lift or the carry, never dropped, and still lifted at the end of
-  the hold over the place position (all with the full grasp force);
-* held by a cage or by a pinch, decided by physics in the cage test: the squeeze is relaxed to
-  a few newtons; an object still hanging at the end with the hook's loop closed (both fingers at
-  their closed position: the bar's tip on the straight rod, the bar deployed) was caged; one
-  that slid out, or that stayed held with the loop open (material between the rods), was
-  pinched.
+* success: lifted during the lift or the carry, never dropped, still lifted at the end of
+  the hold over the place position (all with the full grasp force), and, after it was lifted,
+  never back on the table while held: one that touched the table while a gripper body still
+  held it (during the lift, the carry or the hold) was dragged, not carried clear, and is
+  reported as its own outcome, ``touched_down`` (with the lowest clearance after the lift and
+  its phase, ``min_clearance_after_lift`` and ``min_clearance_phase``, recorded for every
+  trial);
+* held by a cage or by a pinch, decided in the cage test: the squeeze is relaxed to a few
+  newtons; an object still hanging at the end of it was caged when the hook's loop, at the
+  measured fingers, encloses its material there (:func:`gbh_drake.core.enclosure.loop_enclosure`
+  on the object's mesh where the plant has it: the loop links the material, does not pass
+  through it, and the gap between the bar's tip and the straight rod is narrower than the
+  material); one still held otherwise (the bar folded, the material between the bar's tip and
+  the straight rod, a loop that does not link it), or that slid out, was pinched. (The fingers'
+  closeness alone once decided it: a bar tip stopped on a cup's wall, 1.9 mm from closed, with
+  the straight rod inside the cup, counted as a cage.)
 
 Only contact holds the object: it is a free body throughout, never welded or attached.
 """
@@ -28,15 +37,18 @@ Only contact holds the object: it is a free body throughout, never welded or att
 from __future__ import annotations
 
 import copy
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import trimesh
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
-from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.core.enclosure import LoopEnclosure, loop_enclosure, mesh_edges
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.messages import (
     GraspSearch,
     HeldBy,
@@ -44,6 +56,7 @@ from gbh_drake.messages import (
     Outcome,
     PickStatus,
     Verdict,
+    verdict_final,
 )
 from gbh_drake.modeling.names import GRIPPER, TABLE
 from gbh_drake.scenario.schema import MonitorConfig
@@ -76,6 +89,10 @@ class _Watch(CopiedShallowly):
     last_phase: str = ""
     attempts: int = 0
     """The machine's failed attempts seen so far (each retry starts the lift's record anew)."""
+    cage_look: Observation | None = None
+    """The last look during the cage test (its enclosure is judged once the test is over)."""
+    enclosure_text: str = ""
+    """What the loop enclosed, in words (for the reason; "" until judged)."""
 
 
 class CageMonitor(LeafSystem):
@@ -102,18 +119,32 @@ class CageMonitor(LeafSystem):
     """
 
     def __init__(self, plant: MultibodyPlant, object_body_name: str, p_OV: np.ndarray,
-                 config: MonitorConfig | None = None, *, bar_deployed_max: float = 0.1):
+                 config: MonitorConfig | None = None, *, bar_deployed_max: float = 0.1,
+                 mesh_O: trimesh.Trimesh | None = None,
+                 gripper: HookGripperGeometry = HOOK_GRIPPER):
         """``plant``: the station's plant (read for body indices and geometry only);
         ``object_body_name``: the free object's body; ``p_OV`` (n, 3): its vertices in its
         body frame (its convex hull's suffice); ``bar_deployed_max`` (rad): the bar counts as
-        deployed below this angle magnitude."""
+        deployed below this angle magnitude; ``mesh_O``: the object's surface in its body frame
+        (what the loop must enclose for a cage; None: nothing is judged caged); ``gripper``:
+        the hook gripper's geometry (the variant the station runs)."""
         super().__init__()
         self._config = config or MonitorConfig()
         self._p_OV = np.asarray(p_OV, dtype=float).reshape(-1, 3)
         self._bar_max = bar_deployed_max
+        self._gripper = gripper
+        self._mesh = None
+        if mesh_O is not None:  # vertices shared between faces (the enclosure's edge graph)
+            mesh = trimesh.Trimesh(np.asarray(mesh_O.vertices), np.asarray(mesh_O.faces),
+                                   process=True)
+            self._mesh = (np.asarray(mesh.vertices), np.asarray(mesh.faces),
+                          mesh_edges(mesh.faces))
         body = plant.GetBodyByName(object_body_name)
         self._object = body.index()
         gripper = plant.GetModelInstanceByName(GRIPPER)
+        frame_G = plant.GetFrameByName("G", gripper)
+        self._hand_body = frame_G.body().index()
+        self._X_HG = frame_G.GetFixedPoseInBodyFrame().GetAsMatrix4()
         self._gripper_bodies = {plant.get_body(i).index(): plant.get_body(i).name()
                                 for i in plant.GetBodyIndices(gripper)}
         self._table_bodies = {plant.get_body(i).index()
@@ -177,7 +208,8 @@ class CageMonitor(LeafSystem):
         mode = status.mode
         if mode in (Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP) and w.last_phase == mode.value:
             return
-        X_WO = self._poses.Eval(context)[int(self._object)]
+        poses = self._poses.Eval(context)
+        X_WO = poses[int(self._object)]
         gripper, table = self.touching(self._contacts.Eval(context))
         squeeze = float(-np.mean(self._actuation.Eval(context)[:2]))
         # (Read only now: evaluating it earlier would run the grasp pipeline before the scan.)
@@ -188,16 +220,27 @@ class CageMonitor(LeafSystem):
             low=self.lowest_point(X_WO), gripper=gripper, table=table,
             hand=np.asarray(self._hand.Eval(context)), squeeze=squeeze,
             pose=[*X_WO.translation().tolist(),
-                  *RollPitchYaw(X_WO.rotation()).vector().tolist()]),
-            self._config, self._bar_max, search)
+                  *RollPitchYaw(X_WO.rotation()).vector().tolist()],
+            X_WO=X_WO.GetAsMatrix4(),
+            X_WG=poses[int(self._hand_body)].GetAsMatrix4() @ self._X_HG),
+            self._config, self._bar_max, search,
+            self.enclosure if self._mesh is not None else None)
         state.get_mutable_abstract_state(self._watch).set_value(w)
+
+    def enclosure(self, o: Observation) -> LoopEnclosure:
+        """What the loop encloses of the object at look ``o`` (its poses and the gripper's
+        measured state, :func:`~gbh_drake.core.enclosure.loop_enclosure`)."""
+        V, F, edges = self._mesh
+        X_GO = np.linalg.inv(o.X_WG) @ o.X_WO
+        return loop_enclosure(V @ X_GO[:3, :3].T + X_GO[:3, 3], F, float(o.hand[0]),
+                              float(o.hand[1]), float(o.hand[2]), self._gripper, edges=edges)
 
 @dataclass
 class Observation:
     """One look at the scene: time (s), the object's origin p_WO (m), its lowest point's height
     above the table ``low`` (m), the gripper bodies touching it, whether the table does, the
-    gripper's state ``hand`` (6) and the fingers' squeeze (N, positive closing); ``pose``: the
-    object's x, y, z (m), roll, pitch, yaw (rad)."""
+    gripper's state ``hand`` (6: [q_straight, q_l, bar, their rates]) and the fingers' squeeze
+    (N, positive closing); ``pose``: the object's x, y, z (m), roll, pitch, yaw (rad)."""
 
     t: float
     p_WO: list[float]
@@ -207,13 +250,20 @@ class Observation:
     hand: np.ndarray
     squeeze: float
     pose: list[float] = field(default_factory=list)
+    X_WO: np.ndarray | None = None
+    """(4, 4) the object's pose (None: not given)."""
+    X_WG: np.ndarray | None = None
+    """(4, 4) the gripper frame G's pose (None: not given)."""
 
 
 def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
-            bar_deployed_max: float = 0.1, search: GraspSearch | None = None) -> _Watch:
+            bar_deployed_max: float = 0.1, search: GraspSearch | None = None,
+            enclosure: Callable[[Observation], LoopEnclosure] | None = None) -> _Watch:
     """The record after observation ``o`` in the machine's ``status`` (a new record; ``w`` is
-    not changed); ``search``: why there was no grasp, when the machine had none. Pure: the
-    monitor's rules without a diagram.
+    not changed); ``search``: why there was no grasp, when the machine had none;
+    ``enclosure``: what the loop encloses of the object at a look (the monitor's
+    :meth:`CageMonitor.enclosure`), asked once, of the cage test's last look, when the test is
+    over (None: nothing is caged). Pure: the monitor's rules without a diagram.
 
     A lifted object whose lowest point comes back below half of ``lifted_height`` has dropped if
     no gripper body touches it for ``DROP_CONFIRM``; if one does, it has come down onto the
@@ -234,8 +284,12 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
             w.lifted, v.lifted_at = True, t
         if w.lifted:
             v.max_clearance = max(v.max_clearance, low)
+            if mode in _CARRIED and not (low >= v.min_clearance_after_lift):
+                v.min_clearance_after_lift, v.min_clearance_phase = low, mode.value
             if mode in _CARRIED and table:
                 v.table_touch_while_carried = True
+                if gripper and not v.touched_down_phase:
+                    v.touched_down_at, v.touched_down_phase = t, mode.value
             if low >= 0.5 * cfg.lifted_height or gripper:
                 w.free_since, w.free_phase = float("nan"), ""
             if low < 0.5 * cfg.lifted_height:
@@ -262,6 +316,15 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
         v.bar_deployed = bool(abs(hand[2]) < bar_deployed_max)
         v.loop_closed = bool(np.all(hand[:2] <= closed) and v.bar_deployed)
         v.cage_test_held = bool(not w.dropped and low >= 0.5 * cfg.lifted_height and gripper)
+        w.cage_look = o
+    elif w.cage_look is not None and verdict_final(mode):
+        if enclosure is not None and v.bar_deployed:
+            e = enclosure(w.cage_look)
+            v.loop_encloses, v.loop_linked, v.material_in_gap = e.encloses, e.linked, e.crossed
+            v.loop_gap = e.gap
+            v.material_thickness = e.thickness if np.isfinite(e.thickness) else float("nan")
+            w.enclosure_text = e.text()
+        w.cage_look = None
     if mode == Mode.DONE:
         v.released_at = list(o.p_WO)
         v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
@@ -283,8 +346,9 @@ def _start_again(w: _Watch) -> None:
         "max_clearance": v.max_clearance,
         "touching": {k: p for k, p in v.touching.items() if k in _PICK_PHASES}}]
     v.touching = {k: p for k, p in v.touching.items() if k not in _PICK_PHASES}
-    v.lifted_at = v.dropped_at = v.sank_at = float("nan")
-    v.dropped_phase = v.sank_phase = ""
+    v.lifted_at = v.dropped_at = v.sank_at = v.touched_down_at = float("nan")
+    v.min_clearance_after_lift = float("nan")
+    v.dropped_phase = v.sank_phase = v.touched_down_phase = v.min_clearance_phase = ""
     v.max_clearance = 0.0
     v.table_touch_while_carried = False
     w.lifted = w.dropped = False
@@ -351,22 +415,26 @@ def _conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
         else:
             v.reason = "the object was not lifted: the gripper came away without it"
         return
-    v.outcome, v.success = Outcome.SUCCESS, True
+    touched = bool(v.touched_down_phase)
+    v.outcome, v.success = (Outcome.TOUCHED_DOWN, False) if touched else (Outcome.SUCCESS, True)
+    carried = "carried to the place, but it touched the table while held during the " \
+        f"{v.touched_down_phase} at t = {v.touched_down_at:.2f} s (dragged, not carried " \
+        "clear)" if touched else "picked and carried"
     if mode == Mode.CAGE_TEST:
-        v.held_by, v.reason = HeldBy.NONE, "carried; the cage test is running"
+        v.held_by, v.reason = HeldBy.NONE, f"{carried}; the cage test is running"
         return
-    caged = v.cage_test_held and v.loop_closed
+    caged = v.cage_test_held and v.bar_deployed and v.loop_encloses
     v.held_by = HeldBy.CAGE if caged else HeldBy.PINCH
+    fingers = (f"fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
+               f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm")
     if caged:
-        v.reason = "picked and carried; held by a cage: it stayed on the closed loop with " \
-                   "the squeeze relaxed"
+        v.reason = (f"{carried}; held by a cage: it stayed in the loop with the squeeze "
+                    f"relaxed, and the loop encloses it ({w.enclosure_text})")
     elif v.cage_test_held and not v.bar_deployed:
-        v.reason = "picked and carried; held by a pinch between the two straight rods " \
-                   "(the bar folded), still held with the squeeze relaxed"
+        v.reason = f"{carried}; held by a pinch between the two straight rods (the bar " \
+                   "folded), still held with the squeeze relaxed"
     elif v.cage_test_held:
-        v.reason = ("picked and carried; held by a pinch: the loop did not close "
-                    f"(fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
-                    f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm)")
+        why = w.enclosure_text or "its enclosure was not judged"
+        v.reason = f"{carried}; held by a pinch: {why} ({fingers})"
     else:
-        v.reason = "picked and carried; held by a pinch: it slid out when the squeeze " \
-                   "was relaxed"
+        v.reason = f"{carried}; held by a pinch: it slid out when the squeeze was relaxed"

@@ -1,9 +1,13 @@
 """The CageMonitor's rules as a pure function of what it observes (``cage_monitor.observe``):
-what counts as lifted, dropped, dragged, carried, cage and pinch, and the words for each."""
+what counts as lifted, dropped, dragged, touched down, carried, cage and pinch, and the words
+for each. The cage test's enclosure is judged on real meshes held in the gripper's frame G (a
+mug hung on the bar, a cup with the straight rod inside it)."""
 
 import numpy as np
 import pytest
+from gbh_shapes import cup_on_the_straight_rod, mug_on_the_bar
 
+from gbh_drake.core.enclosure import loop_enclosure
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.messages import HeldBy, Mode, Outcome, PickStatus
 from gbh_drake.scenario.schema import MonitorConfig
@@ -14,7 +18,18 @@ CLOSED = np.array([HOOK_GRIPPER.q_closed] * 2 + [0.0, 0, 0, 0])
 HOOK = {"bar", "l_finger"}
 
 
-def run(script):
+def judge(mesh):
+    """The enclosure of ``mesh`` (in G, where the look's poses would put it) by the loop at
+    the look's measured fingers: what the monitor asks once the cage test is over."""
+    mesh = mesh.copy()
+    mesh.merge_vertices()
+    return lambda o: loop_enclosure(mesh.vertices, mesh.faces, *o.hand[:3])
+
+
+MUG = judge(mug_on_the_bar())
+
+
+def run(script, enclosure=MUG):
     """Feeds observations (mode, lowest point m, gripper bodies, table touch, hand state) at
     10 ms steps through every phase in order and returns the verdict."""
     w, t = _Watch(), 0.0
@@ -22,27 +37,31 @@ def run(script):
         t += 0.01
         w = observe(w, PickStatus(mode=mode), Observation(
             t=t, p_WO=[0.5, 0.0, low], low=low, gripper=set(gripper), table=table,
-            hand=hand, squeeze=70.0), CFG)
+            hand=hand, squeeze=70.0), CFG, enclosure=enclosure)
     return w.verdict
 
 
 def trial(carry_lows, *, carry_gripper=HOOK, hold_low=None, hold_table=False,
-          cage_hand=CLOSED, cage_low=None):
+          cage_hand=CLOSED, cage_low=None, enclosure=MUG, carry_table=None):
     script = [(Mode.PLAN, 0.0, (), True, CLOSED), (Mode.CLOSE, 0.0, HOOK, True, CLOSED),
               (Mode.LIFT, 0.01, HOOK, True, CLOSED), (Mode.LIFT, 0.06, HOOK, False, CLOSED)]
-    script += [(Mode.CARRY, low, carry_gripper if low < 0.01 else HOOK, low <= 0.0, CLOSED)
+    script += [(Mode.CARRY, low, carry_gripper if low < 0.01 else HOOK,
+                low <= 0.0 if carry_table is None else carry_table, CLOSED)
                for low in carry_lows]
     hold_low = carry_lows[-1] if hold_low is None else hold_low
     script += [(Mode.HOLD, hold_low, HOOK if hold_low > -1 else (), hold_table, CLOSED)]
     cage_low = hold_low if cage_low is None else cage_low
     script += [(Mode.CAGE_TEST, cage_low, HOOK, False, cage_hand),
                (Mode.LOWER, 0.0, HOOK, True, CLOSED), (Mode.DONE, 0.0, (), True, CLOSED)]
-    return run(script)
+    return run(script, enclosure)
 
 
 def test_carried_on_the_closed_loop_is_a_caged_success():
     v = trial([0.06, 0.07, 0.06])
     assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.CAGE and "cage" in v.reason
+    assert v.reason.endswith("(its material passes through the loop, which links it)")
+    assert v.loop_encloses and v.loop_linked and not v.material_in_gap and v.loop_gap == 0.0
+    assert v.material_thickness == pytest.approx(0.01, abs=5e-4)
     assert v.lifted_at > 0 and v.max_clearance == pytest.approx(0.07)
     assert v.released_on_table and v.touching["carry"] == ["bar", "l_finger"]
 
@@ -50,7 +69,48 @@ def test_carried_on_the_closed_loop_is_a_caged_success():
 def test_held_with_the_loop_open_is_a_pinch():
     open_hand = np.array([0.03, 0.03, 0, 0, 0, 0])
     v = trial([0.06], cage_hand=open_hand)
-    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.PINCH and "did not close" in v.reason
+    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.PINCH
+    assert "26.0 mm gap is wider than the material" in v.reason and v.loop_linked
+
+
+def test_a_bar_tip_stopped_on_a_cups_wall_is_a_pinch_not_a_cage():
+    """Issue 42: the straight rod inside a cup, the bar's tip stopped on its wall, fingers at
+    18.9 mm (closed 17.0: within the 2 mm the finger rule allowed, so it was called a cage)."""
+    q = 0.0189
+    hand = np.array([q, q, 0, 0, 0, 0])
+    v = trial([0.06], cage_hand=hand, enclosure=judge(cup_on_the_straight_rod(q)))
+    assert v.loop_closed  # the fingers' rule alone would have said cage
+    assert v.outcome == Outcome.SUCCESS and v.held_by == HeldBy.PINCH, v.reason
+    assert v.material_in_gap and not v.loop_encloses
+    assert "between the bar's tip and the straight rod (a 3.8 mm gap)" in v.reason
+
+
+def test_the_bar_folded_is_a_pinch_without_asking_the_loop():
+    folded = np.array([0.01, 0.01, -0.5 * np.pi, 0, 0, 0])
+    asked = []
+    v = trial([0.06], cage_hand=folded, enclosure=lambda o: asked.append(o))
+    assert v.held_by == HeldBy.PINCH and "two straight rods" in v.reason and not asked
+
+
+def test_touching_the_table_while_held_after_the_lift_is_its_own_class():
+    """Lifted, then the bottom grazes the table during the carry while the bar still holds it,
+    and it is carried on: not a success, ``touched_down`` (cage or pinch still recorded), with
+    the lowest clearance after the lift and its phase."""
+    v = trial([0.06, 0.004, 0.0, 0.05, 0.06], hold_low=0.06)
+    assert v.outcome == Outcome.TOUCHED_DOWN and not v.success and v.held_by == HeldBy.CAGE
+    assert v.touched_down_phase == "carry" and v.table_touch_while_carried
+    assert v.min_clearance_after_lift == 0.0 and v.min_clearance_phase == "carry"
+    assert v.reason.startswith("carried to the place, but it touched the table while held "
+                               "during the carry")
+
+
+def test_a_clean_carry_records_its_lowest_clearance_after_the_lift():
+    v = trial([0.06, 0.012, 0.05], hold_low=0.055)
+    assert v.outcome == Outcome.SUCCESS and not v.touched_down_phase
+    assert v.min_clearance_after_lift == pytest.approx(0.012) and v.min_clearance_phase == "carry"
+    # Free of the gripper for a moment on the table (not held): a drop's business, not this.
+    w = trial([0.06, 0.0, 0.06], carry_gripper=(), carry_table=None, hold_low=0.06)
+    assert w.outcome == Outcome.SUCCESS and not w.touched_down_phase and w.table_touch_while_carried
 
 
 def test_falling_free_of_the_gripper_is_a_drop():
@@ -113,7 +173,7 @@ def test_a_retry_starts_the_lift_record_anew_and_keeps_the_failed_one():
             t += 0.01
             w = observe(w, PickStatus(mode=mode, attempts=attempts), Observation(
                 t=t, p_WO=[0.5, 0.0, low], low=low, gripper=set(gripper), table=table,
-                hand=CLOSED, squeeze=70.0), CFG)
+                hand=CLOSED, squeeze=70.0), CFG, enclosure=MUG)
         if not attempts:
             assert w.dropped and w.verdict.dropped_phase == "lift"
     v = w.verdict
