@@ -132,11 +132,21 @@ def add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return scorer
 
 
+def _pinch_params(scenario: Scenario, prefer_hanging: bool):
+    """The scenario's antipodal parameters, ``prefer_hanging`` turned on when asked."""
+    return dataclasses.replace(scenario.antipodal, prefer_hanging=True) if prefer_hanging \
+        else scenario.antipodal
+
+
 def add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
-                  systems: dict[str, System]) -> AntipodalGraspSampler:
-    """The antipodal sampler on ``scan``, keeping GbH's table clearance."""
+                  systems: dict[str, System], *,
+                  prefer_hanging: bool = False) -> AntipodalGraspSampler:
+    """The antipodal sampler on ``scan``, keeping GbH's table clearance; ``prefer_hanging``:
+    its pinches ranked first by how little the object swings about the pinch axis (beyond the
+    paper, :attr:`~gbh_drake.core.params.AntipodalParams.prefer_hanging`)."""
     sampler = _add(builder, systems, "antipodal_sampler", AntipodalGraspSampler(
-        scenario.antipodal, seed=seeds.grasps, ground_clearance=scenario.gbh.ground_clearance))
+        _pinch_params(scenario, prefer_hanging), seed=seeds.grasps,
+        ground_clearance=scenario.gbh.ground_clearance))
     builder.Connect(scan, sampler.get_input_port())
     return sampler
 
@@ -149,12 +159,13 @@ def add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopS
     return scoop
 
 
-def add_regrasp(builder, scenario: Scenario, seeds: Seeds,
-                systems: dict[str, System]) -> RegraspPlanner:
-    """The resting poses in which GbH can hook the scanned object."""
+def add_regrasp(builder, scenario: Scenario, seeds: Seeds, systems: dict[str, System], *,
+                prefer_hanging: bool = False) -> RegraspPlanner:
+    """The resting poses in which GbH can hook the scanned object, each with its pinches
+    (``prefer_hanging``: those that swing the object least where it is set down first)."""
     planner = _add(builder, systems, "regrasp_planner", RegraspPlanner(
-        scenario.gbh, scenario.regrasp, seed=seeds.sampling, antipodal=scenario.antipodal,
-        pinch_seed=seeds.grasps))
+        scenario.gbh, scenario.regrasp, seed=seeds.sampling,
+        antipodal=_pinch_params(scenario, prefer_hanging), pinch_seed=seeds.grasps))
     builder.Connect(systems["hangability_detector"].get_output_port(), planner.get_input_port())
     return planner
 
@@ -249,8 +260,9 @@ class GbhRegrasp(GraspMethod):
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
         add_gbh(builder, scenario, seeds, scan, systems)
-        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = add_regrasp(builder, scenario, seeds, systems)
+        # Its pinches turn the object: those that let it swing least about them first.
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems, prefer_hanging=True)
+        planner = add_regrasp(builder, scenario, seeds, systems, prefer_hanging=True)
         report = add_search(builder, systems, scan, hook=True, scenario=scenario)
         return _gbh_source(systems, report, GraspTier(Tier.REGRASP, sampler.get_output_port(),
                                                       poses=planner.get_output_port()))
@@ -267,8 +279,10 @@ class GbhPlus(GraspMethod):
         systems: dict[str, System] = {}
         add_gbh(builder, scenario, seeds, scan, systems)
         scoop = add_scoop(builder, scenario, systems)
-        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = add_regrasp(builder, scenario, seeds, systems)
+        # Its pinches (the regrasp's and the fallback's) pivot about their axis: those that let
+        # the object swing least first.
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems, prefer_hanging=True)
+        planner = add_regrasp(builder, scenario, seeds, systems, prefer_hanging=True)
         report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
         return _gbh_source(systems, report,

@@ -64,6 +64,10 @@ closing axis)::
   only); the course keeps the first feasible roll of one sample per call, we rank every
   (sample, roll) and return the top_k. ``score = exp(-(cost + weight_direction))`` maps the cost
   to (0, 1] (1: top-down, perfectly antipodal, through the CoM); it is not GbH's S_total.
+* ``prefer_hanging`` (beyond the paper, off for the baseline): the object pivots about the
+  pinch axis once lifted (:mod:`gbh_drake.core.pinch`), so pinches are ranked first by how far
+  its CoM would fall as it swings to rest below the axis (in steps of ``DROP_STEP``), then by
+  cost: a pinch above the CoM before one beside or below it.
 
 Execution: retract the bar (bar joint at ``gripper.bar_retracted_angle = -pi/2``), open the
 fingers to ``q_pregrasp`` (= ``q_open``), reach ``X_WG`` along ``+z_G``, close with a force limit
@@ -85,6 +89,7 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import AntipodalParams, GbhParams
+from gbh_drake.core.pinch import DROP_STEP, swing_drops
 from gbh_drake.core.results import GraspKind
 
 trimesh = lazy_module("trimesh")
@@ -318,6 +323,9 @@ def _poses(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalPara
             + params.weight_com * d_com)
     keep = np.flatnonzero(ok)
     order = keep[np.argsort(cost[keep], kind="stable")]
+    if params.prefer_hanging:  # the least fall of the CoM about the pinch axis first, then cost
+        drop = swing_drops(mid[order], yw[order], com, up)
+        order = order[np.argsort(np.round(drop / DROP_STEP), kind="stable")]
     X = np.zeros((len(order), 4, 4))
     X[:, :3, :3] = R[order]
     X[:, :3, 3] = p_WG[order]

@@ -331,6 +331,11 @@ class AntipodalParams:
     """1/m: cost per metre between the CoM and the closing line."""
     top_k: int = ranged(10, Int(1, 1000))
     """Number of best grasps returned."""
+    prefer_hanging: bool = False
+    """Rank pinches first by how far the object's centre of mass falls as it swings about the
+    pinch axis once lifted (to rest below the axis, :mod:`gbh_drake.core.pinch`, in steps of
+    ``DROP_STEP``), then by cost: pinches above the centre of mass first (beyond the paper;
+    ``gbh_plus`` and ``gbh_regrasp`` turn it on for their fallback and regrasp pinches)."""
 
     check = checker(GbhInputError)
 

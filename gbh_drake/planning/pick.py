@@ -17,6 +17,9 @@ by ``lift_clearance``. The lift aims at the bound for any way the object turns, 
 lower than the prediction with the CoM below the contact; where the arm cannot reach that, it
 lifts as high as it reaches, the carry rises on to the need at the place where the arm reaches
 that there, and the plan says so (:attr:`PickPlan.notes`, :attr:`PickPlan.lift_short`).
+A pinch is not a rigid hold: the object pivots about the pinch axis (the closing axis through
+the contacts, :mod:`gbh_drake.core.pinch`), so its lift is planned the same way, with the CoM
+below the axis (the prediction) and any turn about it (the bound).
 Unknown space is not free space: the bound for any turn also keeps the unseen space connected
 to the scan (``PickSetup.unseen_W``, :mod:`gbh_drake.core.unseen`) off the table, so that the
 part of the object a single view did not see does not drag (:attr:`PickPlan.lift_unseen`).
@@ -37,7 +40,9 @@ from pydrake.common.eigen_geometry import Quaternion
 from pydrake.math import RigidTransform, RotationMatrix
 
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
-from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, lift_for_clearance, rest_on_loop
+from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, rest_on_loop
+from gbh_drake.core.params import AntipodalParams
+from gbh_drake.core.pinch import PinchSwing, lowest_any_turn, pinch_swing
 from gbh_drake.core.results import PARALLEL, GraspKind
 from gbh_drake.core.unseen import farthest_distance
 from gbh_drake.planning.model import HandPose, PlanningModel
@@ -48,6 +53,9 @@ from gbh_drake.scenario.schema import PickConfig
 APPROACH_STEP = 0.05
 #: Turns (rad) of the hand about the vertical tried for the carry, in order.
 CARRY_YAWS = np.radians([0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 180.0])
+#: m: where a pinch holds the object when the grasp does not say (its contacts' midpoint):
+#: this far short of the rods' tips (the antipodal sampler's default ``contact_depth``).
+PINCH_DEPTH = AntipodalParams().contact_depth
 #: A lift short of the need is searched to this resolution (m) for the most the arm reaches.
 LIFT_RESOLUTION = 0.01
 #: The carry may let the hook point sink this far (m) below the lift height before it is planned
@@ -164,12 +172,14 @@ class PickSetup:
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
-              bar: float = 0.0, min_lift: float = 0.0, *, tight: bool = False
-              ) -> PickPlan | Refusal:
+              bar: float = 0.0, min_lift: float = 0.0, *, tight: bool = False,
+              pinch_W: np.ndarray | None = None) -> PickPlan | Refusal:
     """The plan that picks with the open gripper at ``X_WG`` (4, 4) starting from the arm at
     ``q_start`` (7,), or the reason it cannot (see the module docstring). ``bar`` (rad): the
     bar's angle during the pick; ``min_lift`` (m): a lift this grasp needs at least, besides
-    the config's ``min_lift``. Without ``setup.far`` the transfer is a straight move.
+    the config's ``min_lift``; ``pinch_W`` (3,): for a pinch, a point on its axis where the
+    object is (the contacts' midpoint; default: between the rods' tips, :data:`PINCH_DEPTH`
+    short of them). Without ``setup.far`` the transfer is a straight move.
 
     The grasp and closed poses are solved to the IK's usual tolerance (1 mm, 0.01 rad); when
     the close near the table then collides, they are solved again ``tight``
@@ -224,13 +234,19 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         X_loop = shifted(X_WG, g.rod_width * approach_W)
     rest = rest_on_loop(setup.points_W, setup.com_W, X_loop.GetAsMatrix4(), kind,
                         hook_W=hook_W) if hook else None
+    swing = None
     if rest is not None:
         need_any = cfg.lift_clearance - rest.lowest_any_turn
         need = cfg.lift_clearance - rest.lowest
     else:
-        need_any = need = lift_for_clearance(setup.points_W, setup.com_W, hook_W,
-                                             cfg.lift_clearance, swings=False)
-    need_unseen = unseen_lift(setup.unseen_W, rest, cfg.lift_clearance)
+        # A pinch: the object pivots about the pinch axis (core/pinch.py), as a hooked one
+        # about its hook point: its CoM below the axis (the need), any turn (the bound).
+        if pinch_W is None:
+            pinch_W = X_closed.multiply([0.0, 0.0, g.finger_length - PINCH_DEPTH])
+        swing = pinch_swing(setup.points_W, setup.com_W, pinch_W, closing_W)
+        need_any = cfg.lift_clearance - swing.lowest_any_turn
+        need = cfg.lift_clearance - swing.lowest
+    need_unseen = unseen_lift(setup.unseen_W, rest, cfg.lift_clearance, swing)
     if need_unseen > need_any:
         notes.append(f"the lift allows for unseen space: {need_unseen:.3f} m keeps it clear, "
                      f"{need_any:.3f} m the scan")
@@ -262,10 +278,10 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         notes.append(f"lift {lift:.3f} m, short of the {need:.3f} m the hanging object needs "
                      f"({'the most lift allowed' if need > cfg.max_lift else 'the arm reaches no higher'})")
 
-    # Carry: the hanging object's CoM (or, held rigidly, its hook offset) over the place. Where
+    # Carry: the hanging object's CoM (or, pinched, where it swings to) over the place. Where
     # the arm cannot reach that with the grasp's orientation, the hand also turns about the
     # vertical through the hook point (the object hangs the same way).
-    com_offset = np.zeros(2) if hook else (hook_W - setup.com_W)[:2]
+    com_offset = np.zeros(2) if hook else (hook_W - swing.com_W)[:2]
     target_xy = np.asarray(cfg.place_position[:2], dtype=float) + com_offset
     # A lift short of the need rises on to it at the place where the arm reaches that.
     q["carry"], X_carry = None, None
@@ -297,8 +313,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # (The higher of the estimates hanging at the hook point and sunk onto the loop: lowering
     # stops once the object stands, so going too deep costs nothing.)
     carry_height = X_carry.multiply(X_closed.inverse().multiply(hook_W))[2]
-    low = hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook) + \
-        carry_height - hook_W[2]
+    low = (hanging_lowest_height(setup.points_W, setup.com_W, hook_W, swings=hook)
+           if swing is None else swing.lowest) + carry_height - hook_W[2]
     q["place"] = None
     for down in np.linspace(low + cfg.place_depth, max(0.0, low - cfg.place_depth), 4):
         q_place = ik(shifted(X_carry, [0.0, 0.0, -max(down, 0.0)]), q["carry"], closed_hand)
@@ -324,7 +340,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     a, b, hand, hand_b):
                 if name in ("descend", "close") and not tight:
                     again = plan_pick(setup, X_WG.GetAsMatrix4(), kind, rank, q_start, bar,
-                                      min_lift, tight=True)
+                                      min_lift, tight=True, pinch_W=pinch_W)
                     if isinstance(again, PickPlan):
                         return again
                 return refuse("collision", name)
@@ -342,15 +358,19 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     notes=notes)
 
 
-def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float) -> float:
+def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float,
+                swing: PinchSwing | None = None) -> float:
     """The lift (m) after which the unseen space ``unseen_W`` (m, 3) is ``clearance`` above the
     table (W z = 0), as the scan's points must be: a hooked object (``rest``: how it rests on
     the loop) hangs from its contact and may turn any way about it, so the farthest unseen cell
-    from the contact bounds how low it reaches; held rigidly (``rest`` None), the lowest cell
+    from the contact bounds how low it reaches; a pinched one (``swing``) turns about the pinch
+    axis, each cell at its distance from the axis; held rigidly (neither), the lowest cell
     rises with the hand. -inf without unseen space."""
     u = np.asarray(unseen_W, dtype=float).reshape(-1, 3)
     if len(u) == 0:
         return float("-inf")
+    if rest is None and swing is not None:
+        return float(clearance - lowest_any_turn(u, swing.point_W, swing.axis_W))
     if rest is None:
         return float(clearance - u[:, 2].min())
     sunk = u - np.array([0.0, 0.0, rest.drop])  # the object sinks onto the loop first

@@ -607,7 +607,8 @@ class PickAndCarry(LeafSystem):
         def plan_grasp(tier: Tier, rank: int, grasp) -> PickPlan | Refusal:
             bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
             min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
-            return plan_pick(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift)
+            return plan_pick(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift,
+                             pinch_W=_pinch_point(grasp))
 
         def plan_regrasp_(rank: int, X_WG, pose) -> RegraspPlan | Refusal:
             return plan_regrasp(get_setup(), X_WG, pose, rank, q_start, s.q_home)
@@ -669,6 +670,13 @@ class PickAndCarry(LeafSystem):
         return PickSetup(self._near, far, points, com, self._config, self._seed,
                          table_level=self._table_level, unseen_W=scan_unseen(scan),
                          gripper=self._gripper)
+
+
+def _pinch_point(grasp) -> np.ndarray | None:
+    """(3,) the midpoint (W) of a pinch's contacts (an antipodal grasp's ``p_WA``, ``p_WB``),
+    or None."""
+    a, b = getattr(grasp, "p_WA", None), getattr(grasp, "p_WB", None)
+    return None if a is None or b is None else 0.5 * (np.asarray(a, float) + np.asarray(b, float))
 
 
 def _structure_centre(grasp) -> np.ndarray | None:

@@ -101,3 +101,29 @@ def test_a_tight_plan_places_the_grasp_within_a_tenth_of_a_millimetre(model):
               for p in plans]
     assert errors[1] <= TIGHT_IK[0] * np.sqrt(3) + 1e-9
     assert errors[0] <= 1e-3 * np.sqrt(3) + 1e-9
+
+
+@pytest.mark.parametrize(("height", "turns_over"), [(0.05, True), (0.20, False)])
+def test_a_pinch_is_lifted_for_the_object_swinging_about_its_axis(model, height, turns_over):
+    """Issue 42: a 25 cm bottle pinched from above (the planner alone, no object to collide
+    with); the lift is the need of the object pivoting about the pinch axis (core/pinch.py),
+    not of a rigid hold: pinched 5 cm up,
+    below its centre of mass, it turns over and its top hangs 15 cm below the table's level
+    (a rigid hold kept its bottom on it); pinched 20 cm up it hangs as it stood."""
+    from gbh_drake.core.gripper import BAR_RETRACTED
+    from gbh_drake.core.results import GraspKind
+    from gbh_drake.planning.pick import PickSetup, plan_pick
+
+    scenario = Scenario()
+    a = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+    rim = np.stack([0.55 + 0.02 * np.cos(a), 0.02 * np.sin(a)], axis=1)
+    bottle = np.concatenate([np.column_stack([rim, np.full(24, z)]) for z in (0.0, 0.25)])
+    setup = PickSetup(model, None, bottle, np.array([0.55, 0.0, 0.125]), scenario.pick, 0)
+    pinch = np.array([0.55, 0.0, height])
+    X = RigidTransform(DOWN, pinch - DOWN.multiply([0.0, 0.0, HOOK_GRIPPER.finger_length - 0.015]))
+    plan = plan_pick(setup, X.GetAsMatrix4(), GraspKind.ANTIPODAL, 0, np.asarray(scenario.robot.q_home),
+                     BAR_RETRACTED, pinch_W=pinch)
+    assert isinstance(plan, PickPlan), plan
+    clearance = scenario.pick.lift_clearance
+    expected = clearance + (0.25 - 2 * height if turns_over else 0.0)
+    assert plan.lift_needed == pytest.approx(expected, abs=1e-6)
