@@ -215,8 +215,10 @@ class Verdict:
     """When and in which phase (lift, carry, hold) the object, lifted and still touched by a
     gripper body, first touched the table ("" if it did not: the outcome ``touched_down``)."""
     min_clearance_after_lift: float = float("nan")
-    """Lowest height (m) of its lowest point above the table from when it was first lifted to
-    the end of the hold (nan: never lifted); ``min_clearance_phase``: the phase it was in."""
+    """Lowest height (m) its lowest point came back down to, below the highest it had reached,
+    after it was lifted and until the end of the hold (the lift's own rise through
+    ``lifted_height`` excluded; nan: never lifted, or it never came down); ``min_clearance_phase``:
+    the phase it was in then (lift, carry or hold)."""
     min_clearance_phase: str = ""
     squeeze_force: float = float("nan")
     """Mean squeeze force of the fingers during the carry and hold (N)."""

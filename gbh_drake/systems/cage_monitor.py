@@ -18,9 +18,9 @@ without falling), fixed in :class:`~gbh_drake.scenario.schema.MonitorConfig` bef
   the hold over the place position (all with the full grasp force), and, after it was lifted,
   never back on the table while held: one that touched the table while a gripper body still
   held it (during the lift, the carry or the hold) was dragged, not carried clear, and is
-  reported as its own outcome, ``touched_down`` (with the lowest clearance after the lift and
-  its phase, ``min_clearance_after_lift`` and ``min_clearance_phase``, recorded for every
-  trial);
+  reported as its own outcome, ``touched_down`` (with the lowest height the object came back
+  down to after it was lifted and its phase, ``min_clearance_after_lift`` and
+  ``min_clearance_phase``, recorded for every trial);
 * held by a cage or by a pinch, decided in the cage test: the squeeze is relaxed to a few
   newtons; an object still hanging at the end of it was caged when the hook's loop, at the
   measured fingers, encloses its material there (:func:`gbh_drake.core.enclosure.loop_enclosure`
@@ -283,9 +283,11 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
         if not w.lifted and low >= cfg.lifted_height and mode in _CARRIED:
             w.lifted, v.lifted_at = True, t
         if w.lifted:
-            v.max_clearance = max(v.max_clearance, low)
-            if mode in _CARRIED and not (low >= v.min_clearance_after_lift):
+            # Back down from the highest it had reached (not the rise through lifted_height).
+            if mode in _CARRIED and low < v.max_clearance and \
+                    not (low >= v.min_clearance_after_lift):
                 v.min_clearance_after_lift, v.min_clearance_phase = low, mode.value
+            v.max_clearance = max(v.max_clearance, low)
             if mode in _CARRIED and table:
                 v.table_touch_while_carried = True
                 if gripper and not v.touched_down_phase:

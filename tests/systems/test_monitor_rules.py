@@ -108,6 +108,11 @@ def test_a_clean_carry_records_its_lowest_clearance_after_the_lift():
     v = trial([0.06, 0.012, 0.05], hold_low=0.055)
     assert v.outcome == Outcome.SUCCESS and not v.touched_down_phase
     assert v.min_clearance_after_lift == pytest.approx(0.012) and v.min_clearance_phase == "carry"
+    # The lift's own rise through lifted_height is not a dip: the lowest after the peak counts.
+    rise = run([(Mode.LIFT, 0.0, HOOK, True, CLOSED), (Mode.LIFT, 0.021, HOOK, False, CLOSED),
+                (Mode.LIFT, 0.06, HOOK, False, CLOSED), (Mode.CARRY, 0.07, HOOK, False, CLOSED),
+                (Mode.CARRY, 0.05, HOOK, False, CLOSED), (Mode.HOLD, 0.058, HOOK, False, CLOSED)])
+    assert rise.min_clearance_after_lift == pytest.approx(0.05)
     # Free of the gripper for a moment on the table (not held): a drop's business, not this.
     w = trial([0.06, 0.0, 0.06], carry_gripper=(), carry_table=None, hold_low=0.06)
     assert w.outcome == Outcome.SUCCESS and not w.touched_down_phase and w.table_touch_while_carried
