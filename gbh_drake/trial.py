@@ -34,6 +34,7 @@ from gbh_drake.core.gripper import GRIPPERS
 from gbh_drake.messages import HeldBy, Outcome, PickStatus, Verdict, verdict_final
 from gbh_drake.method_spec import Tier
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
+from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds, derive_seeds
@@ -176,9 +177,12 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
                                               seeds=seeds))
 
     # Perception: one scan once the object has settled; the method's grasps from it.
+    # (The robot's own pixels are filtered out of its images by their render labels.)
+    plant = station.plant
     scanner = builder.AddNamedSystem("scanner", Scanner(
         scenario.scan, scenario.scan_target, scan_time=scenario.settle_time,
-        noise_seed=seeds.noise))
+        noise_seed=seeds.noise, robot=[int(plant.GetModelInstanceByName(name))
+                                       for name in (ARM, GRIPPER)]))
     builder.Connect(station.GetOutputPort(scene_query_port(scenario.scan.renderer_name)),
                     scanner.GetInputPort("query_object"))
     builder.Connect(station.GetOutputPort("object.state"), scanner.GetInputPort("object.state"))

@@ -44,6 +44,7 @@ from gbh_drake.perception.depth import valid_depth
 from gbh_drake.perception.fusion import integrate, masked_depths, view_points
 from gbh_drake.perception.noise import add_depth_noise
 from gbh_drake.perception.segment import bounding_sphere, box_faces_reached, segment_points
+from gbh_drake.perception.self_filter import robot_masks, without_pixels
 from gbh_drake.perception.table import TablePlane, fit_table_plane
 from gbh_drake.perception.viewpoints import (
     camera_poses,
@@ -165,24 +166,27 @@ class FirstLook:
 
 
 def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
-                noise_seed: int = 0) -> ScanResult:
+                noise_seed: int = 0, robot_labels: frozenset[int] = frozenset()) -> ScanResult:
     """Scans the object near the target p_WT (m, in W) with ``config``'s views.
 
     ``query_object`` comes from the SceneGraph's ``query`` output port; its renderer
     ``config.renderer_name`` must exist. ``noise_seed`` seeds the depth noise (with
     ``config.noise``): same seed, same images, same mesh. With ``config.aim_views`` a first look
     finds the object and the views are aimed at it; the table, the robot and everything else
-    are segmented away."""
+    are segmented away. ``robot_labels``: the render labels of the robot's own geometry
+    (:func:`~gbh_drake.perception.self_filter.robot_labels`): its pixels are no measurement of
+    the object (a self filter; empty: none)."""
     config.validate()
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     start = time.perf_counter()
-    look = first_look(query_object, config, p_WT, noise_seed=noise_seed) if config.aim_views \
-        else None
+    look = first_look(query_object, config, p_WT, noise_seed=noise_seed,
+                      robot_labels=robot_labels) if config.aim_views else None
     look_s = time.perf_counter() - start
     timing: dict[str, float] = {"first_look": look_s, "render": 0.0}
     reframes = 0
     while True:
-        result, aim, distance = _aimed_scan(query_object, config, p_WT, look, noise_seed, timing)
+        result, aim, distance = _aimed_scan(query_object, config, p_WT, look, noise_seed, timing,
+                                            robot_labels)
         if not (look is not None and look.found and _reaches_frame(result)):
             break
         if reframes >= config.reframe_tries:
@@ -213,7 +217,8 @@ FRAME_EDGE_WARNING = "the object reaches the edge of the region framed by the fi
 
 
 def _aimed_scan(query_object: QueryObject, config: ScanConfig, p_WT: np.ndarray,
-                look: FirstLook | None, noise_seed: int, timing: dict[str, float]):
+                look: FirstLook | None, noise_seed: int, timing: dict[str, float],
+                robot_labels: frozenset[int] = frozenset()):
     """The views aimed at what ``look`` found (or at T), rendered and fused: (result, aim,
     distance); adds the stages' wall seconds to ``timing``."""
     aim, distance, warnings = p_WT, config.distance, []
@@ -227,10 +232,13 @@ def _aimed_scan(query_object: QueryObject, config: ScanConfig, p_WT: np.ndarray,
                 f"field of view; they are at distance_max = {config.distance_max:.2f} m")
     X_WCs = camera_poses(config, aim, distance)
     start = time.perf_counter()
-    depths = render_depth_images(query_object, make_depth_camera(config), X_WCs)
+    camera = make_depth_camera(config)
+    depths = render_depth_images(query_object, camera, X_WCs)
+    masks = robot_masks(query_object, camera, X_WCs, robot_labels) if robot_labels else None
     timing["render"] += time.perf_counter() - start
     result = scan_depth_images(depths, CameraIntrinsics.from_config(config), X_WCs, config, p_WT,
-                               first_look=look, noise_seed=noise_seed, view_distance=distance)
+                               first_look=look, noise_seed=noise_seed, view_distance=distance,
+                               robot_masks=masks)
     result.warnings = warnings + result.warnings
     for stage, seconds in result.timing.items():
         timing[stage] = timing.get(stage, 0.0) + seconds
@@ -256,10 +264,11 @@ def _reframed(look: FirstLook, p_W_seen: np.ndarray, config: ScanConfig) -> Firs
 
 
 def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
-               noise_seed: int = 0) -> FirstLook:
+               noise_seed: int = 0, robot_labels: frozenset[int] = frozenset()) -> FirstLook:
     """Finds the table and the object from two small wide views from the sides of p_WT (see
     ``viewpoints.first_look_poses``); looks again, aimed and farther, if the object reaches the
-    edge of those views."""
+    edge of those views. ``robot_labels``: the robot's pixels are not the object's (see
+    :func:`scan_object`)."""
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     scale = config.first_look_scale
     small = dataclasses.replace(config, width=max(config.width // scale, 8),
@@ -279,13 +288,15 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
         depths = render_depth_images(query_object, camera, X_WCs)
         if config.noise:
             depths = [add_depth_noise(d, intrinsics, small, rng) for d in depths]
+        seen = without_pixels(depths, robot_masks(query_object, camera, X_WCs, robot_labels)
+                              if robot_labels else None)  # the robot's pixels: not the object
         if look is None:
-            points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+            points = view_points(seen, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
             table, warning = fit_table_plane(points.p_WQ, config)
             box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
             look = FirstLook(X_WCs, table, np.zeros((0, 3)),
                              warnings=[warning] if warning else [])
-        points = view_points(depths, intrinsics, X_WCs, box)
+        points = view_points(seen, intrinsics, X_WCs, box)
         segmentation = segment_points(points.p_WQ, look.table, coarse, p_WT, box,
                                       reference=reference)
         if not segmentation.found:
@@ -346,8 +357,8 @@ def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                       X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT, *,
                       first_look: FirstLook | None = None, noise_seed: int = 0,
-                      view_distance: float | None = None, far_is_free: bool = True
-                      ) -> ScanResult:
+                      view_distance: float | None = None, far_is_free: bool = True,
+                      robot_masks: Sequence[np.ndarray] | None = None) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
     mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``
     (seeded by ``noise_seed``).
@@ -356,18 +367,22 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     (see ``segment.segment_points``), unless ``first_look`` (from :func:`first_look`) already
     found them. The images (noisy) are kept as ``free_space`` (:func:`make_free_space`, its
     margin for views at ``view_distance``, default ``config.distance``; ``far_is_free``: an
-    inf pixel saw nothing up to ``config.depth_max``, true of Drake's renderer)."""
+    inf pixel saw nothing up to ``config.depth_max``, true of Drake's renderer).
+    ``robot_masks``: (h, w) bool per image, the pixels that see the robot itself
+    (:mod:`~gbh_drake.perception.self_filter`): no measurement of the object (its points,
+    segmentation and fusion), still measurements for free space."""
     start = time.perf_counter()
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     timing: dict[str, float] = {}
     if config.noise:
         rng = np.random.default_rng(int(noise_seed))
         depths = [add_depth_noise(d, intrinsics, config, rng) for d in depths]
+    seen = without_pixels(depths, robot_masks)  # the robot's own pixels: not the object
     warnings: list[str] = list(first_look.warnings) if first_look is not None else []
     if first_look is not None:
         table = first_look.table
     else:
-        points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+        points = view_points(seen, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
         table, warning = fit_table_plane(points.p_WQ, config)
         warnings += [warning] if warning else []
     box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
@@ -381,11 +396,11 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
         region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
     result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
                         table=table, aim_W=p_WT, view_distance=config.distance, region=region)
-    points = view_points(depths, intrinsics, X_WCs, region)
-    seen = first_look is not None and first_look.found
-    reference = first_look.reference_W if seen else None
+    points = view_points(seen, intrinsics, X_WCs, region)
+    looked = first_look is not None and first_look.found
+    reference = first_look.reference_W if looked else None
     segmentation = segment_points(points.p_WQ, table, config, p_WT, box, reference=reference,
-                                  known_W=first_look.p_W_object if seen else None)
+                                  known_W=first_look.p_W_object if looked else None)
     result.p_WQ = points.p_WQ[segmentation.object_mask].astype(np.float64)
     timing["segment"] = time.perf_counter() - start
 
@@ -399,7 +414,7 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
         near = np.zeros(len(points.p_WQ), dtype=bool)
         near[low[_near_footprint(points.p_WQ[low], result.p_WQ, table, config.table_margin)]] = True
         keep = segmentation.object_mask | near
-        mesh = integrate(masked_depths(depths, points, keep), intrinsics, X_WCs, config)
+        mesh = integrate(masked_depths(seen, points, keep), intrinsics, X_WCs, config)
         mesh = cut_at_height(mesh, table, config.crop_z_min)
         mesh = keep_large_components(mesh, config.min_component_fraction)
         timing["fuse"] = time.perf_counter() - t

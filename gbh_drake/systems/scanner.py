@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.geometry import QueryObject
@@ -9,6 +11,7 @@ from pydrake.systems.framework import LeafSystem
 
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.scan import ScanResult, scan_object
+from gbh_drake.perception.self_filter import robot_labels
 
 
 class Scanner(LeafSystem):
@@ -51,15 +54,19 @@ class Scanner(LeafSystem):
     """
 
     def __init__(self, config: ScanConfig, p_WT, *, scan_time: float | None = None,
-                 noise_seed: int = 0):
+                 noise_seed: int = 0, robot: Sequence[int] = ()):
         """``p_WT`` (3,) m: where the object is expected in W (the first look searches around it,
         then the views aim at what it found);
-        ``noise_seed``: seed of the depth noise (when ``config.noise``)."""
+        ``noise_seed``: seed of the depth noise (when ``config.noise``); ``robot``: the model
+        instances (indices) of the robot, whose pixels are filtered out of the depth images by
+        their render labels before anything is fused (a self filter,
+        :mod:`gbh_drake.perception.self_filter`; empty: none)."""
         super().__init__()
         config.validate()
         self._config = config
         self._p_WT = np.asarray(p_WT, dtype=float).reshape(3)
         self._noise_seed = int(noise_seed)
+        self._robot = tuple(int(i) for i in robot)
         self._query = self.DeclareAbstractInputPort("query_object",
                                                     AbstractValue.Make(QueryObject()))
         model = AbstractValue.Make(no_scan(NOT_SCANNED_YET))
@@ -90,9 +97,12 @@ class Scanner(LeafSystem):
     def scan(self, context, p_WT=None) -> ScanResult:
         """A scan of the scene as ``context`` has it now, around ``p_WT`` (default: the
         constructor's)."""
-        return scan_object(self._query.Eval(context), self._config,
+        query = self._query.Eval(context)
+        return scan_object(query, self._config,
                            self._p_WT if p_WT is None else np.asarray(p_WT, dtype=float),
-                           noise_seed=self._noise_seed)
+                           noise_seed=self._noise_seed,
+                           robot_labels=robot_labels(query, self._robot) if self._robot
+                           else frozenset())
 
     def _calc_scan(self, context, output) -> None:
         result = self.scan(context)
