@@ -2,6 +2,7 @@
 
     python tools/rejudge_cage.py ROWS.jsonl EXPERIMENT.yaml [EXPERIMENT.yaml ...]
         [--select suspects|touched|cages] [--limit N] [--out rejudged.jsonl]
+        [--trials OBJECT:METHOD:PROTOCOL:TRIAL ...]
 
 Issue 42: the cage test once called an object caged when it was still held at the end with
 both fingers within ``monitor.closed_tolerance`` (2 mm) of closed; the monitor now asks what
@@ -16,7 +17,8 @@ simulation (the finger rule from its recorded ``cage_test_held``, ``loop_closed`
 ``--select``: ``suspects``, committed successes held with the bar out whose fingers ended the
 cage test more than 0.2 mm from closed (the finger rule's tolerance decided them); ``touched``,
 successes that touched the table while carried; ``cages``, committed cages with the loop
-closed (controls, ``--limit`` of them, one per object first). Rows are appended to ``--out``
+closed (controls, ``--limit`` of them, one per object first); ``--trials``: these trials,
+successes or not (whole-trial confirmations). Rows are appended to ``--out``
 (a trial already there is skipped); a Markdown table of every trial is printed at the end,
 those whose verdict the new rules change first.
 """
@@ -130,6 +132,8 @@ def main() -> None:
     parser.add_argument("--select", choices=("suspects", "touched", "cages"), default="suspects")
     parser.add_argument("--limit", type=int, default=0)
     parser.add_argument("--out", default="rejudged.jsonl")
+    parser.add_argument("--trials", nargs="*", default=None,
+                        help="OBJECT:METHOD:PROTOCOL:TRIAL of the rows to run (any outcome)")
     parser.add_argument("--table-only", action="store_true",
                         help="print the table of --out without simulating")
     args = parser.parse_args()
@@ -147,7 +151,14 @@ def main() -> None:
                 if line.strip()]
         seen = {(r["experiment"], r["object"], r["method"], r["trial"], r["protocol"])
                 for r in done}
-        for row in select(rows, args.select, args.limit):
+        if args.trials is not None:
+            wanted = [tuple(t.split(":")) for t in args.trials]
+            chosen = [r for w in wanted for r in rows
+                      if (r["object"], r["method"], r.get("protocol") or "stable",
+                          str(r["trial"])) == w]
+        else:
+            chosen = select(rows, args.select, args.limit)
+        for row in chosen:
             if key(row) in seen or row["experiment"] not in experiments:
                 continue
             result = rejudge(row, experiments)
