@@ -192,8 +192,9 @@ class MonitorConfig:
     lifted_height: float = ranged(0.02, Pos(1.0, "m"))
     """The object counts as lifted when its lowest point is this far (m) above the table."""
     closed_tolerance: float = ranged(0.002, Pos(0.02, "m"))
-    """The hook's loop counts as closed when each finger is within this distance (m) of its
-    closed position (the bar's tip on the straight rod)."""
+    """The hook's loop is recorded as closed (``Verdict.loop_closed``) when each finger is
+    within this distance (m) of its closed position (the bar's tip on the straight rod). It no
+    longer decides a cage: what the loop encloses does (docs/cage_test.md)."""
     period: float = ranged(0.01, Range(1e-3, 1.0, unit="s"))
     """Update period (s) of the monitor."""
 

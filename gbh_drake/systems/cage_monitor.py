@@ -24,12 +24,13 @@ without falling), fixed in :class:`~gbh_drake.scenario.schema.MonitorConfig` bef
 * held by a cage or by a pinch, decided in the cage test: the squeeze is relaxed to a few
   newtons; an object still hanging at the end of it was caged when the hook's loop, at the
   measured fingers, encloses its material there (:func:`gbh_drake.core.enclosure.loop_enclosure`
-  on the object's mesh where the plant has it: the loop links the material, does not pass
-  through it, and the gap between the bar's tip and the straight rod is narrower than the
-  material); one still held otherwise (the bar folded, the material between the bar's tip and
-  the straight rod, a loop that does not link it), or that slid out, was pinched. (The fingers'
-  closeness alone once decided it: a bar tip stopped on a cup's wall, 1.9 mm from closed, with
-  the straight rod inside the cup, counted as a cage.)
+  on the object's mesh where the plant has it: material passes through the loop's hole, the
+  loop does not pass through the material, and the gap between the bar's tip and the straight
+  rod is narrower than the material; whether the loop also links it is recorded); one still
+  held otherwise (the bar folded, the material between the bar's tip and the straight rod, no
+  material in the hole), or that slid out, was pinched. (The fingers' closeness alone once
+  decided it: a bar tip stopped on a cup's wall, 1.9 mm from closed, with the straight rod
+  inside the cup, counted as a cage.) docs/cage_test.md says more.
 
 Only contact holds the object: it is a free body throughout, never welded or attached.
 """
