@@ -67,6 +67,8 @@ from gbh_drake.systems.stage import CopiedShallowly
 #: for this long (s): a basket still hanging on the bar loses contact for a step now and then.
 DROP_CONFIRM = 0.2
 
+#: Said of a cage test whose enclosure was not judged (a monitor without the object's mesh).
+NOT_JUDGED = "the fingers decided: the monitor had no object mesh to judge what the loop encloses"
 #: Phases in which the object should be in the air.
 _AIRBORNE = (Mode.LIFT, Mode.CARRY, Mode.HOLD, Mode.CAGE_TEST)
 #: Phases whose end decides success (the cage test only decides cage or pinch).
@@ -127,7 +129,8 @@ class CageMonitor(LeafSystem):
         ``object_body_name``: the free object's body; ``p_OV`` (n, 3): its vertices in its
         body frame (its convex hull's suffice); ``bar_deployed_max`` (rad): the bar counts as
         deployed below this angle magnitude; ``mesh_O``: the object's surface in its body frame
-        (what the loop must enclose for a cage; None: nothing is judged caged); ``gripper``:
+        (what the loop must enclose for a cage; None: the fingers decide, within
+        ``config.closed_tolerance`` of closed, and the reason says so); ``gripper``:
         the hook gripper's geometry (the variant the station runs)."""
         super().__init__()
         self._config = config or MonitorConfig()
@@ -264,7 +267,8 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     not changed); ``search``: why there was no grasp, when the machine had none;
     ``enclosure``: what the loop encloses of the object at a look (the monitor's
     :meth:`CageMonitor.enclosure`), asked once, of the cage test's last look, when the test is
-    over (None: nothing is caged). Pure: the monitor's rules without a diagram.
+    over (None: the fingers decide, :data:`NOT_JUDGED`). Pure: the monitor's rules without a
+    diagram.
 
     A lifted object whose lowest point comes back below half of ``lifted_height`` has dropped if
     no gripper body touches it for ``DROP_CONFIRM``; if one does, it has come down onto the
@@ -426,18 +430,25 @@ def _conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
     if mode == Mode.CAGE_TEST:
         v.held_by, v.reason = HeldBy.NONE, f"{carried}; the cage test is running"
         return
-    caged = v.cage_test_held and v.bar_deployed and v.loop_encloses
+    judged = bool(w.enclosure_text)
+    # Without the object's mesh (a monitor built without ``mesh_O``) the fingers decide, as
+    # before the enclosure test, and the reason says so.
+    encloses = v.loop_encloses if judged else v.loop_closed
+    caged = v.cage_test_held and v.bar_deployed and encloses
     v.held_by = HeldBy.CAGE if caged else HeldBy.PINCH
     fingers = (f"fingers at {1000 * v.finger_q_cage_test:.1f} mm, closed at "
                f"{1000 * HOOK_GRIPPER.q_closed:.1f} mm")
-    if caged:
+    if caged and not judged:
+        v.reason = (f"{carried}; held by a cage: it stayed on the closed loop with the squeeze "
+                    f"relaxed ({fingers}; {NOT_JUDGED})")
+    elif caged:
         v.reason = (f"{carried}; held by a cage: it stayed in the loop with the squeeze "
                     f"relaxed, and the loop encloses it ({w.enclosure_text})")
     elif v.cage_test_held and not v.bar_deployed:
         v.reason = f"{carried}; held by a pinch between the two straight rods (the bar " \
                    "folded), still held with the squeeze relaxed"
     elif v.cage_test_held:
-        why = w.enclosure_text or "its enclosure was not judged"
+        why = w.enclosure_text or f"the loop did not close ({NOT_JUDGED})"
         v.reason = f"{carried}; held by a pinch: {why} ({fingers})"
     else:
         v.reason = f"{carried}; held by a pinch: it slid out when the squeeze was relaxed"

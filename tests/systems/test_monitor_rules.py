@@ -202,3 +202,16 @@ def test_nothing_left_after_a_retry_says_so():
     assert w.verdict.outcome == Outcome.NO_REACHABLE_GRASP
     assert w.verdict.reason == ("no grasp left to try (a retry: 1 earlier grasp came away empty; "
                                 "3 grasps near it skipped)")
+
+
+def test_without_the_objects_mesh_the_fingers_decide_and_say_so():
+    """A monitor built without ``mesh_O`` (the README's own-diagram example): the fingers'
+    closeness decides, as before the enclosure test, and the reason says it was not judged."""
+    v = trial([0.06], enclosure=None)
+    assert v.held_by == HeldBy.CAGE and "the fingers decided" in v.reason
+    assert not v.loop_encloses and v.loop_gap != v.loop_gap  # not judged: nan
+    q = 0.0189
+    cup = trial([0.06], cage_hand=np.array([q, q, 0, 0, 0, 0]), enclosure=None)
+    assert cup.held_by == HeldBy.CAGE  # the finger rule's mistake, kept only without a mesh
+    open_hand = trial([0.06], cage_hand=np.array([0.03, 0.03, 0, 0, 0, 0]), enclosure=None)
+    assert open_hand.held_by == HeldBy.PINCH and "the loop did not close" in open_hand.reason
