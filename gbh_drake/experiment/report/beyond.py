@@ -122,7 +122,8 @@ def borderline(data: ReportInput) -> list[str]:
     down = frame[frame.borderline_success.fillna(False)]
     listed = [[r.object, r.method, r.trial, *([r.protocol] if several else []), r.held_by,
                r.sank_phase or "-", "-" if pd.isna(r.sank_at) else f"{r.sank_at:.2f}",
-               "yes" if r.table_touch_while_carried is True else "no",
+               "yes" if pd.notna(r.table_touch_while_carried) and r.table_touch_while_carried
+               else "no",
                _cm(r.min_clearance_after_lift) + ("" if pd.isna(r.min_clearance_phase) else
                                                   f" ({r.min_clearance_phase})")]
               for r in down.itertuples()]

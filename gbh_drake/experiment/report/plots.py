@@ -85,7 +85,7 @@ def plot_success(data: ReportInput, path: Path) -> None:
     panels = [(one.protocols[0] if suffix else "", *success_grid(one))
               for suffix, one in per_protocol(data)]
     rows, cols = len(panels[0][1]), max(1, len(data.methods))
-    width = 2.2 + len(panels) * (0.95 * cols + 0.3) + 1.0
+    width = max(6.0, 2.2 + len(panels) * (0.95 * cols + 0.3) + 1.0)
     height = 0.3 * rows + 2.4
     fig = _figure(width, height)
     colours = matplotlib.colormaps[RATE_MAP]
@@ -107,13 +107,14 @@ def plot_success(data: ReportInput, path: Path) -> None:
         if protocol:
             ax.set_title(f"protocol {protocol}", fontsize=9)
     axes[0].set_ylabel("object", fontsize=9)
-    bar = fig.colorbar(image, ax=list(axes), fraction=0.9 / width, pad=0.02)
+    left, right, bottom, top = 2.0 / width, 1 - 1.2 / width, 1.3 / height, 1 - 0.75 / height
+    fig.subplots_adjust(left=left, right=right, bottom=bottom, top=top, wspace=0.08)
+    bar = fig.colorbar(image, cax=fig.add_axes((1 - 0.95 / width, bottom, 0.15 / width,
+                                                top - bottom)))
     bar.set_label("success rate (successes / trials)", fontsize=8)
     bar.ax.tick_params(labelsize=7)
     fig.suptitle(_wrapped(f"{data.name}: successes / trials per object and method (first row: "
                           "all objects with hangable parts)", width, 10), fontsize=10)
-    fig.subplots_adjust(left=2.0 / width, right=1 - 1.1 / width, bottom=1.3 / height,
-                        top=1 - 0.75 / height, wspace=0.08)
     _save(fig, path)
 
 
