@@ -91,12 +91,14 @@ TRIALS_CSV = "trials.csv"
 TABLE1_CSV = "table1.csv"
 
 
-def write_report(folder: Path, *, warn=None) -> tuple[Path, Path]:
+def write_report(folder: Path, *, warn=None, data: ReportInput | None = None
+                 ) -> tuple[Path, Path]:
     """Writes ``summary.md``, ``trials.csv``, ``table1.csv`` and the plots (``success`` and
-    ``causes``, PNG and SVG) into ``folder`` from its rows; returns the summary and
-    ``success.png``. Everything is read (and checked) before anything is written."""
+    ``causes``, PNG and SVG) into ``folder`` from its rows (``data``: as read already by
+    :func:`read_input`); returns the summary and ``success.png``. Everything is read (and
+    checked) before anything is written."""
     folder = Path(folder)
-    data = read_input(folder, warn=warn)
+    data = data or read_input(folder, warn=warn)
     runs = read_runs(folder, warn=warn)
     summary = folder / SUMMARY_FILE
     write_atomically(summary, summary_markdown(data, runs=runs))

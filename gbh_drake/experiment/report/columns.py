@@ -71,6 +71,19 @@ _RECORD_KINDS = {"n_structures": ("int", INT), "n_candidates": ("int", INT), "n_
                  "grasped_true_part": ("bool", BOOL), "best_score": ("float", FLOAT),
                  "lift": ("float", FLOAT), "sim_time": ("float", FLOAT)}
 
+#: The row's other plain fields, (dtype, kind, meaning): in trials.csv in this (alphabetical) order.
+_ROW_REST = {
+    "commit": (STR, "str", "the code's commit"),
+    "experiment": (STR, "str", "the experiment's name when the row was written"),
+    "fallback": (BOOL, "bool", "the executed grasp was the fallback's"),
+    "grasp_method": (STR, "str", "the scenario's grasp_method (gbh, antipodal, gbh_plus, ...)"),
+    "reason": (STR, "str", "the verdict's reason, in words"),
+    "replay": (STR, "str", "the replay's path in the folder, or empty"),
+    "scenario_digest": (STR, "str", "digest of the trial's scenario"),
+    "viewpoints": (INT, "int", "camera viewpoints of the scan"),
+    "worker": (STR, "str", "host:pid of the worker"),
+}
+
 #: Every column, in the order of ``trials.csv`` (columns with ``csv=False`` are the frame's
 #: alone). Times in s, lengths in m.
 COLUMNS: tuple[Column, ...] = (
@@ -91,15 +104,7 @@ COLUMNS: tuple[Column, ...] = (
     _row("grasp_score", FLOAT, "float", "the executed grasp's score"),
     _derived("resting_pose", STR, "upright, on its side, upside down (the start pose's tilt); "
                                 "empty without a pose"),
-    _row("commit", STR, "str", "the code's commit"),
-    _row("experiment", STR, "str", "the experiment's name when the row was written"),
-    _row("fallback", BOOL, "bool", "the executed grasp was the fallback's"),
-    _row("grasp_method", STR, "str", "the scenario's grasp_method (gbh, antipodal, gbh_plus, ...)"),
-    _row("reason", STR, "str", "the verdict's reason, in words"),
-    _row("replay", STR, "str", "the replay's path in the folder, or empty"),
-    _row("scenario_digest", STR, "str", "digest of the trial's scenario"),
-    _row("viewpoints", INT, "int", "camera viewpoints of the scan"),
-    _row("worker", STR, "str", "host:pid of the worker"),
+    *(_row(name, dtype, kind, meaning) for name, (dtype, kind, meaning) in _ROW_REST.items()),
     _row("refusals", OBJ, "counts", "grasps refused: {reason:stage: count} (trials.csv: "
                                   "'key xN')"),
     *(_row(f"pose_{a}", FLOAT, "", f"the start pose's {a} (m or rad)", "pose") for a in POSE_AXES),
