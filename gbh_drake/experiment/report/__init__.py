@@ -51,11 +51,11 @@ from gbh_drake.experiment.report.columns import (
     frame_of,
 )
 from gbh_drake.experiment.report.facts import (
-    BEYOND_METHODS,
     CUPS,
     FLAT_OBJECTS,
     PAPER_TABLE1,
     PROTOCOL_TEXT,
+    beyond_paper,
     object_tags,
 )
 from gbh_drake.experiment.report.inputs import (
@@ -122,13 +122,13 @@ def reach_class(row: dict) -> str:
 
 
 __all__ = [
-    "BEYOND_METHODS", "CAUSES_PLOT_FILE", "COLUMNS", "CUPS", "EXPERIMENT_FILE", "FLAT_OBJECTS",
-    "HELD_HOW", "LOW_VALUE", "PAPER_TABLE1", "PLOT_FILE", "PROTOCOL_TEXT", "REACH_CLASSES",
-    "RECORD_FIELDS", "RUNS_FILE", "STAGES", "SUMMARY_FILE", "TABLE1_CSV", "TRIALS_CSV",
-    "UNSEEN_LIFT_NOTE", "Column", "ReportInput", "beyond", "borderline", "by_cause", "by_lift",
+    "CAUSES_PLOT_FILE", "COLUMNS", "CUPS", "EXPERIMENT_FILE", "FLAT_OBJECTS", "HELD_HOW",
+    "LOW_VALUE", "PAPER_TABLE1", "PLOT_FILE", "PROTOCOL_TEXT", "REACH_CLASSES", "RECORD_FIELDS",
+    "RUNS_FILE", "STAGES", "SUMMARY_FILE", "TABLE1_CSV", "TRIALS_CSV", "UNSEEN_LIFT_NOTE",
+    "Column", "ReportInput", "beyond", "beyond_paper", "borderline", "by_cause", "by_lift",
     "by_rank", "by_reach", "by_resting_pose", "cause_counts", "frame_of", "held_how",
-    "object_tags", "out_of_the_loops_reach", "paired", "per_object_detail",
-    "plot_causes", "plot_success", "presets_line", "read_input", "read_runs",
-    "read_saved_experiment", "reach_class", "resting_pose", "retries", "summary_markdown",
-    "table1", "table1_frame", "trials_frame", "write_atomically", "write_report",
+    "object_tags", "out_of_the_loops_reach", "paired", "per_object_detail", "plot_causes",
+    "plot_success", "presets_line", "read_input", "read_runs", "read_saved_experiment",
+    "reach_class", "resting_pose", "retries", "summary_markdown", "table1", "table1_frame",
+    "trials_frame", "write_atomically", "write_report"
 ]

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pandas as pd
 
 from gbh_drake.experiment.report.columns import HELD_HOW
-from gbh_drake.experiment.report.facts import BEYOND_METHODS, UNKNOWN, object_tags, tagged
+from gbh_drake.experiment.report.facts import UNKNOWN, beyond_paper, object_tags, tagged
 from gbh_drake.experiment.report.inputs import ReportInput
 from gbh_drake.experiment.report.tables import (
     controls,
@@ -54,12 +54,12 @@ def beyond(data: ReportInput) -> list[str]:
         "successes the cage test found held on the closed loop." + (
             f" Objects the report has no facts about ({names[UNKNOWN]}) are not counted here."
             if names[UNKNOWN] != "none" else "")]
-    def using(kinds) -> list[str]:
+    def using(test) -> list[str]:
         return [m for m in data.methods
-                if data.frame[data.frame.method == m].grasp_method.isin(kinds).any()]
+                if any(test(data.frame[data.frame.method == m].grasp_method.dropna()))]
 
-    extra = using(BEYOND_METHODS)
-    compared = using(["gbh_fallback"]) + extra
+    extra = using(beyond_paper)
+    compared = using(lambda kinds: kinds.eq("gbh_fallback")) + extra
     for suffix, one in per_protocol(data):
         mine, one_tags = one.frame, object_tags(one.frame)
         cells = []

@@ -1,6 +1,6 @@
-"""What the report knows besides the rows: the paper's figures, the protocols in words, the
-methods beyond the paper, and the objects' tags (:func:`object_tags`, the one lookup the
-sections use)."""
+"""What the report knows besides the rows: the paper's figures, the protocols in words, which
+grasp methods go beyond the paper (their :class:`~gbh_drake.method_spec.MethodSpec`), and the
+objects' tags (:func:`object_tags`, the one lookup the sections use)."""
 
 from __future__ import annotations
 
@@ -22,8 +22,6 @@ PROTOCOL_TEXT = {
                "random yaw and position; the paper's objects were set down by a person.",
 }
 
-#: The grasp methods that go beyond the paper's grasps (the scoop, the regrasp, both).
-BEYOND_METHODS = ("gbh_scoop", "gbh_regrasp", "gbh_plus")
 
 #: Tags of the built-in objects, for rows that carry no ``object_tags`` (written before the
 #: object sets had tags): the objects that lie flat (every resting pose: the bar cannot pass
@@ -33,6 +31,15 @@ FLAT_OBJECTS = ("clothes_hanger", "key_ring", "scissors", "tape_roll")
 CUPS = ("mug_classic", "mug_large", "mug_square_handle", "pybullet_mug", "teacup")
 #: The tag of an object the report has no facts about.
 UNKNOWN = "unknown"
+
+
+def beyond_paper(grasp_methods) -> list[bool]:
+    """For each grasp method name: whether it goes beyond the paper's grasps (its spec's
+    ``beyond_paper``; a name no spec has is not)."""
+    from gbh_drake.method_spec import method_names, method_spec
+
+    known = set(method_names())
+    return [g in known and method_spec(g).beyond_paper for g in grasp_methods]
 
 
 def protocol_text(protocol: str) -> str:

@@ -10,9 +10,9 @@ from gbh_drake.core.resting import RESTING_POSES
 from gbh_drake.experiment.report.beyond import beyond, borderline
 from gbh_drake.experiment.report.columns import REACH_CLASSES, STAGES
 from gbh_drake.experiment.report.facts import (
-    BEYOND_METHODS,
     PAPER_TABLE1,
     UNKNOWN,
+    beyond_paper,
     object_tags,
     protocol_text,
 )
@@ -384,7 +384,7 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines += ["", "## Failures by outcome (objects with hangable parts)", ""] + by_outcome(data)
     lines += ["", "## Failures by cause (objects with hangable parts)", ""] + by_cause(data)
     lines += ["", "## What a loop can reach (objects with hangable parts)", ""] + by_reach(data)
-    if data.frame.grasp_method.isin(BEYOND_METHODS).any():
+    if any(beyond_paper(data.frame.grasp_method.dropna().unique())):
         lines += ["", "## Beyond the paper: where no rigid loop reaches", ""] + beyond(data)
     lines += ["", "## Grasps refused by reason (objects with hangable parts)", ""] + \
         refusals(data)
