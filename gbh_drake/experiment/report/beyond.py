@@ -61,14 +61,12 @@ def beyond(data: ReportInput) -> list[str]:
     extra = using(beyond_paper)
     compared = using(lambda kinds: kinds.eq("gbh_fallback")) + extra
     for suffix, one in per_protocol(data):
-        mine, one_tags = one.frame, object_tags(one.frame)
-        cells = []
+        one_tags, cells = object_tags(one.frame), []
+        mine = one.frame.groupby(["object", "method"]).agg(
+            trials=("success", "size"), successes=("success", "sum"),
+            cage=("held_by", lambda h: int(h.eq("cage").sum())))
         for obj in [o for o in one.objects if "control" not in one_tags.get(o, ())]:
-            cells.append([obj])
-            for method in compared:
-                rows = mine[(mine.object == obj) & (mine.method == method)]
-                cells[-1].append(f"{int(rows.success.sum())}/{len(rows)} "
-                                 f"({held(rows, 'cage')} cage)" if len(rows) else "-")
+            cells.append([obj, *(_tally_cell(mine, obj, m) for m in compared)])
         lines += ["", f"### Per object{suffix}", ""] + table(["Object", *compared], cells)
     rows = [[label, len(mine), int((mine.success & mine.held_how.isin(["hook", "scoop"])).sum()),
              int((mine.success & mine.held_how.str.contains("pinch")).sum())]
@@ -80,6 +78,14 @@ def beyond(data: ReportInput) -> list[str]:
         lines += ["", "### Controls", ""] + table(
             ["Method", "Trials", "Hooked (a false structure)", "Pinched (the fallback)"], rows)
     return lines + retries(data)
+
+
+def _tally_cell(counted: pd.DataFrame, obj: str, method: str) -> str:
+    """``k/n (c cage)`` of (object, method) in ``counted`` (trials, successes, cage); ``-``."""
+    if (obj, method) not in counted.index:
+        return "-"
+    row = counted.loc[(obj, method)]
+    return f"{row.successes}/{row.trials} ({row.cage} cage)"
 
 
 def retries(data: ReportInput) -> list[str]:

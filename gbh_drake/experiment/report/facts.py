@@ -59,14 +59,18 @@ def object_tags(frame_or_rows) -> dict[str, frozenset[str]]:
 
     frame = frame_or_rows if isinstance(frame_or_rows, pd.DataFrame) else \
         frame_of(list(frame_or_rows))
+    by_object = frame[["object", "object_tags", "is_control", "true_parts"]].groupby(
+        "object", sort=False)
+    carried = by_object.object_tags.last()  # (the last row's that has them)
+    control = by_object.is_control.any()
+    parts = by_object.true_parts.max()
     out = {}
-    for obj, rows in frame.groupby("object", sort=False):
-        carried = rows.object_tags.dropna()
-        tags = set(carried.iloc[-1]) if len(carried) else \
+    for obj in carried.index:
+        tags = set(carried[obj]) if carried[obj] is not None else \
             {"flat"} if obj in FLAT_OBJECTS else {"cup"} if obj in CUPS else set()
-        if rows.is_control.fillna(False).any():
+        if control[obj]:
             tags.add("control")
-        if not len(carried) and not tags and not rows.true_parts.fillna(0).gt(0).any():
+        if carried[obj] is None and not tags and not (pd.notna(parts[obj]) and parts[obj] > 0):
             tags.add(UNKNOWN)
         out[obj] = frozenset(tags)
     return out

@@ -143,6 +143,7 @@ def plot_causes(data: ReportInput, path: Path) -> None:
                   "center")
     ax.set_xlabel("method" + (" (protocol)" if len(data.protocols) > 1 else ""), fontsize=9)
     ax.set_ylabel("failed trials", fontsize=9)
+    ax.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title(_wrapped(f"{data.name}: failures by cause (objects with hangable parts)",
                           width - 2.4, 10), fontsize=10)
     if len(counts):

@@ -137,16 +137,23 @@ def controls_table(data: ReportInput) -> list[str]:
         "false hanging structure."]
 
 
+def _by_object_and_method(data: ReportInput, *columns: str) -> dict[tuple, pd.DataFrame]:
+    """The rows of each (object, method) that has any, with ``columns`` alone."""
+    narrow = data.frame[["object", "method", *columns]]
+    return {key: rows for key, rows in narrow.groupby(["object", "method"], sort=False)}
+
+
 def per_object(data: ReportInput) -> list[str]:
     """Per object and method: successes / trials and the Wilson interval."""
-    frame, tags, rows = data.frame, object_tags(data.frame), []
+    tags, rows = object_tags(data.frame), []
+    counted = data.frame.groupby(["object", "method"]).success.agg(["size", "sum"])
     for obj in data.objects:
         cells = []
         for method in data.methods:
-            total, success = tally(frame[(frame.object == obj) & (frame.method == method)])
+            total, success = counted.loc[(obj, method)] if (obj, method) in counted.index \
+                else (0, 0)
             cells.append(f"{success}/{total} {interval(success, total, 0)}" if total else "-")
-        control = "control" in tags.get(obj, ())
-        rows.append([obj + (" (control)" if control else ""), *cells])
+        rows.append([obj + (" (control)" if "control" in tags.get(obj, ()) else ""), *cells])
     return table(["Object", *data.methods], rows) + [
         "", "Successes / trials and the rate's Wilson 95 % interval (with 5 trials an interval "
         "spans some 50 points: tell objects apart with care)."]
@@ -156,19 +163,20 @@ def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
     """Per object and method, over its trials: was a true hangable part found, which grasp kinds
     were executed, cage or pinch, the outcomes (``suffix`` ends the heading); an object the
     report has no facts about reads ``unknown`` in the ground-truth columns."""
-    frame, tags, rows = data.frame, object_tags(data.frame), []
-    for obj in data.objects:
-        for method in data.methods:
-            mine = frame[(frame.object == obj) & (frame.method == method)]
-            if not len(mine):
-                continue
-            truth = [fraction(mine.true_part_found), fraction(mine.grasped_true_part)]
-            if UNKNOWN in tags.get(obj, ()):
-                truth = [UNKNOWN if t == "-" else t for t in truth]
-            rows.append([obj, method, len(mine), *truth,
-                         counts(mine.grasp_kind.fillna("").replace("", "none")),
-                         f"{int(mine.success.sum())}/{len(mine)}",
-                         f"{held(mine, 'cage')} / {held(mine, 'pinch')}", counts(mine.outcome)])
+    tags, rows = object_tags(data.frame), []
+    groups = _by_object_and_method(data, "true_part_found", "grasped_true_part", "grasp_kind",
+                                   "success", "held_by", "outcome")
+    for obj, method in [(o, m) for o in data.objects for m in data.methods]:
+        mine = groups.get((obj, method))
+        if mine is None:
+            continue
+        truth = [fraction(mine.true_part_found), fraction(mine.grasped_true_part)]
+        if UNKNOWN in tags.get(obj, ()):
+            truth = [UNKNOWN if t == "-" else t for t in truth]
+        rows.append([obj, method, len(mine), *truth,
+                     counts(mine.grasp_kind.fillna("").replace("", "none")),
+                     f"{int(mine.success.sum())}/{len(mine)}",
+                     f"{held(mine, 'cage')} / {held(mine, 'pinch')}", counts(mine.outcome)])
     return ["", f"## Per object, in detail{suffix}", "",
             "Over each object's trials (its random resting poses): *part found*, trials in which "
             "a hanging structure lay on a true hangable part (the object's ground truth); "
