@@ -140,6 +140,12 @@ COLUMNS: tuple[Column, ...] = (
          "record", "plan_notes", csv=False),
     _row("set_down", BOOL, "dict", "the trial went on to set the object down (a 'lower' phase; "
          "rows without phases: true)", "record", "phases", csv=False),
+    _row("scan_warnings", OBJ, "names", "the scan's warnings (tuple; the cause reads them)",
+         "record", "scan_warnings", csv=False),
+    _row("rejected_by", OBJ, "counts", "candidates each GbH collision rule removed",
+         "record", "rejected_by", csv=False),
+    _row("record_refusals", OBJ, "counts", "the record's refusals (for rows without their own)",
+         "record", "refusals", csv=False),
     _row("reach_true", STR, "str", "the reach search on the true mesh", "reach", "true",
          csv=False),
     _row("reach_scan", STR, "str", "the reach search on the trial's scan", "reach", "scan",
@@ -274,7 +280,7 @@ def clean(row: dict, where: str = "row", problems: Problems | None = None) -> di
     v["reach_class"] = reach_class_of(v["reach_true"], v["reach_scan"])
     v["held_how"] = held_how_of(v)
     v["dragged"] = "dragged" in _text(v["reason"])
-    v["cause"] = _cause(row, v, where, problems)
+    v["cause"] = _cause(v, where, problems)
     v["borderline_success"] = v["success"] is True and (
         _text(v["sank_phase"]) in CARRIED_PHASES or v["table_touch_while_carried"] is True)
     v["extra"] = {k: x for k, x in row.items() if k not in BY_NAME and k not in _NESTED
@@ -316,19 +322,15 @@ def held_how_of(v: dict) -> str:
     return f"regrasp, {how}" if regrasped else how
 
 
-def _cause(row: dict, v: dict, where: str, problems: Problems) -> str:
-    """The cause class (taxonomy.cause_of) from the checked values; :data:`UNKNOWN_CAUSE` for
+def _cause(v: dict, where: str, problems: Problems) -> str:
+    """The cause class (taxonomy.cause_of) of a row's checked values; :data:`UNKNOWN_CAUSE` for
     an outcome the taxonomy does not know (told)."""
-    record = row.get("record") if isinstance(row.get("record"), dict) else {}
-    warnings, _ = _checked("names", record.get("scan_warnings"))
-    rejected, _ = _checked("counts", record.get("rejected_by"))
-    refused, _ = _checked("counts", record.get("refusals"))
     checked = {"success": v["success"] is True, "outcome": _text(v["outcome"]),
                "reach": {"true": v["reach_true"], "scan": v["reach_scan"]},
-               "refusals": v["refusals"] if v["refusals"] is not None else {},
-               "record": {"scan_warnings": [] if warnings is None else list(warnings),
-                          "rejected_by": {} if rejected is None else rejected,
-                          "refusals": {} if refused is None else refused}}
+               "refusals": v["refusals"] or {},
+               "record": {"scan_warnings": list(v["scan_warnings"] or ()),
+                          "rejected_by": v["rejected_by"] or {},
+                          "refusals": v["record_refusals"] or {}}}
     try:
         return cause_of(checked)
     except ValueError:
