@@ -48,7 +48,7 @@ def fraction(flags: pd.Series) -> str:
 
 
 def counts(values) -> str:
-    """``a x2, b x1``: the values' counts, in the values' order."""
+    """``a x2, b x1``: each distinct value (sorted) with its count."""
     return ", ".join(f"{k} x{n}" for k, n in sorted(Counter(values).items()))
 
 
@@ -59,6 +59,7 @@ def hangable(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def controls(frame: pd.DataFrame) -> pd.DataFrame:
+    """The rows of the controls (objects tagged ``control``: nothing to hang by)."""
     return frame[tagged(frame, "control")]
 
 
