@@ -67,8 +67,9 @@ def _report(folder: Path) -> int:
         print(f"gbh: {folder}: no {ROWS_FILE} (not an experiment folder)", file=sys.stderr)
         return 2
     try:  # everything is read and checked before anything is written
-        summary, plot = write_report(folder, warn=_warn)
-        lines = table1(read_input(folder))
+        data = read_input(folder, warn=_warn)
+        summary, plot = write_report(folder, warn=_warn, data=data)
+        lines = table1(data)
     except FolderError as e:
         _say(f"damaged experiment folder: {e}")
         return 2
