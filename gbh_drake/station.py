@@ -63,6 +63,7 @@ from gbh_drake.modeling.object_asset import initial_object_pose, load_object_ass
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.scenario import Scenario
+from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.scenario.schema import RobotConfig
 from gbh_drake.seeds import derive_seeds
 from gbh_drake.systems.camera_scene import add_camera_scene
@@ -198,6 +199,7 @@ def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,
     (drawn from the scenario's seed), the bar as the scenario's grasp method starts it.
     ``meshcat``: visualise there; ``prefinalize``: see :class:`Station`. Add it to your builder
     with ``builder.AddSystem(make_station(scenario))`` and wire to its exported ports."""
+    require_scenario(scenario, "make_station")  # (a wrong field named at the call)
     asset = object_asset or load_object_asset(scenario.object, scenario.directory)
     X_WO = initial_object_pose(scenario.object, asset, derive_seeds(scenario.seed).pose)
     return Station(directives=scenario.station_directives(), plant_config=scenario.plant_config,
