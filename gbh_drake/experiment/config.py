@@ -53,7 +53,7 @@ import numpy as np
 import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
-from gbh_drake.core.ranges import FieldError, Int, check_ranges, format_path, ranged
+from gbh_drake.core.ranges import FieldError, FilePath, Int, check_ranges, format_path, ranged
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -64,7 +64,7 @@ from gbh_drake.scenario import (
     load_scenario,
     validate_scenario,
 )
-from gbh_drake.scenario.loader import apply_overrides
+from gbh_drake.scenario.loader import absolute_paths, apply_overrides, path_fields
 from gbh_drake.scenario.yaml_text import (
     YamlFieldError,
     YamlTextError,
@@ -157,8 +157,9 @@ class Experiment:
 
     name: str = ""
     """Shown in the reports; empty: the file's stem."""
-    base: str = ""
-    """The base scenario file (required), relative to the experiment file."""
+    base: str = ranged("", FilePath("base scenario file"))
+    """The base scenario file (required), relative to the experiment file (given by ``--set``:
+    to the current folder)."""
     base_overrides: str = ""
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
     objects: list[str] = field(default_factory=list)
@@ -180,9 +181,9 @@ class Experiment:
     """The methods compared; every one runs every (object, trial)."""
     replays: str = "failures"
     """Meshcat replays kept: ``failures`` (every failed trial), ``all`` or ``none``."""
-    output_dir: str = ""
-    """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
-    under the working folder."""
+    output_dir: str = ranged("", FilePath("folder"))
+    """The experiment's folder, relative to the experiment file (given by ``--set``: to the
+    current folder); empty: ``output/<file stem>`` under the working folder."""
     engine: str = "local"
     """Where the trials run: ``local`` (worker processes on this machine, ``--workers``) or
     ``ray`` (Ray tasks at ``ray_address``). ``gbh experiment --ray ADDRESS`` overrides it; it
@@ -262,6 +263,8 @@ def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") ->
     for layer_origin, layer_text in layers:
         experiment, root = _load_text(layer_text, layer_origin, experiment)
         roots.append((layer_origin, root))
+        if len(roots) > 1:  # a --set text's relative paths: the current folder's
+            absolute_paths(experiment, root, path_fields(Experiment))
     experiment.source_path = str(path.resolve())
     if not experiment.name:
         experiment.name = path.stem

@@ -138,7 +138,7 @@ def _load_layers(layers: list[tuple[str, str, bool]], start: Scenario, origin: s
         scenario, root = _load_layer(layer_text, layer_origin, scenario)
         roots.append((layer_origin, root))
         if is_override:
-            absolute_paths(scenario, root, _path_fields(type(scenario)))
+            absolute_paths(scenario, root, path_fields(type(scenario)))
     scenario.source_path = source_path
     try:
         _check_layers(roots, scenario)
@@ -176,7 +176,7 @@ def _load_layer(text: str, origin: str, defaults: Scenario) -> tuple[Scenario, y
 
 
 @functools.cache
-def _path_fields(schema) -> tuple[tuple, ...]:
+def path_fields(schema) -> tuple[tuple, ...]:
     """The paths of ``schema``'s fields whose rule is :class:`FilePath`."""
     return tuple(section + (name,) for section, rules in rule_table(schema).items()
                  for name, rule in rules.items() if isinstance(rule, FilePath))
