@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gbh_drake import interrupts
+from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.experiment.config import (
     Experiment,
     ExperimentError,
@@ -107,6 +108,11 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
     ray``: Ray at its ``ray_address``, else local workers). The engine changes no row: a folder
     resumes whatever ran it. Raises :class:`ExperimentError` when the folder holds rows of other
     scenarios."""
+    require("run_experiment", "experiment", experiment, Experiment,
+            "an Experiment (gbh_drake.experiment.config.load_experiment(path))")
+    require("run_experiment", "out", out, (str, os.PathLike, type(None)), "a folder's path or None")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise TypeError(argument_problem("run_experiment", "workers", "an integer >= 1", workers))
     start = time.perf_counter()
     ray_address = ray_address or experiment.ray_engine_address()
     folder = Path(out) if out else experiment.output_path()

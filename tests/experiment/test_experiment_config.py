@@ -354,3 +354,20 @@ def test_a_relative_path_given_by_set_is_the_current_folders(tmp_path, monkeypat
     assert (experiment.output_path(), experiment.base_path) == (files / "out", files / "base.yaml")
     experiment = load_experiment(path, overrides=["output_dir: out", "base: mine.yaml"])
     assert (experiment.output_path(), experiment.base_path) == (here / "out", here / "mine.yaml")
+
+
+@pytest.mark.parametrize(("args", "kwargs", "message"), [
+    (("exp.yaml",), {}, "run_experiment(): experiment: expected an Experiment "
+                        "(gbh_drake.experiment.config.load_experiment(path)), got 'exp.yaml' (a str)"),
+    ((), {"workers": 0}, "run_experiment(): workers: expected an integer >= 1, got 0 (an int)"),
+    ((), {"workers": "2"}, "run_experiment(): workers: expected an integer >= 1, got '2' (a str)"),
+    ((), {"out": 3}, "run_experiment(): out: expected a folder's path or None, got 3 (an int)"),
+])
+def test_run_experiment_names_an_argument_of_the_wrong_type(tmp_path, args, kwargs, message):
+    from gbh_drake.experiment.runner import run_experiment
+
+    args = args or (load_experiment(SHORT),)
+    with pytest.raises(TypeError) as info:
+        run_experiment(*args, **kwargs)
+    assert str(info.value) == message
+    assert not (tmp_path / "output").exists()
