@@ -200,8 +200,8 @@ def _save(folder: Path, store: RowStore, row: dict, replay_html: str | None, *, 
     hidden temporary file, renamed into place): a finished trial's row is kept whatever becomes
     of its replay. A replay that cannot be written (the disk filled, a name too long) is a
     warning naming the file, and the experiment goes on; the row says where the replay should
-    be until the rows are sorted at the end (:func:`_sort_rows`: ``replay`` emptied,
-    ``replay_error`` says why); returns why (``<file>: <problem>``), or None. A row that cannot
+    be until the rows are sorted at the end of a complete run (:func:`_sort_rows`: ``replay``
+    emptied, ``replay_error`` says why); returns why (``<file>: <problem>``), or None. A row that cannot
     be appended is an :class:`OutputError` (the file keeps its whole rows; that trial runs
     again on resume)."""
     target = None
@@ -273,15 +273,15 @@ def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> 
 
 def _sort_rows(store: RowStore, experiment: Experiment, replay_errors: dict | None = None
                ) -> None:
-    """Rewrites the rows in report order (object, method, trial), one per trial; a row whose
-    replay is not there (it could not be written) says so: ``replay`` empty, ``replay_error``
-    why (``replay_errors``, by trial, for this run's; an earlier run's warned)."""
+    """Rewrites the rows in report order (object, method, trial), one per trial; a row of this
+    run whose replay could not be written says so (``replay_errors``, by trial: ``replay``
+    emptied, ``replay_error`` why). The rows of earlier runs are kept as they are."""
     rows = {row_key(r): r for r in store.load()}
-    for key, row in rows.items():
-        if row.get("replay") and not (store.path.parent / row["replay"]).is_file():
-            row["replay_error"] = (replay_errors or {}).get(key) or \
-                f"{store.path.parent / row['replay']}: not written (an earlier run warned why)"
-            row["replay"] = ""
+    for key, problem in (replay_errors or {}).items():
+        row = rows.get(key)
+        if row is not None and row.get("replay") and \
+                not (store.path.parent / row["replay"]).is_file():
+            row["replay"], row["replay_error"] = "", problem
     key = sort_key(experiment.objects, [m.name for m in experiment.methods],
                    experiment.protocols)
     store.rewrite(sorted(rows.values(), key=key))

@@ -22,7 +22,7 @@ import gbh_drake.trial as trial_module
 from gbh_drake import outputs
 from gbh_drake.cli import main
 from gbh_drake.experiment import runner
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore
+from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "experiment"))
 from test_rows_report import make_row  # noqa: E402
@@ -212,10 +212,12 @@ def test_a_replay_that_fills_the_disk_keeps_its_row_and_the_experiment_goes_on(s
     assert [r["trial"] for r in rows] == [0, 1] and rows[0]["replay"] == f"replays/{target.name}"
     experiment = runner.Experiment(objects=["mug_classic"], trials=2, methods=[
         runner.Experiment().methods[0]])
-    runner._sort_rows(store, experiment)  # (this run's reasons not given: an earlier run's)
+    runner._sort_rows(store, experiment)  # an earlier run's row: kept as it is
+    assert store.load()[0]["replay"] == f"replays/{target.name}"
+    problem = f"{target}: could not write it (no space left on the disk)"
+    runner._sort_rows(store, experiment, {row_key(rows[0]): problem})  # this run's: said
     (first, second) = store.load()
-    assert first["replay"] == "" and first["replay_error"] == (f"{target}: not written (an "
-                                                               "earlier run warned why)")
+    assert first["replay"] == "" and first["replay_error"] == problem
     assert second == row
 
 
