@@ -44,7 +44,8 @@ def add_subcommands(sub) -> None:
                                                "output_dir, else output/<file stem>)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
                    help="YAML applied over the experiment file, e.g. --set 'trials: 1' (may be "
-                        "repeated: applied in order)")
+                        "repeated: applied in order); a relative path in it (output_dir, base) "
+                        "is relative to the current folder, one in the file to its folder")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     p = sub.add_parser("report", help="rebuild an experiment's summary.md, CSVs and plots "
