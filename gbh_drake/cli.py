@@ -275,7 +275,7 @@ def _objects(args) -> int:
     )
 
     if args.action == "fetch":
-        from gbh_drake.objects.fetch import main as fetch
+        from gbh_drake.objects.fetch_sets import main as fetch
 
         return fetch([str(p) for p in args.sets or _shipped_sets()])
     if args.action == "list":
