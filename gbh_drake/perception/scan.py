@@ -121,6 +121,9 @@ class ScanResult:
     reframes: int = 0
     """How many times the views were re-framed because the object reached the edge of the
     region framed by the first look (see ``ScanConfig.reframe_tries``)."""
+    target_W: np.ndarray | None = None
+    """(3,) m: the scan target T the object was looked for around (the workspace box's
+    centre, the segmentation's reference before anything was found)."""
 
     def __deepcopy__(self, memo) -> ScanResult:
         """The mesh, the arrays and the free space are shared, not copied: a scan is never
@@ -432,7 +435,8 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
         region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
         region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
     result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
-                        table=table, aim_W=p_WT, view_distance=config.distance, region=region)
+                        table=table, aim_W=p_WT, view_distance=config.distance, region=region,
+                        target_W=p_WT)
     points = view_points(depths, intrinsics, X_WCs, region)
     seen = first_look is not None and first_look.found
     reference = first_look.reference_W if seen else reference
