@@ -190,6 +190,11 @@ class ScanConfig:
     noise_grazing_deg: float = ranged(70.0, Range(0.0, 90.0, lo_open=True, unit="deg"))
     """Pixels seen at more than this angle from the surface normal start dropping out (deg);
     all are dropped at 90."""
+    depth_unit: float = ranged(0.0, Range(0.0, 0.01, unit="m", note="0: the renderer's floats"))
+    """The sensor's depth unit (m): it delivers each depth in whole units, as a 16-bit depth
+    image holds them (Primesense and RealSense: 0.001, millimetres; 0.0001 keeps tenths), after
+    the noise. 0 (default): the renderer's float depths. With it, the views ``gbh run
+    --save-views`` writes as 16-bit PNG are the very depths the scan fused."""
 
     # --- Renderer ---
     renderer_name: str = "default"
@@ -222,6 +227,10 @@ class ScanConfig:
         if self.sdf_trunc < 2 * self.voxel_size:
             raise FieldError(at + ("sdf_trunc",), f"must be >= 2 voxel_size ({2 * self.voxel_size:g} "
                                                   f"m), got {self.sdf_trunc:g}")
+        if self.depth_unit and self.depth_max / self.depth_unit > 65534:
+            raise FieldError(at + ("depth_unit",), f"{self.depth_unit:g} m: depth_max "
+                             f"{self.depth_max:g} m is more than 65534 units, more than a 16-bit "
+                             "image holds")
         if self.table_tolerance >= self.crop_z_min:
             raise FieldError(at + ("table_tolerance",), f"must be < {sibling(at, 'crop_z_min')} "
                                                         f"({self.crop_z_min:g} m), got "

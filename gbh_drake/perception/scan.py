@@ -42,7 +42,7 @@ from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.depth import valid_depth
 from gbh_drake.perception.fusion import integrate, masked_depths, view_points
-from gbh_drake.perception.noise import add_depth_noise
+from gbh_drake.perception.noise import sensor_depth
 from gbh_drake.perception.segment import (
     Segmentation,
     bounding_sphere,
@@ -283,8 +283,8 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
     for _ in range(2):
         X_WCs = first_look_poses(config, target, distance)
         depths = render_depth_images(query_object, camera, X_WCs)
-        if config.noise:
-            depths = [add_depth_noise(d, intrinsics, small, rng) for d in depths]
+        if config.noise or config.depth_unit:
+            depths = [sensor_depth(d, intrinsics, small, rng) for d in depths]
         look, at_border = look_at_images(depths, intrinsics, X_WCs, config, p_WT, look,
                                          reference=reference, distance=distance)
         if not at_border:
@@ -400,8 +400,9 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
                       sensor_error: float | None = None,
                       pixel_masks: Sequence[np.ndarray] | None = None) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
-    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``
-    (seeded by ``noise_seed``). The simulated scan renders its views and calls this; images
+    mesh of the object near target p_WT (m, in W); makes them what the sensor delivers first
+    (``noise.sensor_depth``: noise when ``config.noise``, seeded by ``noise_seed``, and whole
+    ``depth_unit`` steps). The simulated scan renders its views and calls this; images
     from a real camera come here the same way (``gbh_drake.scan_grasps``).
 
     The table plane is fitted to the images' points (or ``table`` is taken as given) and the
@@ -415,9 +416,9 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     start = time.perf_counter()
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     timing: dict[str, float] = {}
-    if config.noise:
+    if config.noise or config.depth_unit:
         rng = np.random.default_rng(int(noise_seed))
-        depths = [add_depth_noise(d, intrinsics, config, rng) for d in depths]
+        depths = [sensor_depth(d, intrinsics, config, rng) for d in depths]
     warnings: list[str] = list(first_look.warnings) if first_look is not None else []
     if first_look is not None:
         table = first_look.table

@@ -23,7 +23,7 @@ PARALLEL_AXES = 0.05
 
 def scan_config(views: ViewsFile):
     """The ``ScanConfig`` of a views file: its ``scan`` fields, the sensor's range from
-    ``depth_range``, no noise added (the images are as measured)."""
+    ``depth_range``, no noise added and no rounding (the images are as measured)."""
     from gbh_drake.core.ranges import FieldError, check_fields
     from gbh_drake.perception.config import ScanConfig
 
@@ -32,7 +32,8 @@ def scan_config(views: ViewsFile):
         if key not in names:
             raise GraspsInputError(views.path, f"scan.{key}", "unknown ScanConfig field")
     lo, hi = views.depth_range
-    values = {**views.scan, "depth_min": max(lo, 1e-3), "depth_max": hi, "noise": False}
+    values = {**views.scan, "depth_min": max(lo, 1e-3), "depth_max": hi, "noise": False,
+              "depth_unit": 0.0}
     config = ScanConfig(**values)
     # The simulated camera's distances must lie in the sensor's range; they only matter there.
     for name in ("distance", "distance_max", "first_look_distance"):

@@ -10,6 +10,7 @@ station's default directives; a scenario that moves the arm gets everything tran
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from pathlib import Path
 
@@ -69,6 +70,7 @@ def trial_result(done, scan, X_BW: np.ndarray):
     """The :class:`~gbh_drake.scan_grasps.result.GraspsResult` of a trial: GbH's structures,
     candidates and ranked grasps as the trial's systems made them, in B."""
     from gbh_drake.core.hangability import detect_with_report
+    from gbh_drake.core.scoring import score_grasps
     from gbh_drake.perception.scan import ScanResult
     from gbh_drake.perception.unseen import scan_unseen
     from gbh_drake.scan_grasps.result import make_result
@@ -81,7 +83,9 @@ def trial_result(done, scan, X_BW: np.ndarray):
 
     hangability = value(source.hanging_structures)
     structures = hangability.structures if hangability is not None else []
-    candidates = value(source.candidates) or []
+    # The synthesizer's candidates, scored (the scorer scores copies of them).
+    candidates = [copy.copy(g) for g in value(source.candidates) or []]
+    score_grasps(candidates, scenario.gbh)
     ranked = value(source.grasps) if source.candidates is not None else []
     report = None
     if hangability is not None and not structures and hangability.object is not None:
@@ -122,11 +126,12 @@ def _mesh_in(mesh_W, X_BW: np.ndarray):
 
 def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed: int | None = None,
                 mesh: str | None = None) -> Path:
-    """Writes ``scan``'s views (and its first look's) into ``folder`` as 16-bit PNGs (0.1 mm
-    steps; a ray that hit nothing within range as ``no_hit_value``) with ``views.yaml``, in B.
-    The depths are those measured (the noise included) and the free-space margins those the
-    scan used. ``gbh`` (GbhParams) and ``seed``: GbH's, written into the file; ``mesh``: the
-    scan's mesh file, relative to ``folder`` (omitted: ``gbh grasps`` fuses the views)."""
+    """Writes ``scan``'s views (and its first look's) into ``folder`` as 16-bit PNGs (in the
+    sensor's ``depth_unit``, losslessly, else 0.1 mm steps; a ray that hit nothing within range
+    as ``no_hit_value``) with ``views.yaml``, in B. The depths are those measured (the noise
+    included) and the free-space margins those the scan used. ``gbh`` (GbhParams) and
+    ``seed``: GbH's, written into the file; ``mesh``: the scan's mesh file, relative to
+    ``folder`` (omitted: ``gbh grasps`` fuses the views)."""
     import yaml
 
     from gbh_drake.outputs import plain
@@ -137,17 +142,17 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     k = scan.intrinsics
     main = _view_set(scan.free_space.views[:n_views], (k.width, k.height, k.fx, k.fy, k.cx, k.cy),
                      scan.X_WCs, X_BW, depth_error(config, scan.view_distance))
-    entry: dict = {"version": views_io.VIEWS_VERSION,
-                   "depth_scale": views_io.WRITE_DEPTH_SCALE,
+    scale = config.depth_unit or views_io.WRITE_DEPTH_SCALE
+    entry: dict = {"version": views_io.VIEWS_VERSION, "depth_scale": scale,
                    "depth_range": [float(config.depth_min), float(config.depth_max)],
                    "no_hit_value": views_io.WRITE_NO_HIT}
-    entry.update(_written(folder, "depth", main, config.depth_max))
+    entry.update(_written(folder, "depth", main, config.depth_max, scale))
     look = scan.first_look_free_space
     if look is not None:
         v = look.views[0]
         first = _view_set(look.views, (v.width, v.height, v.fx, v.fy, v.cx, v.cy),
                           scan.first_look_X_WCs, X_BW, look.depth_error)
-        entry["first_look"] = _written(folder, "first_look", first, config.depth_max)
+        entry["first_look"] = _written(folder, "first_look", first, config.depth_max, scale)
     X = X_BW
     if scan.target_W is not None:
         entry["target"] = (X[:3, :3] @ scan.target_W + X[:3, 3]).tolist()
@@ -157,7 +162,7 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     if mesh is not None:
         entry["mesh"] = mesh
     entry["scan"] = {f.name: getattr(config, f.name) for f in dataclasses.fields(config)
-                     if f.name not in ("noise", "depth_min", "depth_max")}
+                     if f.name not in ("noise", "depth_unit", "depth_min", "depth_max")}
     if gbh is not None:
         entry["gbh"] = _gbh_in(gbh, X_BW)
     if seed is not None:
@@ -179,12 +184,15 @@ def _view_set(depth_views, size: tuple, X_WCs, X_BW: np.ndarray, error: float
                             [])
 
 
-def _written(folder: Path, stem: str, views: views_io.ViewSet, depth_max: float) -> dict:
-    """Writes the images of ``views`` as ``<stem>_NNN.png``; returns their YAML."""
+def _written(folder: Path, stem: str, views: views_io.ViewSet, depth_max: float,
+             scale: float) -> dict:
+    """Writes the images of ``views`` as ``<stem>_NNN.png`` (``scale`` m per unit); returns
+    their YAML."""
     names = []
     for i, depth in enumerate(views.depths):
         name = f"{stem}_{i:03d}.png"
-        views_io.write_png(folder / name, views_io.encode_depth(depth, depth_max=depth_max))
+        views_io.write_png(folder / name, views_io.encode_depth(depth, scale,
+                                                                 depth_max=depth_max))
         names.append(name)
     return views_io.group_entry(views, names)
 
