@@ -154,11 +154,12 @@ def _obj(description: str, properties: dict, required: list[str] | None = None,
             "additionalProperties": extra}
 
 
-POSE = _obj("a pose X_BF (frame F in B)", {
+POSE = _obj("a pose X_PF: frame F in its parent P (B, unless the name says: X_link8_G is in "
+            "panda_link8, X_G_T in G)", {
     "matrix": {"type": "array", "minItems": 4, "maxItems": 4,
                "items": _vec(4, "a row"), "description": "4x4 homogeneous matrix, by rows"},
-    "translation": _vec(3, "m: the origin of F in B"),
-    "quaternion_wxyz": _vec(4, "the rotation R_BF as a unit quaternion w, x, y, z (w >= 0)"),
+    "translation": _vec(3, "m: the origin of F in P"),
+    "quaternion_wxyz": _vec(4, "the rotation R_PF as a unit quaternion w, x, y, z (w >= 0)"),
 })
 
 
@@ -316,28 +317,39 @@ JSON_SCHEMA = _obj(f"{SCHEMA_NAME}, version {SCHEMA_VERSION}: ranked grasps of t
 
 
 def schema_markdown() -> str:
-    """The fields of :data:`JSON_SCHEMA` as a Markdown table (``docs/grasps_schema.md``)."""
+    """The fields of :data:`JSON_SCHEMA` as a Markdown table (``docs/grasps_schema.md``): a
+    pose's three fields are given once (``pose``), a list of grasps once (``grasps[]``)."""
     rows = ["| field | type | meaning |", "|---|---|---|"]
+    seen: dict[int, str] = {id(POSE["properties"]): "pose"}
+
+    def kind_of(sub: dict) -> str:
+        if "enum" in sub:
+            return " \\| ".join(f"`{v}`" for v in sub["enum"])
+        if "const" in sub:
+            return f"`{sub['const']}`"
+        if "oneOf" in sub:
+            return "null \\| object"
+        if sub.get("properties") is POSE["properties"]:
+            return "pose"
+        kind = sub.get("type", "")
+        return " \\| ".join(kind) if isinstance(kind, list) else kind
 
     def walk(schema: dict, path: str) -> None:
         for name, sub in schema.get("properties", {}).items():
             here = f"{path}.{name}" if path else name
-            kind = sub.get("type", "const" if "const" in sub else "enum" if "enum" in sub else
-                           "")
-            if "enum" in sub:
-                kind = " \\| ".join(f"`{v}`" for v in sub["enum"])
-            elif "const" in sub:
-                kind = f"`{sub['const']}`"
-            elif isinstance(kind, list):
-                kind = " \\| ".join(kind)
-            if "oneOf" in sub:
-                kind = "null \\| object"
-            rows.append(f"| `{here}` | {kind} | {sub.get('description', '')} |")
+            items = sub.get("items") if sub.get("type") == "array" else None
+            also = ""
+            if isinstance(items, dict) and id(items) in seen:
+                also = f" (each as `{seen[id(items)]}`)"
+            rows.append(f"| `{here}` | {kind_of(sub)} | {sub.get('description', '')}{also} |")
             for option in sub.get("oneOf", []):
                 walk(option, here)
-            walk(sub, here)
-            if sub.get("type") == "array" and isinstance(sub.get("items"), dict):
-                walk(sub["items"], f"{here}[]")
+            if id(sub.get("properties")) not in seen:
+                walk(sub, here)
+            if isinstance(items, dict) and id(items) not in seen:
+                seen[id(items)] = f"{here}[]"
+                walk(items, f"{here}[]")
 
     walk(JSON_SCHEMA, "")
+    walk(POSE, "pose")
     return "\n".join(rows) + "\n"

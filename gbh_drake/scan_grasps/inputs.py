@@ -20,6 +20,7 @@ and the field.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -155,10 +156,15 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
     from gbh_drake.objects.mesh_io import MeshImportError, load_mesh_file
     from gbh_drake.perception.scan import ScanResult
 
+    objects_log = logging.getLogger("gbh_drake.objects")  # its warnings go in the result
+    level = objects_log.level
+    objects_log.setLevel(logging.ERROR)
     try:
         mesh = load_mesh_file(path)
     except MeshImportError as e:
         raise GraspsInputError(path, "", str(e).removeprefix(f"{path}: ")) from None
+    finally:
+        objects_log.setLevel(level)
     check_units(path, np.asarray(mesh.vertices), "vertices")
     if options.X_BI is not None:
         mesh.apply_transform(options.X_BI)

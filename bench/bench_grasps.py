@@ -1,0 +1,123 @@
+"""Time ``gbh grasps`` (issue 38's targets): on a 20k-triangle mesh <= 1.0 s after import, from
+10 depth images 640x480 <= 2.5 s, the whole process <= 3.5 s.
+
+Run:  .venv/bin/python bench/bench_grasps.py [--repeat 3]
+
+The inputs are made once (not timed) from the sample views ``tests/scan_grasps/data/mug_views``
+(the mug, 10 noisy 640x480 views of a simulated 16-bit sensor): ``views10/``, its 10 views alone
+(no first look, no table given: fitted, as a camera's images come), and ``mesh20k.ply``, the
+scan they fuse to, decimated to 20,000 triangles. Then, each case in a fresh process:
+
+* ``in process``: the imports ``gbh grasps`` needs (pydrake, Open3D, trimesh, scipy, the
+  package), timed, then ``gbh_drake.grasps(input)`` once (``first``: the first call also loads
+  what the libraries load on first use, e.g. Embree's ray scene) and ``--repeat`` times more
+  (``warm``: best and median); the steps of the first call from ``result.timings``;
+* ``process``: ``gbh grasps INPUT --out FILE`` as a command, wall seconds (best, median).
+
+Prints the load average: the machine is shared (2 cores); figures move by a third from one hour
+to the next.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+SAMPLE = REPO / "tests" / "scan_grasps" / "data" / "mug_views"
+TARGETS = {"mesh20k.ply": 1.0, "views10": 2.5}
+PROCESS_TARGET = 3.5
+IMPORTS = """
+import time
+t = time.perf_counter()
+import pydrake.all, open3d, trimesh, scipy.spatial, scipy.ndimage
+import gbh_drake.scan_grasps.api, gbh_drake.perception.scan, gbh_drake.core.pipeline
+imports = time.perf_counter() - t
+"""
+
+
+def make_inputs(folder: Path) -> None:
+    """``views10/`` and ``mesh20k.ply`` (see the module docstring)."""
+    import shutil
+
+    import yaml
+
+    from gbh_drake.core.simplify import simplified
+    from gbh_drake.scan_grasps.inputs import load_input
+    from gbh_drake.scan_grasps.run_export import scan_ply
+
+    views = folder / "views10"
+    views.mkdir()
+    data = yaml.safe_load((SAMPLE / "views.yaml").read_text())
+    for key in ("first_look", "table", "gbh", "scan", "seed"):
+        data.pop(key, None)
+    for view in data["views"]:
+        shutil.copy(SAMPLE / view["depth"], views / view["depth"])
+    (views / "views.yaml").write_text(yaml.safe_dump(data))
+    scan = load_input(SAMPLE).scan
+    mesh = simplified(scan.mesh_W, 20_000)
+    (folder / "mesh20k.ply").write_bytes(scan_ply(mesh, __import__("numpy").eye(4)))
+    print(f"inputs: {len(data['views'])} views of {data['intrinsics']['width']}x"
+          f"{data['intrinsics']['height']}; mesh of {len(mesh.faces)} triangles")
+
+
+def in_process(path: Path, repeat: int) -> dict:
+    """Runs in a child: imports, then grasps() 1 + repeat times."""
+    code = IMPORTS + f"""
+import json, gbh_drake
+times, steps = [], None
+for i in range({repeat} + 1):
+    t = time.perf_counter()
+    result = gbh_drake.grasps({str(path)!r})
+    times.append(time.perf_counter() - t)
+    steps = steps or result.timings
+print(json.dumps({{"imports": imports, "times": times, "steps": steps,
+                  "grasps": len(result.grasps), "faces": len(result.scan.mesh_W.faces)}}))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env={**os.environ, "PYTHONPATH": str(REPO)})
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def process(path: Path, repeat: int, out: Path) -> list[float]:
+    walls = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "gbh_drake.cli", "grasps", str(path), "--out",
+                        str(out)], stdout=subprocess.DEVNULL, check=True,
+                       env={**os.environ, "PYTHONPATH": str(REPO)})
+        walls.append(time.perf_counter() - t)
+    return walls
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    print(f"load average at start {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        make_inputs(folder)
+        for name, target in TARGETS.items():
+            r = in_process(folder / name, args.repeat)
+            first, warm = r["times"][0], r["times"][1:]
+            steps = ", ".join(f"{k} {v:.2f}" for k, v in r["steps"].items())
+            print(f"{name}: imports {r['imports']:.2f} s; grasps() first {first:.2f} s, warm "
+                  f"best {min(warm):.2f} s, median {statistics.median(warm):.2f} s (target "
+                  f"<= {target} s after import); {r['grasps']} grasps on {r['faces']} "
+                  f"triangles; first call's steps (s): {steps}")
+            walls = process(folder / name, args.repeat, folder / "out.json")
+            print(f"{name}: gbh grasps as a process best {min(walls):.2f} s, median "
+                  f"{statistics.median(walls):.2f} s (target <= {PROCESS_TARGET} s)")
+    print(f"load average at end {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
