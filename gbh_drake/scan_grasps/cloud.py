@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake.scan_grasps.errors import GraspsInputError
+from gbh_drake.scan_grasps.table import under
 
 #: Points below this count are not an object.
 MIN_POINTS = 100
@@ -88,13 +89,13 @@ def fuse_cloud(points: np.ndarray, config, *, table=None, target=None) -> FusedC
     from gbh_drake.perception.crop import CropBox
     from gbh_drake.perception.scan import ScanResult, scan_depth_images
     from gbh_drake.perception.segment import bounding_sphere, segment_points
-    from gbh_drake.perception.table import TablePlane, fit_table_plane
+    from gbh_drake.perception.table import fit_table_plane
     from gbh_drake.perception.viewpoints import camera_poses, fit_view_distance
 
     if table is None:
         table, _ = fit_table_plane(points, config)
         if table.source == "assumed":  # no plane in the cloud: the object alone
-            table = TablePlane.horizontal(float(points[:, 2].min()), "lowest point")
+            table = under(points)
     above = points[table.heights(points) >= config.crop_z_min]
     if len(above) == 0:
         return FusedCloud(ScanResult.empty_result("empty scan: no point of the cloud lies above "

@@ -11,6 +11,7 @@ free space's margin is the TSDF voxel plus the file's ``depth_error``.
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 
@@ -66,11 +67,11 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
         scan_depth_images,
     )
     from gbh_drake.perception.table import fit_table_plane
-    from gbh_drake.scan_grasps.inputs import load_raw_mesh, table_plane
+    from gbh_drake.scan_grasps.table import table_plane
 
     config = scan_config(views)
     main, first = _in_B(views.views, options.X_BI), _in_B(views.first_look, options.X_BI)
-    intrinsics, X_BCs = _camera(main), [RigidTransform(X) for X in main.X_BCs]
+    intrinsics, X_BCs = main.intrinsics, [RigidTransform(X) for X in main.X_BCs]
     target = _point_in_B(options.target, None) if options.target is not None else \
         _point_in_B(views.target, options.X_BI) if views.target is not None else \
         views_target(main)
@@ -80,7 +81,7 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
     table = table_plane(given) if given is not None else None
     look = None
     if first is not None:
-        look, _ = look_at_images(first.depths, _camera(first), [RigidTransform(X) for X in
+        look, _ = look_at_images(first.depths, first.intrinsics, [RigidTransform(X) for X in
                                                                 first.X_BCs],
                                  config, target, reference=reference,
                                  distance=config.first_look_distance, table=table,
@@ -110,12 +111,6 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
         notes.append(f"no table plane found in the depth images: assumed at z = "
                      f"{config.table_height:g} m in B; give --table-z or --table-plane")
     return scan, source, notes
-
-
-def _camera(views: ViewSet):
-    from gbh_drake.perception.camera import CameraIntrinsics
-
-    return CameraIntrinsics(views.width, views.height, views.fx, views.fy, views.cx, views.cy)
 
 
 def _in_B(views: ViewSet | None, X_BI: np.ndarray | None) -> ViewSet | None:
@@ -163,3 +158,20 @@ def views_target(views: ViewSet) -> np.ndarray:
     depth = float(np.median(valid)) if len(valid) else float(np.median(d[np.isfinite(d) &
                                                                           (d > 0)]))
     return origins[0] + depth * axes[0]
+
+
+def load_raw_mesh(path: Path, views_file: Path):
+    """A views file's ``mesh``, as it is (the scan's own fused mesh: not repaired, so the GbH
+    core samples the very surface the scan made)."""
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh", process=False)
+    except Exception as e:  # noqa: BLE001  (trimesh raises many types for bad bytes)
+        raise GraspsInputError(views_file, "mesh", f"{path} cannot be read ({type(e).__name__}: "
+                                                   f"{e})") from None
+    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+        raise GraspsInputError(views_file, "mesh", f"{path} holds no triangles")
+    if not np.isfinite(np.asarray(mesh.vertices)).all():
+        raise GraspsInputError(views_file, "mesh", f"{path} has non-finite vertices")
+    return mesh

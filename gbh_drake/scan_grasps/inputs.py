@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake.scan_grasps.errors import GraspsInputError
+from gbh_drake.scan_grasps.table import table_plane, under
 
 #: Suffixes read as meshes, and as point clouds (a .ply is a cloud when it has no faces).
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
@@ -132,25 +133,6 @@ def check_object_size(path: Path, mesh, what: str) -> None:
                                "crop it to one object")
 
 
-def table_plane(given: tuple[np.ndarray, float] | None, source: str = "given"):
-    """A ``TablePlane`` from (normal, height) (its normal pointing up)."""
-    from gbh_drake.perception.table import TablePlane
-
-    normal, height = given
-    normal = np.asarray(normal, dtype=float)
-    normal = normal / np.linalg.norm(normal)
-    if normal[2] < 0:
-        normal, height = -normal, -height
-    return TablePlane(normal, float(height), source)
-
-
-def _under(points: np.ndarray):
-    """A horizontal table under the lowest of ``points`` (n, 3)."""
-    from gbh_drake.perception.table import TablePlane
-
-    return TablePlane.horizontal(float(points[:, 2].min()), "lowest point")
-
-
 def _mesh(path: Path, options: InputOptions) -> ScanInput:
     """A mesh file: the object alone."""
     from gbh_drake.objects.mesh_io import MeshImportError, load_mesh_file
@@ -170,7 +152,7 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
         mesh.apply_transform(options.X_BI)
     check_object_size(path, mesh, "vertices")
     vertices = np.asarray(mesh.vertices, dtype=float)
-    table = table_plane(options.table) if options.table is not None else _under(vertices)
+    table = table_plane(options.table) if options.table is not None else under(vertices)
     warnings = [w for w in mesh.metadata.get("gbh_warnings", []) if "extent" not in w]
     scan = ScanResult(mesh, vertices, table=table, warnings=warnings)
     notes = [NO_FREE_SPACE]
@@ -202,20 +184,3 @@ def _depth_images(path: Path, options: InputOptions) -> ScanInput:
     scan, source, notes = scan_views(views, options)
     return ScanInput("depth_images", str(views.path), scan, source, notes, dict(views.gbh),
                      views.seed)
-
-
-def load_raw_mesh(path: Path, views_file: Path):
-    """A views file's ``mesh``, as it is (the scan's own fused mesh: not repaired, so the GbH
-    core samples the very surface the scan made)."""
-    import trimesh
-
-    try:
-        mesh = trimesh.load(str(path), force="mesh", process=False)
-    except Exception as e:  # noqa: BLE001  (trimesh raises many types for bad bytes)
-        raise GraspsInputError(views_file, "mesh", f"{path} cannot be read ({type(e).__name__}: "
-                                                   f"{e})") from None
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
-        raise GraspsInputError(views_file, "mesh", f"{path} holds no triangles")
-    if not np.isfinite(np.asarray(mesh.vertices)).all():
-        raise GraspsInputError(views_file, "mesh", f"{path} has non-finite vertices")
-    return mesh

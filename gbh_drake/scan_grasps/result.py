@@ -113,7 +113,11 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
     ``candidates_W``, ``ranked_W``) with the scan ``scan_B`` and the table ``table_B`` already
     in B, ``X_BW`` (4, 4; None: W is B); ``pick``: a ``PickConfig`` for the waypoints
     (default: the scenario's defaults)."""
-    from gbh_drake.core.rejections import closest_rejected, count_rejections
+    from gbh_drake.core.rejections import (
+        closest_rejected,
+        count_rejections,
+        no_grasp_message,
+    )
     from gbh_drake.scenario.schema import PickConfig
 
     pick = PickConfig() if pick is None else pick
@@ -142,9 +146,9 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
             f": {hangability.summary()}" if hangability is not None else ""))
     elif not ranked_W:
         rejections = count_rejections(candidates_W, params)
-        none = NoGrasp("no_grasp_found", f"no collision-free grasp among {len(candidates_W)} "
-                       f"candidates on {len(structures_W)} hanging structures: "
-                       f"{rejections.summary()}", dict(rejections.removed), rejections.closest)
+        none = NoGrasp("no_grasp_found", no_grasp_message(len(candidates_W), len(structures_W),
+                                                          rejections),
+                       dict(rejections.removed), rejections.closest)
     refused = [grasp(0, g) for g in closest_rejected(candidates_W, params, N_REFUSED)] \
         if candidates_W else []
     return GraspsResult(

@@ -135,13 +135,13 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     import yaml
 
     from gbh_drake.outputs import plain
+    from gbh_drake.perception.camera import CameraIntrinsics
     from gbh_drake.perception.scan import depth_error
 
     folder.mkdir(parents=True, exist_ok=True)
     n_views = len(scan.X_WCs)
-    k = scan.intrinsics
-    main = _view_set(scan.free_space.views[:n_views], (k.width, k.height, k.fx, k.fy, k.cx, k.cy),
-                     scan.X_WCs, X_BW, depth_error(config, scan.view_distance))
+    main = _view_set(scan.free_space.views[:n_views], scan.intrinsics, scan.X_WCs, X_BW,
+                     depth_error(config, scan.view_distance))
     scale = config.depth_unit or views_io.WRITE_DEPTH_SCALE
     entry: dict = {"version": views_io.VIEWS_VERSION, "depth_scale": scale,
                    "depth_range": [float(config.depth_min), float(config.depth_max)],
@@ -150,7 +150,7 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     look = scan.first_look_free_space
     if look is not None:
         v = look.views[0]
-        first = _view_set(look.views, (v.width, v.height, v.fx, v.fy, v.cx, v.cy),
+        first = _view_set(look.views, CameraIntrinsics(v.width, v.height, v.fx, v.fy, v.cx, v.cy),
                           scan.first_look_X_WCs, X_BW, look.depth_error)
         entry["first_look"] = _written(folder, "first_look", first, config.depth_max, scale)
     X = X_BW
@@ -174,12 +174,12 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     return path
 
 
-def _view_set(depth_views, size: tuple, X_WCs, X_BW: np.ndarray, error: float
+def _view_set(depth_views, intrinsics, X_WCs, X_BW: np.ndarray, error: float
               ) -> views_io.ViewSet:
     """A :class:`~gbh_drake.scan_grasps.views.ViewSet` in B of a scan's free-space views
     (their depths as measured: NaN where nothing was, ``depth_max`` where nothing was hit in
-    range), the cameras at X_WC; ``size``: (width, height, fx, fy, cx, cy), Drake's."""
-    return views_io.ViewSet(*size, [v.depth for v in depth_views],
+    range), the cameras at X_WC."""
+    return views_io.ViewSet(intrinsics, [v.depth for v in depth_views],
                             [X_BW @ X_WC.GetAsMatrix4() for X_WC in X_WCs], None, float(error),
                             [])
 

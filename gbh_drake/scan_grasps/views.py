@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.scan_grasps.errors import GraspsInputError
 from gbh_drake.scan_grasps.poses import quaternion_matrix
 
@@ -57,14 +58,8 @@ WRITE_NO_HIT = 65535
 class ViewSet:
     """Depth images from one camera model, each with its pose in B."""
 
-    width: int
-    height: int
-    fx: float
-    fy: float
-    cx: float
-    cy: float
-    """Pinhole intrinsics in Drake's convention (pixel (u, v) covers [u, u + 1): OpenCV's cx
-    + 0.5), pixels."""
+    intrinsics: CameraIntrinsics
+    """The pinhole, in Drake's convention (pixel (u, v) covers [u, u + 1): OpenCV's cx + 0.5)."""
     depths: list[np.ndarray]
     """(height, width) float32, m along +z_C: 0 no measurement, inf nothing hit within range."""
     X_BCs: list[np.ndarray]
@@ -318,7 +313,7 @@ class _Reader:
             missing = next(i for i, m in enumerate(masks) if m is None)
             raise self.fail(f"{_join(where, 'views')}[{missing}].mask",
                             "missing: give a mask for every view or for none")
-        return ViewSet(width, height, fx, fy, cx, cy, depths, poses,
+        return ViewSet(CameraIntrinsics(width, height, fx, fy, cx, cy), depths, poses,
                        masks if masks[0] is not None else None, error, files)
 
 
@@ -405,8 +400,9 @@ def write_png(path: Path, raw: np.ndarray) -> None:
 def group_entry(views: ViewSet, names: Sequence[str], mask_names: Sequence[str] | None = None
                 ) -> dict:
     """The YAML of a :class:`ViewSet` whose images are (to be) written as ``names``."""
-    return {"intrinsics": {"width": views.width, "height": views.height, "fx": views.fx,
-                           "fy": views.fy, "cx": views.cx - 0.5, "cy": views.cy - 0.5},
+    k = views.intrinsics
+    return {"intrinsics": {"width": k.width, "height": k.height, "fx": k.fx, "fy": k.fy,
+                           "cx": k.cx - 0.5, "cy": k.cy - 0.5},
             "depth_error": float(views.depth_error),
             "views": [{"depth": name, "X_BC": np.asarray(X, dtype=float).tolist(),
                        **({"mask": mask_names[i]} if mask_names else {})}

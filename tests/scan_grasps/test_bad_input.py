@@ -54,7 +54,7 @@ def test_a_valid_file_reads(tmp_path):
     _write(tmp_path, _views(tmp_path))
     views = read_views(tmp_path)
     assert len(views.views.depths) == 2 and views.views.depths[0][0, 0] == np.float32(0.5)
-    assert views.views.cx == 16.0  # OpenCV's 15.5, Drake's pixel convention + 0.5
+    assert views.views.intrinsics.cx == 16.0  # OpenCV's 15.5, Drake's pixel convention + 0.5
 
 
 def test_a_camera_pose_that_is_not_a_rotation(tmp_path):

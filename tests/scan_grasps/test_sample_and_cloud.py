@@ -39,7 +39,6 @@ def test_masks_keep_the_object_and_nothing_else(tmp_path, sample):
     import yaml
     from scipy.spatial import cKDTree
 
-    from gbh_drake.perception.camera import CameraIntrinsics
     from gbh_drake.perception.depth import points_C
     from gbh_drake.scan_grasps.views import read_views, write_png
 
@@ -47,7 +46,7 @@ def test_masks_keep_the_object_and_nothing_else(tmp_path, sample):
     data = yaml.safe_load((SAMPLE / "views.yaml").read_text())
     tree = cKDTree(sample.scan.mesh_W.vertices)
     v = views.views
-    k = CameraIntrinsics(v.width, v.height, v.fx, v.fy, v.cx, v.cy)
+    k = v.intrinsics
     for i, (depth, X) in enumerate(zip(v.depths, v.X_BCs, strict=True)):
         p_C = points_C(np.where(np.isfinite(depth), depth, 0.0), k).reshape(3, -1).T
         near = tree.query(p_C @ X[:3, :3].T + X[:3, 3], distance_upper_bound=0.02)[0] < 0.02
