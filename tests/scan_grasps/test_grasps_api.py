@@ -1,7 +1,9 @@
 """``gbh_drake.grasps`` and ``gbh grasps`` on meshes: ranked grasps in B with their waypoints,
 the document valid against its schema, the frame contract kept, nothing found said why."""
 
+import base64
 import json
+import re
 import subprocess
 import sys
 
@@ -100,6 +102,12 @@ def test_the_command_writes_json_or_yaml_and_a_page(mug_file, tmp_path, capsys):
     assert again == doc
     page = (tmp_path / "g.html").read_text()
     assert page.rstrip().endswith("</html>") and "meshcat" in page.lower()
+    # The scene's commands are embedded base64-coded (msgpack); their paths are plain in them.
+    commands = b"".join(base64.b64decode(m) for m in re.findall(
+        r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", page))
+    for drawn in ("gbh/object", "gbh/structures/0", "gbh/grasps/0", "gbh/best_flange",
+                  "gbh/table", "gbh/B"):
+        assert f"/drake/{drawn}".encode() in commands, drawn
     text = capsys.readouterr().out
     assert "free space: no" in text and "#1 " in text and "exit proof" in text
 
@@ -149,3 +157,10 @@ def test_the_schema_page_is_current():
     body = text[start:end].split("\n", 1)[1]
     assert body == schema_markdown(), \
         "regenerate docs/grasps_schema.md's table with schema_markdown()"
+
+
+def test_the_paper_preset_ranks_as_the_paper(mug_file, tmp_path):
+    r = gbh_drake.grasps(mug_file, preset="paper", top=10)
+    assert r.params.preset == "paper" and r.params.distinct_distance == 0.0
+    assert {g.turn_deg for g in r.grasps} == {0.0}  # no turned approaches
+    assert document(r)["gbh"]["preset"] == "paper"
