@@ -103,3 +103,40 @@ def test_a_wrong_image_size_names_the_port():
     scanner.GetInputPort("X_WC_0").FixValue(context, RigidTransform())
     with pytest.raises(ValueError, match="depth_image_0 is 64x48 pixels; the intrinsics say 320x240"):
         scanner.GetOutputPort("mesh_W").Eval(context)
+
+
+def test_capture_times_take_every_camera_each_time_and_fuse_after_the_last():
+    """Two cameras (two of the sample views' images and poses on constant sources), captured at
+    0.1 s and 0.2 s: the placeholder until then, a scan of the four views after."""
+    from pydrake.common.value import AbstractValue
+    from pydrake.systems.analysis import Simulator
+    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.primitives import ConstantValueSource
+    from pydrake.systems.sensors import ImageDepth32F
+
+    from gbh_drake import REPO_ROOT
+    from gbh_drake.scan_grasps.views import read_views
+    from gbh_drake.systems.scanner import scan_pending
+
+    views = read_views(REPO_ROOT / "tests" / "scan_grasps" / "data" / "mug_views").views
+    builder = DiagramBuilder()
+    scanner = builder.AddSystem(DepthImageScanner(
+        ScanConfig(), views.intrinsics, [0.55, 0.0, 0.06], num_cameras=2,
+        capture_times=[0.1, 0.2], sensor_error=views.depth_error))
+    for i in range(2):
+        image = ImageDepth32F(views.intrinsics.width, views.intrinsics.height)
+        image.mutable_data[:, :, 0] = views.depths[i]
+        for port, value in ((f"depth_image_{i}", image), (f"X_WC_{i}",
+                                                          RigidTransform(views.X_BCs[i]))):
+            source = builder.AddSystem(ConstantValueSource(AbstractValue.Make(value)))
+            builder.Connect(source.get_output_port(), scanner.GetInputPort(port))
+    diagram = builder.Build()
+    simulator = Simulator(diagram)
+    context = scanner.GetMyContextFromRoot(simulator.get_mutable_context())
+    simulator.AdvanceTo(0.15)
+    assert scan_pending(scanner.GetOutputPort("mesh_W").Eval(context))
+    simulator.AdvanceTo(0.25)
+    scan = scanner.GetOutputPort("mesh_W").Eval(context)
+    assert not scan_pending(scan) and not scan.empty, scan.message
+    assert len(scan.X_WCs) == 4 and scan.taken_at == pytest.approx(0.2)
+    np.testing.assert_allclose(scan.X_WCs[2].GetAsMatrix4(), views.X_BCs[0], atol=1e-12)
