@@ -43,7 +43,6 @@ def grasps(input, *, table_z: float | None = None, table_plane=None, frame=None,
     (``result.none`` says which and why)."""
     from gbh_drake.core.gripper import HOOK_GRIPPER
     from gbh_drake.core.pipeline import plan_grasps
-    from gbh_drake.perception.unseen import scan_unseen
     from gbh_drake.scan_grasps.inputs import InputOptions, load_input
     from gbh_drake.scan_grasps.result import make_result
 
@@ -69,11 +68,28 @@ def grasps(input, *, table_z: float | None = None, table_plane=None, frame=None,
         gbh = plan_grasps(scan.mesh_W, params, HOOK_GRIPPER, seed, free_space=scan.free_space)
         result = make_result(structures_W=gbh.structures, candidates_W=gbh.candidates,
                              ranked_W=gbh.ranked, hangability=gbh.hangability,
-                             unseen_B=scan_unseen(scan) if gbh.ranked else None, **common)
+                             unseen_B=_unseen(scan) if gbh.ranked else None, **common)
         result.timings.update({f"gbh_{k}": v for k, v in gbh.timings.items()})
     result.timings = {"read": read - start, **result.timings,
                       "total": time.perf_counter() - start}
     return result
+
+
+def _unseen(scan) -> np.ndarray:
+    """The unseen space next to ``scan`` (for the lift; ``perception.unseen``), in the region
+    round the object the simulated scan reads after its first look (the object's bounding
+    sphere grown: ``perception.scan.object_region``), not the whole workspace box of views
+    that had none."""
+    from gbh_drake.perception.scan import object_region
+    from gbh_drake.perception.segment import bounding_sphere
+    from gbh_drake.perception.unseen import scan_unseen
+
+    if scan.free_space is None or scan.region is None or not len(scan.mesh_W.faces):
+        return np.zeros((0, 3))
+    if scan.first_look_free_space is None:
+        centre, radius = bounding_sphere(np.asarray(scan.mesh_W.vertices), scan.table)
+        scan = dataclasses.replace(scan, region=object_region(scan.region, centre, radius))
+    return scan_unseen(scan)
 
 
 def _table(table_z: float | None, table_plane) -> tuple[np.ndarray, float] | None:
