@@ -266,7 +266,8 @@ JSON_SCHEMA = _obj(f"{SCHEMA_NAME}, version {SCHEMA_VERSION}: ranked grasps of t
         "path": {"type": "string", "description": "the input file or views.yaml"},
         "free_space": {"type": "boolean", "description": "whether the scan came with what the "
                                                          "cameras saw free (the exit proof "
-                                                         "ran)"},
+                                                         "needs it: `hangability.exit_proof` "
+                                                         "says whether it ran)"},
         "table": _obj("GbH's supporting surface: normal . p = height", {
             "normal": _vec(3, "unit, up"), "height": _num("m"),
             "source": {"enum": ["given", "fitted", "verified", "assumed", "lowest point"],

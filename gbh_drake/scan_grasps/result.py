@@ -79,7 +79,8 @@ class GraspsResult:
     """The ``TablePlane`` in B (GbH's supporting surface)."""
     table_source: str
     free_space: bool
-    """Whether the scan came with what the cameras saw free (the exit proof ran)."""
+    """Whether the scan came with what the cameras saw free (the exit proof runs on it unless
+    the parameters say otherwise: ``hangability.exit_proof``)."""
     params: object
     """The ``GbhParams`` used."""
     seed: int
@@ -153,7 +154,7 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
         if candidates_W else []
     return GraspsResult(
         input_kind, input_path, table_B, table_source,
-        scan_B is not None and scan_B.free_space is not None and params.unknown_is_occupied,
+        scan_B is not None and scan_B.free_space is not None,
         params, int(seed), [structure_in(s, X) for s in structures_W],
         [grasp(rank + 1, g) for rank, g in enumerate(ranked_W)], refused, none, hangability,
         len(candidates_W), list(notes or []), list(warnings or []), scan=scan_B)

@@ -43,9 +43,10 @@ def table_in(table, X_BW: np.ndarray):
 
 
 def trial_export(done) -> dict:
-    """The files of a finished pick trial (a ``TrialRun``) that ran GbH: ``{name: bytes or
-    str}`` for ``scan.ply`` and ``grasps.json``, and a function ``views(folder)`` writing the
-    views; {} when the trial took no scan (task ``settle``)."""
+    """The files of a finished pick trial (a ``TrialRun``): ``{name: bytes or str}`` for
+    ``scan.ply`` (unless the scan is empty) and ``grasps.json`` (a method that runs GbH's
+    stages; the antipodal baseline's pinches are not GbH grasps), and a function
+    ``views(folder)`` writing the views; {} when the trial took no scan (task ``settle``)."""
     from gbh_drake.modeling.robot_frames import robot_frames
     from gbh_drake.scan_grasps.document import document, to_json
     from gbh_drake.systems.scanner import scan_pending
@@ -56,13 +57,17 @@ def trial_export(done) -> dict:
         return {}
     frames = robot_frames(trial.station.plant)
     X_BW = np.linalg.inv(frames.X_WB)
-    result = trial_result(done, scan, X_BW)
-    files = {GRASPS_FILE: to_json(document(result))}
+    files: dict = {}
+    gbh = trial.source.candidates is not None  # the method runs GbH's stages
+    if gbh:
+        result = trial_result(done, scan, X_BW)
+        files[GRASPS_FILE] = to_json(document(result))
     if not scan.empty:
         files[SCAN_FILE] = scan_ply(scan.mesh_W, X_BW)
         files[VIEWS_FOLDER] = lambda folder: write_views(
-            Path(folder), scan, trial.scenario.scan, X_BW, gbh=result.params, seed=result.seed,
-            mesh=f"../{SCAN_FILE}")
+            Path(folder), scan, trial.scenario.scan, X_BW,
+            gbh=trial.scenario.gbh if gbh else None,
+            seed=trial.seeds.sampling if gbh else None, mesh=f"../{SCAN_FILE}")
     return files
 
 
@@ -163,6 +168,8 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
         entry["mesh"] = mesh
     entry["scan"] = {f.name: getattr(config, f.name) for f in dataclasses.fields(config)
                      if f.name not in ("noise", "depth_unit", "depth_min", "depth_max")}
+    base_B = X[:3, :3] @ [*config.robot_base_xy, 0.0] + X[:3, 3]
+    entry["scan"]["robot_base_xy"] = base_B[:2].tolist()  # (the same list in the station)
     if gbh is not None:
         entry["gbh"] = _gbh_in(gbh, X_BW)
     if seed is not None:
