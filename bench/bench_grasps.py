@@ -14,8 +14,10 @@ scan they fuse to, decimated to 20,000 triangles. Then, each case in a fresh pro
   (``warm``: best and median); the steps of the first call from ``result.timings``;
 * ``process``: ``gbh grasps INPUT --out FILE`` as a command, wall seconds (best, median).
 
-Prints the load average: the machine is shared (2 cores); figures move by a third from one hour
-to the next.
+Prints CPU seconds beside the wall seconds (what the work costs whatever else runs) and the load
+average: the machine is shared (2 cores); figures move by a third from one hour to the next.
+``OMP_NUM_THREADS=1`` (exported before running it) keeps Open3D's TSDF from spinning threads
+against other processes, as the experiment's workers and bench_scan.py's second column do.
 """
 
 from __future__ import annotations
@@ -72,13 +74,14 @@ def in_process(path: Path, repeat: int) -> dict:
     """Runs in a child: imports, then grasps() 1 + repeat times."""
     code = IMPORTS + f"""
 import json, gbh_drake
-times, steps = [], None
+times, cpu, steps = [], [], None
 for i in range({repeat} + 1):
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     result = gbh_drake.grasps({str(path)!r})
     times.append(time.perf_counter() - t)
+    cpu.append(time.process_time() - c)
     steps = steps or result.timings
-print(json.dumps({{"imports": imports, "times": times, "steps": steps,
+print(json.dumps({{"imports": imports, "times": times, "cpu": cpu, "steps": steps,
                   "grasps": len(result.grasps), "faces": len(result.scan.mesh_W.faces)}}))
 """
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -86,15 +89,21 @@ print(json.dumps({{"imports": imports, "times": times, "steps": steps,
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def process(path: Path, repeat: int, out: Path) -> list[float]:
-    walls = []
+def process(path: Path, repeat: int, out: Path) -> tuple[list[float], list[float]]:
+    """Wall and CPU seconds (user + system, the child's) of ``gbh grasps`` runs."""
+    import resource
+
+    walls, cpus = [], []
     for _ in range(repeat):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         t = time.perf_counter()
         subprocess.run([sys.executable, "-m", "gbh_drake.cli", "grasps", str(path), "--out",
                         str(out)], stdout=subprocess.DEVNULL, check=True,
                        env={**os.environ, "PYTHONPATH": str(REPO)})
         walls.append(time.perf_counter() - t)
-    return walls
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpus.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    return walls, cpus
 
 
 def main() -> None:
@@ -109,13 +118,16 @@ def main() -> None:
             r = in_process(folder / name, args.repeat)
             first, warm = r["times"][0], r["times"][1:]
             steps = ", ".join(f"{k} {v:.2f}" for k, v in r["steps"].items())
-            print(f"{name}: imports {r['imports']:.2f} s; grasps() first {first:.2f} s, warm "
-                  f"best {min(warm):.2f} s, median {statistics.median(warm):.2f} s (target "
-                  f"<= {target} s after import); {r['grasps']} grasps on {r['faces']} "
-                  f"triangles; first call's steps (s): {steps}")
-            walls = process(folder / name, args.repeat, folder / "out.json")
+            print(f"{name}: imports {r['imports']:.2f} s; grasps() first {first:.2f} s (CPU "
+                  f"{r['cpu'][0]:.2f} s), warm best {min(warm):.2f} s, median "
+                  f"{statistics.median(warm):.2f} s (CPU median "
+                  f"{statistics.median(r['cpu'][1:]):.2f} s; target <= {target} s after import);"
+                  f" {r['grasps']} grasps on {r['faces']} triangles; first call's steps (s): "
+                  f"{steps}")
+            walls, cpus = process(folder / name, args.repeat, folder / "out.json")
             print(f"{name}: gbh grasps as a process best {min(walls):.2f} s, median "
-                  f"{statistics.median(walls):.2f} s (target <= {PROCESS_TARGET} s)")
+                  f"{statistics.median(walls):.2f} s, CPU median {statistics.median(cpus):.2f} s "
+                  f"(target <= {PROCESS_TARGET} s)")
     print(f"load average at end {os.getloadavg()[0]:.2f}")
 
 
