@@ -133,11 +133,11 @@ def summary_text(result) -> str:
     lines.append(f"grasps: {len(result.structures)} hanging structures, {result.n_candidates} "
                  f"candidates, {len(result.grasps)} ranked (poses in B, Franka's panda_link0)")
     for g in result.grasps:
-        p = g.X_B_link8[:3, 3]
+        p, y = g.X_B_link8[:3, 3], g.X_BG[:3, 1]
         lines.append(f"  #{g.rank} {g.kind:8s} score {g.score:.3f}  flange at "
                      f"({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, approach "
-                     f"{g.terms['alpha_deg']:.0f} deg from straight down, lift "
-                     f"{g.waypoints.lift_height:.2f} m")
+                     f"{g.terms['alpha_deg']:.0f} deg from straight down, closing along "
+                     f"({y[0]:.2f}, {y[1]:.2f}, {y[2]:.2f}), lift {g.waypoints.lift_height:.2f} m")
     if result.none is not None:
         lines.append(f"  none: {result.none.outcome}: {result.none.message}")
     lines.append(f"  time {result.timings.get('total', 0.0):.2f} s")
