@@ -295,8 +295,13 @@ def _objects(args) -> int:
         return fetch([str(p) for p in args.sets or _shipped_sets()])
     if args.action == "list":
         # Each object's warnings are in its row, not also as log lines.
-        logging.getLogger("gbh_drake.objects").setLevel(logging.ERROR)
-        rows = [row for path in args.sets or [None] for row in describe_set(path)]
+        objects_log = logging.getLogger("gbh_drake.objects")
+        level = objects_log.level
+        objects_log.setLevel(logging.ERROR)
+        try:
+            rows = [row for path in args.sets or [None] for row in describe_set(path)]
+        finally:
+            objects_log.setLevel(level)
         if args.json:
             print(json.dumps(rows, indent=1))
         elif args.csv:
