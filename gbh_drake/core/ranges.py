@@ -7,7 +7,7 @@ A config dataclass declares each field's rule as field metadata::
 and its cross-field rules in a method ``check_relations(self, at=())`` that raises
 :class:`FieldError`. :func:`check_fields` checks both; the class's own public ``check()`` is
 :func:`checker`'s, the scenario loader calls :func:`check_fields` with the section's path, and
-docs/errors.md's table is rendered from the same rules (``Rule.doc``): one home per range.
+docs/scenario_fields.md's table is rendered from the same rules (``Rule.doc``): one home per range.
 
 Pure Python and numpy (no pydrake): the core and the perception config import it.
 """

@@ -1,0 +1,45 @@
+"""The documentation site's MkDocs hooks (``hooks:`` in mkdocs.yml).
+
+* The repository's README.md is the site's home page (``index.md``): one text for GitHub and the
+  site. Its links into ``docs/`` are rewritten to be relative to the site's root.
+* An experiment summary links the replay of every failed trial (``replays/<trial>.html``); the
+  committed experiments do not keep their replays (about 1 GB), so such a link whose file is
+  absent is shown as plain text ("replay not kept") instead of a link to nothing. Every other
+  link is checked by ``mkdocs build --strict`` (tests/docs/test_site.py).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from mkdocs.structure.files import File
+
+#: A Markdown link or image target that starts in the repository's docs/ folder.
+_INTO_DOCS = re.compile(r"(\]\()docs/")
+#: A Markdown link to a trial's replay.
+_REPLAY = re.compile(r"\[([^\]]*)\]\((replays/[^)\s]+\.html)\)")
+
+
+def readme_as_home(readme: str) -> str:
+    """The README's text with its ``docs/...`` links made relative to the docs folder."""
+    return _INTO_DOCS.sub(r"\1", readme)
+
+
+def on_files(files, config):
+    """Adds the README as ``index.md`` (the home page)."""
+    readme = Path(config["config_file_path"]).parent / "README.md"
+    files.append(File.generated(config, "index.md", content=readme_as_home(readme.read_text())))
+    return files
+
+
+def on_page_markdown(markdown, page, config, files):
+    """Unlinks replays that are not kept beside an experiment's summary."""
+    folder = Path(config["docs_dir"]) / Path(page.file.src_uri).parent
+
+    def unlink(match: re.Match) -> str:
+        if (folder / match.group(2)).is_file():
+            return match.group(0)
+        return f"{match.group(1)} not kept"
+
+    return _REPLAY.sub(unlink, markdown)
