@@ -3,7 +3,7 @@
 Run:  .venv/bin/python tools/doc_counts.py            # list every marked count: stated, rows
       .venv/bin/python tools/doc_counts.py --write    # rewrite the stale ones in place
 
-README.md and docs/experiment/README.md state counts of the reference experiment
+The README and the pages under docs/ state counts of the reference experiment
 (docs/experiment/trials.jsonl). Each stated count is marked with the name of the query that
 recounts it, ``<!-- n: NAME -->VALUE<!-- /n -->`` (the comments do not show on GitHub or in the
 site), and Table 1 is generated whole between ``<!-- table1 -->`` and ``<!-- end table1 -->``.
@@ -30,8 +30,11 @@ from gbh_drake.experiment.stats import holm, mcnemar, wilson
 
 ROOT = Path(__file__).resolve().parents[1]
 ROWS = ROOT / "docs" / "experiment" / "trials.jsonl"
-#: The pages whose counts are marked.
-PAGES = (ROOT / "README.md", ROOT / "docs" / "experiment" / "README.md")
+
+
+def pages() -> list[Path]:
+    """The README and every page under docs/ (the pages whose counts may be marked)."""
+    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 MARK = re.compile(r"<!-- n: (?P<name>[a-z0-9_]+) -->(?P<value>.*?)<!-- /n -->")
 TABLE_START, TABLE_END = "<!-- table1 -->", "<!-- end table1 -->"
 
@@ -253,6 +256,20 @@ for _p_ in PROTOCOLS:
         COUNTS[f"unreached_plus_{_name}_{_p_}"] = _unreached("gbh+", _p_, _what)
 
 
+def _held_by(method: str, obj: str, how: str) -> Callable[[pd.DataFrame], str]:
+    """``k of n``: ``method``'s trials of ``obj`` (both protocols) carried and held by ``how``
+    (``cage`` or ``pinch``)."""
+    def count(rows):
+        mine = rows[(rows["method"] == method) & (rows["object"] == obj)]
+        return f"{_held(mine, how)} of {len(mine)}"
+    return count
+
+
+for _obj in ("clothes_hanger", "key_ring", "scissors", "tape_roll"):
+    for _how in ("cage", "pinch"):
+        COUNTS[f"plus_{_obj}_{_how}"] = _held_by("gbh+", _obj, _how)
+
+
 def stated(text: str) -> list[tuple[str, str]]:
     """(name, stated value) of every marked count in ``text``, in order."""
     return [(m["name"], m["value"]) for m in MARK.finditer(text)]
@@ -273,14 +290,16 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     rows = read_rows()
     stale = 0
-    for page in PAGES:
+    for page in pages():
         text = page.read_text()
+        if not stated(text) and TABLE_START not in text:
+            continue
         for name, value in stated(text):
             now = COUNTS[name](rows)
             stale += now != value
             print(f"{page.relative_to(ROOT)}: {name}: {value}" +
                   ("" if now == value else f"  -> the rows: {now}"))
-        if args.write:
+        if args.write and recount(text, rows) != text:
             page.write_text(recount(text, rows))
     return 0 if args.write or not stale else 1
 
