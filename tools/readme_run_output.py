@@ -5,8 +5,10 @@ Run:  .venv/bin/python tools/readme_run_output.py            # rewrite the block
 
 The block sits in README.md between ``<!-- run-output -->`` and ``<!-- end run-output -->``.
 The run is made in a temporary folder (the repository's ``scenarios/`` linked into it), so the
-printed paths are the ones a user sees in a checkout (``scenarios/default.yaml``,
-``output/default/replay.html``) and nothing is written into the checkout but the README.
+outputs go where a user's would, under the current folder (``output/default/``), and nothing
+is written into the checkout but the README. ``gbh run`` prints full paths; the run's folder and
+the checkout's are both shown as :data:`CHECKOUT`, where a user in a checkout would run it (the
+folder differs from one clone to the next).
 ``tests/docs/test_readme_run.py`` runs it and compares, wall times and real-time factors aside
 (:func:`normalised`): they are the machine's, everything else is the seeded trial's.
 """
@@ -26,6 +28,8 @@ README = ROOT / "README.md"
 START, END = "<!-- run-output -->", "<!-- end run-output -->"
 #: What the block shows a user typing (dev.sh passes its arguments to ``gbh run``).
 COMMAND = "./dev.sh run scenarios/default.yaml"
+#: How the block writes the checkout's folder.
+CHECKOUT = "/path/to/gbh_drake"
 
 #: The machine's figures in a run's text: the wall time and the real-time factor of the
 #: simulation, and every stage's time.
@@ -42,9 +46,11 @@ def fresh_run() -> str:
             p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)}
         done = subprocess.run([sys.executable, "-m", "gbh_drake.cli", "run", "scenarios/default.yaml"],
                               cwd=folder, env=env, capture_output=True, text=True, check=False)
+        here = str(Path(folder).resolve())
     if done.returncode != 0:
         raise RuntimeError(f"gbh run exited {done.returncode}:\n{done.stderr}")
-    return done.stdout.rstrip("\n")
+    # The run's folder stands for the checkout, where a user runs it.
+    return done.stdout.rstrip("\n").replace(here, CHECKOUT).replace(str(ROOT.resolve()), CHECKOUT)
 
 
 def block(output: str) -> str:
