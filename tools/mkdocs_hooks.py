@@ -1,7 +1,8 @@
 """The documentation site's MkDocs hooks (``hooks:`` in mkdocs.yml).
 
 * The repository's README.md is the site's home page (``index.md``): one text for GitHub and the
-  site. Its links into ``docs/`` are rewritten to be relative to the site's root.
+  site. Its links into ``docs/`` are rewritten to be relative to the site's root, and a page's
+  link to the README (``../README.md#figures``, which GitHub follows) to the home page.
 * An experiment summary links the replay of every failed trial (``replays/<trial>.html``); the
   committed experiments do not keep their replays (about 1 GB), so such a link whose file is
   absent is shown as plain text ("replay not kept") instead of a link to nothing. Every other
@@ -17,6 +18,8 @@ from mkdocs.structure.files import File
 
 #: A Markdown link or image target that starts in the repository's docs/ folder.
 _INTO_DOCS = re.compile(r"(\]\()docs/")
+#: A Markdown link whose target is a README.md, with its anchor.
+_TO_README = re.compile(r"(\]\()((?:\.\./)+)README\.md([#)])")
 #: A Markdown link to a trial's replay.
 _REPLAY = re.compile(r"\[([^\]]*)\]\((replays/[^)\s]+\.html)\)")
 
@@ -34,12 +37,21 @@ def on_files(files, config):
 
 
 def on_page_markdown(markdown, page, config, files):
-    """Unlinks replays that are not kept beside an experiment's summary."""
-    folder = Path(config["docs_dir"]) / Path(page.file.src_uri).parent
+    """Points links to the repository's README at the home page, and unlinks replays that are
+    not kept beside an experiment's summary."""
+    docs = Path(config["docs_dir"]).resolve()
+    folder = docs / Path(page.file.src_uri).parent
+    readme = Path(config["config_file_path"]).resolve().parent / "README.md"
+
+    def home(match: re.Match) -> str:
+        if (folder / match.group(2) / "README.md").resolve() != readme:
+            return match.group(0)
+        up = "../" * len(Path(page.file.src_uri).parent.parts)
+        return f"{match.group(1)}{up}index.md{match.group(3)}"
 
     def unlink(match: re.Match) -> str:
         if (folder / match.group(2)).is_file():
             return match.group(0)
         return f"{match.group(1)} not kept"
 
-    return _REPLAY.sub(unlink, markdown)
+    return _REPLAY.sub(unlink, _TO_README.sub(home, markdown))
