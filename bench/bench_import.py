@@ -59,6 +59,7 @@ def task_list() -> None:
     from gbh_drake import SCENARIOS_DIR
     from gbh_drake.experiment.config import (
         _set_trial,
+        experiment_objects,
         load_experiment,
         make_tasks,
         method_scenarios,
@@ -69,12 +70,13 @@ def task_list() -> None:
     scenarios = method_scenarios(experiment)
     start = time.perf_counter()
     tasks = make_tasks(experiment, scenarios=scenarios)
+    objects = {o.name: o for o in experiment_objects(experiment)}
     built = time.perf_counter() - start
     sample = tasks[:: max(1, len(tasks) // 50)]
     start = time.perf_counter()
     for task in sample:
         scenario = copy.deepcopy(scenarios[task.method])
-        _set_trial(scenario, experiment, task.object, task.trial, task.protocol)
+        _set_trial(scenario, experiment, objects[task.object], task.trial, task.protocol)
         trial_scenario_yaml(scenario)
     each = (time.perf_counter() - start) / len(sample)
     print(f"task list of scenarios/experiment.yaml: {len(tasks)} tasks in {built:.1f} s "

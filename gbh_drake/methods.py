@@ -23,13 +23,17 @@ Shipped (``Scenario.grasp_method``):
 * ``gbh_plus`` (:class:`GbhPlus`, beyond the paper): all of it in one: GbH, the scoop, the
   regrasp, then the antipodal fallback; after a lift that came away empty, one retry.
 
-:class:`GivenGrasps` executes grasps of your own through another method's diagram.
-:func:`register_method` adds a method of your own to the registry.
+Each method's facts (gripper, bar, retries, its ordered grasp tiers) are its
+:class:`~gbh_drake.method_spec.MethodSpec`; a method here only builds the systems that offer
+each tier's grasps. :class:`GivenGrasps` executes grasps of your own through another method's
+diagram. :func:`register_method` adds a method of your own (and its spec: a scenario can then
+name it).
 """
 
 from __future__ import annotations
 
 import abc
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -37,7 +41,8 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import DiagramBuilder, OutputPort, System
 from pydrake.systems.primitives import ConstantValueSource
 
-from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, GRIPPERS
+from gbh_drake.core.gripper import GRIPPERS
+from gbh_drake.method_spec import MethodSpec, Tier, method_spec, register_spec
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds
 from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
@@ -50,45 +55,61 @@ from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
 
 
 @dataclass
+class GraspTier:
+    """One tier of grasps a method offers (:class:`~gbh_drake.method_spec.Tier`): the output
+    port of its grasps (lists of objects with ``X_WG`` and ``kind``, best first) and, for a
+    regrasp, the port of the resting poses to set the object down in (its grasps are the
+    pinches that do it)."""
+
+    tier: Tier
+    grasps: OutputPort
+    poses: OutputPort | None = None
+
+
+@dataclass
 class GraspSource:
     """What a method added to the diagram: the output ports the rest of the trial reads.
 
-    ``grasps``: the grasps to try, best first (lists of objects with ``X_WG`` and ``kind``);
-    ``search``: why there are none (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`);
-    ``scoop``: scoops tried when none of ``grasps`` could be planned (None: no scoop);
-    ``regrasp_poses`` and ``regrasp_grasps``: resting poses to set the object down in and the
-    pinches to do it with, when none of those could be planned (None: no regrasp);
-    ``fallback``: grasps tried when none of those could be planned (None: no fallback);
-    ``hanging_structures`` and ``candidates``: GbH's detector and synthesizer outputs (None
-    for a method without GbH); ``systems``: the added systems by name."""
+    ``tiers``: the grasps to try, tier by tier in the method's order (the first is the
+    method's own, :attr:`grasps`); ``search``: why there are none
+    (:class:`~gbh_drake.messages.GraspSearch`); ``hanging_structures`` and ``candidates``:
+    GbH's detector and synthesizer outputs (None for a method without GbH); ``systems``: the
+    added systems by name."""
 
-    grasps: OutputPort
+    tiers: list[GraspTier]
     search: OutputPort
-    fallback: OutputPort | None = None
-    scoop: OutputPort | None = None
-    regrasp_poses: OutputPort | None = None
-    regrasp_grasps: OutputPort | None = None
     hanging_structures: OutputPort | None = None
     candidates: OutputPort | None = None
     systems: dict[str, System] = field(default_factory=dict)
 
+    @property
+    def grasps(self) -> OutputPort:
+        """The method's own grasps (the first tier)."""
+        return self.tiers[0].grasps
+
+    def tier(self, tier: Tier) -> GraspTier | None:
+        """The tier ``tier`` of this source, or None when the method does not offer it."""
+        return next((t for t in self.tiers if t.tier is tier), None)
+
 
 class GraspMethod(abc.ABC):
-    """A way of choosing grasps. ``name``: the scenario's ``grasp_method``; ``bar_angle``
-    (rad): the hook gripper's bar before a grasp is chosen (each executed grasp then sets it
-    by its kind); ``max_retries``: how often a lift that came away empty is followed by a
-    re-scan and a new plan, unless the scenario's ``pick.max_retries`` says otherwise (0: one
-    attempt, as in the paper)."""
+    """A way of choosing grasps: its facts are ``spec`` (a
+    :class:`~gbh_drake.method_spec.MethodSpec`: name, gripper, bar angle, retries, tiers); it
+    builds the systems that offer each of the spec's tiers (:meth:`add_systems`)."""
 
-    name: str = ""
-    bar_angle: float = BAR_DEPLOYED
-    max_retries: int = 0
+    spec: MethodSpec
+
+    @property
+    def name(self) -> str:
+        """The scenario's ``grasp_method``."""
+        return self.spec.name
 
     @abc.abstractmethod
     def add_systems(self, builder: DiagramBuilder, *, scenario: Scenario, seeds: Seeds,
                     scan: OutputPort) -> GraspSource:
         """Adds the method's systems to ``builder``, fed by ``scan`` (the Scanner's
-        ``mesh_W``), and returns where its grasps come from."""
+        ``mesh_W``), and returns where its grasps come from: one :class:`GraspTier` per tier of
+        its spec, in the spec's order."""
 
 
 def _add(builder: DiagramBuilder, systems: dict[str, System], name: str, system: System):
@@ -96,8 +117,8 @@ def _add(builder: DiagramBuilder, systems: dict[str, System], name: str, system:
     return systems[name]
 
 
-def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
-             systems: dict[str, System]) -> GraspScorer:
+def add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+            systems: dict[str, System]) -> GraspScorer:
     """The paper's three stages on ``scan``; returns the scorer (its ``ranked_grasps``)."""
     detector = _add(builder, systems, "hangability_detector",
                     HangabilityDetector(scenario.gbh, seed=seeds.sampling))
@@ -111,8 +132,8 @@ def _add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return scorer
 
 
-def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
-                   systems: dict[str, System]) -> AntipodalGraspSampler:
+def add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
+                  systems: dict[str, System]) -> AntipodalGraspSampler:
     """The antipodal sampler on ``scan``, keeping GbH's table clearance."""
     sampler = _add(builder, systems, "antipodal_sampler", AntipodalGraspSampler(
         scenario.antipodal, seed=seeds.grasps, ground_clearance=scenario.gbh.ground_clearance))
@@ -120,7 +141,7 @@ def _add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
     return sampler
 
 
-def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopSynthesizer:
+def add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> ScoopSynthesizer:
     """Scoops of the GbH detector's flat structures (the wedge gripper's)."""
     scoop = _add(builder, systems, "scoop_synthesizer",
                  ScoopSynthesizer(scenario.gbh, scenario.scoop))
@@ -128,8 +149,8 @@ def _add_scoop(builder, scenario: Scenario, systems: dict[str, System]) -> Scoop
     return scoop
 
 
-def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
-                 systems: dict[str, System]) -> RegraspPlanner:
+def add_regrasp(builder, scenario: Scenario, seeds: Seeds,
+                systems: dict[str, System]) -> RegraspPlanner:
     """The resting poses in which GbH can hook the scanned object."""
     planner = _add(builder, systems, "regrasp_planner", RegraspPlanner(
         scenario.gbh, scenario.regrasp, seed=seeds.sampling, antipodal=scenario.antipodal,
@@ -138,8 +159,11 @@ def _add_regrasp(builder, scenario: Scenario, seeds: Seeds,
     return planner
 
 
-def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
-                scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+def add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: bool,
+               scenario: Scenario, fallback: bool = False) -> GraspSearchReport:
+    """Why the method has no grasp (for the monitor): ``hook``, it runs GbH (``add_gbh`` first:
+    its structures and candidates are counted); ``fallback``, an antipodal fallback was tried
+    too. Each ``add_*`` adds its systems to ``builder`` under their names into ``systems``."""
     scoop = systems.get("scoop_synthesizer")
     report = _add(builder, systems, "grasp_search", GraspSearchReport(
         hook=hook, fallback=fallback, params=scenario.gbh, scoop=scoop is not None))
@@ -154,65 +178,65 @@ def _add_search(builder, systems: dict[str, System], scan: OutputPort, *, hook: 
     return report
 
 
-def _gbh_source(systems: dict[str, System], report, **ports) -> GraspSource:
+def _gbh_source(systems: dict[str, System], report, *tiers: GraspTier) -> GraspSource:
+    ranked = GraspTier(Tier.GRASPS, systems["grasp_scorer"].get_output_port())
     return GraspSource(
-        grasps=systems["grasp_scorer"].get_output_port(),
-        search=report.get_output_port(),
+        tiers=[ranked, *tiers], search=report.get_output_port(),
         hanging_structures=systems["hangability_detector"].get_output_port(),
-        candidates=systems["grasp_synthesizer"].get_output_port(), systems=systems, **ports)
+        candidates=systems["grasp_synthesizer"].get_output_port(), systems=systems)
 
 
 class Gbh(GraspMethod):
     """Grasping by Hanging (the paper): hanging structures, hook grasps, the ranked top 10."""
 
-    name = "gbh"
+    spec = method_spec("gbh")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        return _gbh_source(systems, _add_search(builder, systems, scan, hook=True, scenario=scenario))
+        add_gbh(builder, scenario, seeds, scan, systems)
+        return _gbh_source(systems, add_search(builder, systems, scan, hook=True, scenario=scenario))
 
 
 class Antipodal(GraspMethod):
     """The learning-free antipodal baseline: two straight rods (the bar folded)."""
 
-    name = "antipodal"
-    bar_angle = BAR_RETRACTED
+    spec = method_spec("antipodal")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=False, scenario=scenario)
-        return GraspSource(grasps=sampler.get_output_port(), search=report.get_output_port(),
-                           systems=systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        report = add_search(builder, systems, scan, hook=False, scenario=scenario)
+        return GraspSource(tiers=[GraspTier(Tier.GRASPS, sampler.get_output_port())],
+                           search=report.get_output_port(), systems=systems)
 
 
 class GbhFallback(GraspMethod):
     """GbH first; when it offers nothing reachable, the best antipodal grasp, bar folded."""
 
-    name = "gbh_fallback"
+    spec = method_spec("gbh_fallback")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+        add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
-        return _gbh_source(systems, report, fallback=sampler.get_output_port())
+        return _gbh_source(systems, report, GraspTier(Tier.FALLBACK, sampler.get_output_port()))
 
 
 class GbhScoop(GraspMethod):
     """GbH first; when it offers nothing reachable, a scoop of material lying flat on the table
     (beyond the paper; the wedge gripper, ``robot.gripper: wedge``)."""
 
-    name = "gbh_scoop"
+    spec = method_spec("gbh_scoop")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        scoop = _add_scoop(builder, scenario, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
-        return _gbh_source(systems, report, scoop=scoop.GetOutputPort("scoop_grasps"))
+        add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = add_scoop(builder, scenario, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario)
+        return _gbh_source(systems, report,
+                           GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")))
 
 
 class GbhRegrasp(GraspMethod):
@@ -220,16 +244,16 @@ class GbhRegrasp(GraspMethod):
     folded) sets the object down in a resting pose in which GbH can hook it, the object is
     scanned again and GbH hooks it there (beyond the paper). Only a hook carries the object."""
 
-    name = "gbh_regrasp"
+    spec = method_spec("gbh_regrasp")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = _add_regrasp(builder, scenario, seeds, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario)
-        return _gbh_source(systems, report, regrasp_poses=planner.get_output_port(),
-                           regrasp_grasps=sampler.get_output_port())
+        add_gbh(builder, scenario, seeds, scan, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = add_regrasp(builder, scenario, seeds, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario)
+        return _gbh_source(systems, report, GraspTier(Tier.REGRASP, sampler.get_output_port(),
+                                                      poses=planner.get_output_port()))
 
 
 class GbhPlus(GraspMethod):
@@ -237,40 +261,38 @@ class GbhPlus(GraspMethod):
     regrasp into a pose GbH can hook; then the antipodal fallback, bar folded; and, when a lift
     comes away empty, a re-scan and one more try (the grasps near the failed one skipped)."""
 
-    name = "gbh_plus"
-    max_retries = 1
+    spec = method_spec("gbh_plus")
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         systems: dict[str, System] = {}
-        _add_gbh(builder, scenario, seeds, scan, systems)
-        scoop = _add_scoop(builder, scenario, systems)
-        sampler = _add_antipodal(builder, scenario, seeds, scan, systems)
-        planner = _add_regrasp(builder, scenario, seeds, systems)
-        report = _add_search(builder, systems, scan, hook=True, scenario=scenario,
+        add_gbh(builder, scenario, seeds, scan, systems)
+        scoop = add_scoop(builder, scenario, systems)
+        sampler = add_antipodal(builder, scenario, seeds, scan, systems)
+        planner = add_regrasp(builder, scenario, seeds, systems)
+        report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
-        return _gbh_source(systems, report, scoop=scoop.GetOutputPort("scoop_grasps"),
-                           regrasp_poses=planner.get_output_port(),
-                           regrasp_grasps=sampler.get_output_port(),
-                           fallback=sampler.get_output_port())
+        return _gbh_source(systems, report,
+                           GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")),
+                           GraspTier(Tier.REGRASP, sampler.get_output_port(),
+                                     poses=planner.get_output_port()),
+                           GraspTier(Tier.FALLBACK, sampler.get_output_port()))
 
 
 class GivenGrasps(GraspMethod):
     """Executes ``grasps`` (each with ``X_WG`` and ``kind``), through the diagram of ``method``
     (default GbH: its scan analysis still runs and is recorded), instead of its own grasps: a
-    grasp of your own through the same planner, physics and judge."""
+    grasp of your own through the same planner, physics and judge (one tier: these grasps)."""
 
     def __init__(self, grasps: Sequence, method: GraspMethod | None = None):
         self.method = method or Gbh()
         self.grasps = list(grasps)
-        self.name = self.method.name
-        self.bar_angle = self.method.bar_angle
+        self.spec = dataclasses.replace(self.method.spec, tiers=(Tier.GRASPS,))
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         source = self.method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
         given = _add(builder, source.systems, "given_grasps",
                      ConstantValueSource(AbstractValue.Make(self.grasps)))
-        source.grasps, source.fallback, source.scoop = given.get_output_port(), None, None
-        source.regrasp_poses = source.regrasp_grasps = None
+        source.tiers = [GraspTier(Tier.GRASPS, given.get_output_port())]
         return source
 
 
@@ -278,12 +300,14 @@ _REGISTRY: dict[str, GraspMethod] = {}
 
 
 def register_method(method: GraspMethod) -> GraspMethod:
-    """Adds ``method`` to the registry under its ``name`` (replacing one of the same name) and
-    returns it. (A scenario names a method the scenario's schema knows:
-    :data:`gbh_drake.scenario.GRASP_METHODS`.)"""
-    if not method.name:
-        raise ValueError(f"{type(method).__name__} has no name")
-    _REGISTRY[method.name] = method
+    """Adds ``method`` to the registry under its spec's name, and its spec to the specs (a
+    scenario can then name it: :func:`gbh_drake.method_spec.register_spec`), replacing one of
+    the same name; returns it."""
+    spec = getattr(method, "spec", None)
+    if not isinstance(spec, MethodSpec):
+        raise TypeError(f"{type(method).__name__} has no spec (a MethodSpec)")
+    register_spec(spec)
+    _REGISTRY[spec.name] = method
     return method
 
 
@@ -292,13 +316,7 @@ def method_named(name: str) -> GraspMethod:
     try:
         return _REGISTRY[name]
     except KeyError:
-        raise KeyError(f"no grasp method {name!r} (known: {', '.join(sorted(_REGISTRY))})") \
-            from None
-
-
-def method_names() -> tuple[str, ...]:
-    """The registered methods' names, in registration order."""
-    return tuple(_REGISTRY)
+        raise KeyError(f"no grasp method {name!r} (known: {', '.join(_REGISTRY)})") from None
 
 
 for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhPlus()):

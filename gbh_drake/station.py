@@ -44,12 +44,7 @@ import numpy as np
 from pydrake.geometry import Meshcat
 from pydrake.lcm import DrakeLcm
 from pydrake.math import RigidTransform
-from pydrake.multibody.parsing import (
-    ModelDirective,
-    ModelDirectives,
-    Parser,
-    ProcessModelDirectives,
-)
+from pydrake.multibody.parsing import ModelDirective, Parser
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
 from pydrake.multibody.tree import PdControllerGains
 from pydrake.systems.framework import Diagram, DiagramBuilder
@@ -57,14 +52,14 @@ from pydrake.systems.sensors import ApplyCameraConfig, CameraConfig
 from pydrake.visualization import ApplyVisualizationConfig, VisualizationConfig
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, HOOK_GRIPPER
-from gbh_drake.methods import method_named
+from gbh_drake.method_spec import method_spec
 from gbh_drake.modeling.names import ARM, GRIPPER, HAND_ACTUATORS
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
-from gbh_drake.modeling.package_map import make_parser
+from gbh_drake.modeling.package_map import add_fixed_models
 from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.schema import RobotConfig
-from gbh_drake.seeds import derive_seeds
+from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.systems.camera_scene import add_camera_scene
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
@@ -102,8 +97,8 @@ class Station(Diagram):
         plant, scene_graph = AddMultibodyPlant(plant_config, builder)
 
         # The fixed models (arm, gripper, table and whatever the scenario adds), the object.
-        parser = make_parser(plant)
-        ProcessModelDirectives(ModelDirectives(directives=list(directives)), plant, parser)
+        parser = Parser(plant)
+        add_fixed_models(parser, directives)
         arm = plant.GetModelInstanceByName(ARM)
         gripper = plant.GetModelInstanceByName(GRIPPER)
         body, collision_id, support_id = add_object_body(plant, asset)
@@ -192,17 +187,19 @@ def scene_query_port(renderer_name: str) -> str:
 
 def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,
                  object_asset: ObjectAsset | None = None,
-                 prefinalize: Callable[[Parser], None] | None = None) -> Station:
+                 prefinalize: Callable[[Parser], None] | None = None,
+                 seeds: Seeds | None = None) -> Station:
     """The :class:`Station` of ``scenario``: its directives, plant, robot, cameras and
     visualisation, the object (``object_asset``, else the scenario's, loaded) at its start pose
     (drawn from the scenario's seed), the bar as the scenario's grasp method starts it.
-    ``meshcat``: visualise there; ``prefinalize``: see :class:`Station`. Add it to your builder
+    ``meshcat``: visualise there; ``prefinalize``: see :class:`Station`; ``seeds``: the
+    scenario's seeds when the caller has derived them already. Add it to your builder
     with ``builder.AddSystem(make_station(scenario))`` and wire to its exported ports."""
     asset = object_asset or load_object_asset(scenario.object, scenario.directory)
-    X_WO = initial_object_pose(scenario.object, asset, derive_seeds(scenario.seed).pose)
+    X_WO = initial_object_pose(scenario.object, asset, (seeds or derive_seeds(scenario.seed)).pose)
     return Station(directives=scenario.station_directives(), plant_config=scenario.plant_config,
                    robot=scenario.robot, asset=asset, X_WO=X_WO,
-                   bar_angle=method_named(scenario.grasp_method).bar_angle,
+                   bar_angle=method_spec(scenario.grasp_method).bar_angle,
                    cameras=scenario.cameras, visualization=scenario.visualization,
                    meshcat=meshcat, prefinalize=prefinalize)
 

@@ -30,14 +30,17 @@ from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
 
 from gbh_drake import interrupts
+from gbh_drake.core.gripper import GRIPPERS
+from gbh_drake.messages import HeldBy, Outcome, PickStatus, Verdict, verdict_final
+from gbh_drake.method_spec import Tier
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.station import Station, make_station, scene_query_port
-from gbh_drake.systems.cage_monitor import CageMonitor, HeldBy, Outcome, Verdict, verdict_final
+from gbh_drake.systems.cage_monitor import CageMonitor
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
-from gbh_drake.systems.pick_and_carry import PickAndCarry, PickStatus
+from gbh_drake.systems.pick_and_carry import PickAndCarry
 from gbh_drake.systems.ports import build_checked
 from gbh_drake.systems.scanner import Scanner
 
@@ -140,7 +143,7 @@ class TrialRecord:
     place: list[float] = field(default_factory=list)
     """Where the hook point was when the object was released (W)."""
     verdict: Verdict = field(default_factory=Verdict)
-    """The :class:`~gbh_drake.systems.cage_monitor.Verdict` at the end."""
+    """The :class:`~gbh_drake.messages.Verdict` at the end."""
     phases: dict[str, float] = field(default_factory=dict)
     """Simulated time at which each phase began."""
     sim_time: float = 0.0
@@ -169,7 +172,8 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     builder = DiagramBuilder()
 
     # The station: robot, table, object, cameras, visualisation.
-    station = builder.AddSystem(make_station(scenario, meshcat=meshcat, object_asset=asset))
+    station = builder.AddSystem(make_station(scenario, meshcat=meshcat, object_asset=asset,
+                                              seeds=seeds))
 
     # Perception: one scan once the object has settled; the method's grasps from it.
     scanner = builder.AddNamedSystem("scanner", Scanner(
@@ -181,23 +185,23 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     scan = scanner.GetOutputPort("mesh_W")
     source = method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
 
-    # Execution: the pick-and-carry machine drives the robot.
+    # Execution: the pick-and-carry machine drives the robot, trying the method's grasp tiers
+    # in order.
+    spec = method.spec
     pick = builder.AddNamedSystem("pick_and_carry", PickAndCarry(
         scenario.station_directives(), scenario.pick, scenario.robot.hand,
         settle_time=scenario.settle_time, ground_clearance=scenario.gbh.ground_clearance,
-        seed=seeds.planner, bar_angle=method.bar_angle, scoop=scenario.scoop,
+        seed=seeds.planner, bar_angle=spec.bar_angle, scoop=scenario.scoop,
         regrasp=scenario.regrasp, scan_height=scenario.scan_target[2],
-        max_retries=method.max_retries if scenario.pick.max_retries is None
-        else scenario.pick.max_retries))
-    builder.Connect(source.grasps, pick.GetInputPort("grasps"))
-    for port, name in ((source.scoop, "scoop_grasps"), (source.regrasp_poses, "regrasp_poses"),
-                       (source.regrasp_grasps, "regrasp_grasps")):
-        if port is not None:
+        max_retries=spec.max_retries if scenario.pick.max_retries is None
+        else scenario.pick.max_retries, tiers=[tier.tier for tier in source.tiers],
+        gripper=GRIPPERS[scenario.gripper]))
+    for tier in source.tiers:
+        ports = (tier.poses, tier.grasps) if tier.tier is Tier.REGRASP else (tier.grasps,)
+        for port, name in zip(ports, tier.tier.ports, strict=True):
             builder.Connect(port, pick.GetInputPort(name))
-    # A regrasp sets the object down anew and asks the Scanner for a new scan.
+    # A regrasp or a retry asks the Scanner for a new scan.
     builder.Connect(pick.GetOutputPort("scan_request"), scanner.GetInputPort("scan_request"))
-    if source.fallback is not None:
-        builder.Connect(source.fallback, pick.GetInputPort("fallback_grasps"))
     builder.Connect(scan, pick.GetInputPort("scan"))
     for name in ("panda.state", "hook_gripper.state", "hook_gripper.load"):
         builder.Connect(station.GetOutputPort(name), pick.GetInputPort(name))
@@ -359,9 +363,8 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         refusals[r.key] = refusals.get(r.key, 0) + 1
     plan = status.plan
     on_part = _on_true_part(station.asset, X_scanned)
-    port = {"grasps": source.grasps, "scoop_grasps": source.scoop,
-            "fallback_grasps": source.fallback}.get(status.source)
-    chosen = _port_value(port, context) if port is not None else offered
+    tier = source.tier(Tier(status.source)) if status.source else None
+    chosen = _port_value(tier.grasps, context) if tier is not None else offered
     executed = chosen[plan.rank] if plan and plan.rank < len(chosen) and \
         hasattr(chosen[plan.rank], "structure") else None
     known = bool(station.asset.hangable_parts) and hangability is not None

@@ -12,8 +12,10 @@ from gbh_drake import REPO_ROOT
 PACKAGE = REPO_ROOT / "gbh_drake"
 #: Configuration modules: they may import Drake's config structs, never the pipeline.
 CONFIG_MODULES = ("gbh_drake.scenario", "gbh_drake.scenario.schema", "gbh_drake.core.ranges",
-                  "gbh_drake.core.params", "gbh_drake.perception.config", "gbh_drake.modeling.names",
-                  "gbh_drake.modeling.directives", "gbh_drake.seeds")
+                  "gbh_drake.yamlfiles.layers", "gbh_drake.core.params",
+                  "gbh_drake.perception.config", "gbh_drake.modeling.names",
+                  "gbh_drake.modeling.directives", "gbh_drake.modeling.object_config",
+                  "gbh_drake.seeds")
 #: Modules that import no Drake at all (the core's rules, the station's names).
 DRAKE_FREE = ("gbh_drake.core.ranges", "gbh_drake.core.params", "gbh_drake.modeling.names")
 #: What the configuration must not pull in.
@@ -103,3 +105,23 @@ def test_the_core_is_pure():
                 assert not name.startswith("pydrake"), f"{path.name} imports {name}"
                 if name.startswith("gbh_drake"):
                     assert name.startswith("gbh_drake.core"), f"{path.name} imports {name}"
+
+
+def _room(module: str) -> str:
+    """The room (sub-package or top-level module) a module lives in."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def test_no_room_imports_a_room_that_imports_it_back():
+    """Rooms (sub-packages and top-level modules) import downward only: configuration
+    (scenario, with the ground-floor configs of core, modeling, perception) below modeling and
+    perception, those below planning and systems, those below the trial and the experiment."""
+    rooms: dict[str, set[str]] = {}
+    for module, imported in _graph().items():
+        for other in imported:
+            if _room(module) != _room(other) and "gbh_drake" not in (module, other):
+                rooms.setdefault(_room(module), set()).add(_room(other))
+    both_ways = sorted({tuple(sorted((a, b))) for a, bs in rooms.items() for b in bs
+                        if a in rooms.get(b, set())})
+    assert both_ways == []

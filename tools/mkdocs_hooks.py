@@ -3,6 +3,9 @@
 * The repository's README.md is the site's home page (``index.md``): one text for GitHub and the
   site. Its links into ``docs/`` are rewritten to be relative to the site's root, and a page's
   link to the README (``../README.md#figures``, which GitHub follows) to the home page.
+* A page's link to a file of the repository outside ``docs/`` (``../scenarios/x.yaml``, which
+  GitHub follows) is shown as the file's path in the repository: the site holds only docs/. A
+  link to a file that does not exist stays, and fails the strict build.
 * An experiment summary links the replay of every failed trial (``replays/<trial>.html``); the
   committed experiments do not keep their replays (about 1 GB), so such a link whose file is
   absent is shown as plain text ("replay not kept") instead of a link to nothing. Every other
@@ -20,6 +23,8 @@ from mkdocs.structure.files import File
 _INTO_DOCS = re.compile(r"(\]\()docs/")
 #: A Markdown link whose target is a README.md, with its anchor.
 _TO_README = re.compile(r"(\]\()((?:\.\./)+)README\.md([#)])")
+#: A Markdown link (not an image) to a relative target: text, target, anchor.
+_LINK = re.compile(r"(?<!!)\[([^\]]*)\]\(((?:\.\./)+[^)#\s]+)(#[^)\s]*)?\)")
 #: A Markdown link to a trial's replay.
 _REPLAY = re.compile(r"\[([^\]]*)\]\((replays/[^)\s]+\.html)\)")
 
@@ -54,4 +59,14 @@ def on_page_markdown(markdown, page, config, files):
             return match.group(0)
         return f"{match.group(1)} not kept"
 
-    return _REPLAY.sub(unlink, _TO_README.sub(home, markdown))
+    def repository_file(match: re.Match) -> str:
+        target = (folder / match.group(2)).resolve()
+        root = readme.parent
+        if target.is_relative_to(docs) or not target.is_relative_to(root) or not target.exists():
+            return match.group(0)
+        path = target.relative_to(root).as_posix()
+        text = match.group(1)
+        return text if path in text else f"{text} (`{path}`)"
+
+    markdown = _TO_README.sub(home, markdown)
+    return _REPLAY.sub(unlink, _LINK.sub(repository_file, markdown))

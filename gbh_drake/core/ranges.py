@@ -14,6 +14,7 @@ Pure Python and numpy (no pydrake): the core and the perception config import it
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,22 +149,46 @@ class OneOf:
 
 
 @dataclass(frozen=True)
-class Items:
-    """A list of ``length`` numbers (any length when None), each within ``each``."""
+class Registered:
+    """One of the names of a registry that may grow at run time (``names()`` lists them now)."""
 
-    length: int | None
-    each: Range = Range()
-    what: str = "values"
+    names: Callable[[], tuple]
+    note: str = ""
 
     def doc(self) -> str:
-        each = "" if self.each == Range() else f", each {self.each.text()}"
-        return (f"{self.length} {self.what}" if self.length else self.what) + each
+        return OneOf(tuple(self.names()), self.note).doc()
+
+    def check(self, path: Path_, value) -> None:
+        OneOf(tuple(self.names()), self.note).check(path, value)
+
+
+@dataclass(frozen=True)
+class Items:
+    """A list of ``length`` items (any length when None), each within ``each`` (a
+    :class:`Range`, :class:`OneOf` or :class:`Registered`; None: any), each once when
+    ``unique``."""
+
+    length: int | None
+    each: "Range | OneOf | Registered | None" = Range()
+    what: str = "values"
+    unique: bool = False
+
+    def doc(self) -> str:
+        if self.each is None or self.each == Range():
+            each = ""
+        else:
+            each = f", each {self.each.text() if isinstance(self.each, Range) else self.each.doc()}"
+        return ((f"{self.length} {self.what}" if self.length else self.what) + each +
+                (", none twice" if self.unique else ""))
 
     def check(self, path: Path_, value) -> None:
         if self.length is not None and len(value) != self.length:
             raise FieldError(path, f"needs {self.length} {self.what}, got {len(value)}")
         for i, v in enumerate(value):
-            self.each.check(path + (i,), v)
+            if self.each is not None:
+                self.each.check(path + (i,), v)
+            if self.unique and list(value).index(v) != i:
+                raise FieldError(path + (i,), f"{v!r} is listed twice")
 
 
 @dataclass(frozen=True)
@@ -181,7 +206,7 @@ class Fixed:
             raise FieldError(path, f"must be {self.value!r} ({self.why}); got {value!r}")
 
 
-Rule = Range | OneOf | Items | Fixed
+Rule = Range | OneOf | Registered | Items | Fixed
 
 # ---- declaring and checking -------------------------------------------------------------------
 

@@ -6,7 +6,9 @@ or mistyped keys fail loudly)::
     name: table1                     # optional; default: the file's stem
     base: default.yaml               # the base scenario file (relative to this file)
     base_overrides: {max_time: 60}   # YAML applied over the base for every method (optional)
-    objects: [mug_classic, kettle, ball]
+    objects: [mug_classic, kettle, ball]  # built-in names, or names of the object set's
+    object_set: my_set.yaml          # an object set's manifest (optional; relative to this
+                                     # file): objects empty = all of its objects
     trials: 5                        # trials per object and method
     seed: 0                          # with (object, trial), seeds every trial
     pose: {x: [0.45, 0.62], y: [-0.18, 0.18], yaw_deg: [-180, 180], stable: true}
@@ -43,7 +45,9 @@ resumed whatever engine ran them (docs/ray.md).
 """
 
 import copy
+import dataclasses
 import hashlib
+import os
 import re
 import subprocess
 from dataclasses import dataclass, field
@@ -51,9 +55,9 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
+from pydrake.common.yaml import yaml_dump_typed
 
-from gbh_drake.core.ranges import FieldError, Int, check_ranges, format_path, ranged
+from gbh_drake.core.ranges import FieldError, Int, Items, OneOf, check_fields, format_path, ranged
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -65,15 +69,11 @@ from gbh_drake.scenario import (
     validate_scenario,
 )
 from gbh_drake.scenario.loader import apply_overrides
-from gbh_drake.scenario.yaml_text import (
-    YamlFieldError,
+from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers
+from gbh_drake.yamlfiles.yaml_text import (
     YamlTextError,
-    check_document,
     compose,
-    decode,
     line_of,
-    line_of_node,
-    locate_load_error,
     node_at,
     read_text,
 )
@@ -90,6 +90,8 @@ SET_BY_EXPERIMENT = {
     ("object", "name"): "each trial's object is one of the experiment's objects",
     ("object", "mesh"): "each trial's object is one of the experiment's objects (named "
                         "objects of the set)",
+    ("object", "set"): "each trial's object is one of the experiment's objects (give the "
+                       "experiment's object_set)",
     ("object", "pose"): "each trial's start pose is drawn from the experiment's pose",
     ("object", "random_pose"): "each trial's start pose is drawn from the experiment's pose "
                                "(set it there)",
@@ -118,8 +120,10 @@ ENGINES = ("local", "ray")
 WHERE_FIELDS = ("engine", "ray_address", "trials_per_worker")
 
 
-class ExperimentError(ValueError):
-    """An experiment file or folder is invalid; the message names the file and the field."""
+class ExperimentError(LayerError):
+    """An experiment file or folder is invalid; the message names the file (or ``--set``
+    text), the field and its line: ``<origin>: <field> (line N): <problem>`` as a scenario's
+    errors read (:class:`~gbh_drake.yamlfiles.layers.LayerError`)."""
 
 
 @dataclass
@@ -161,8 +165,12 @@ class Experiment:
     """The base scenario file (required), relative to the experiment file."""
     base_overrides: str = ""
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
-    objects: list[str] = field(default_factory=list)
-    """Names of objects of the set (``gbh objects list``), each once."""
+    objects: list[str] = ranged(list, Items(None, None, what="object names", unique=True))
+    """Names of objects: of ``object_set`` (looked up first) or of the built-in set (``gbh
+    objects list``), each once; empty with an ``object_set``: every object of the set."""
+    object_set: str = ""
+    """An object set's manifest (:mod:`gbh_drake.objects.sets`), relative to the experiment
+    file: its objects (meshes with their masses, rests and ground truth, or built-in ones)."""
     trials: int = ranged(5, Int(1, 1000, "per object, method and protocol; the paper ran 5"))
     """Trials per object and method (in each protocol). At most :data:`MAX_TOTAL_TRIALS`
     trials in all (objects x trials x methods x protocols)."""
@@ -172,18 +180,20 @@ class Experiment:
     """Where each trial's object starts: a random stable resting pose, a yaw and a position on
     the reachable part of the table (``object.random_pose`` of the trial's scenario; its
     ``rest`` is set by ``protocols``)."""
-    protocols: list[str] = field(default_factory=lambda: ["stable"])
+    protocols: list[str] = ranged(lambda: ["stable"], Items(None, OneOf(PROTOCOLS),
+                                                            what="protocols", unique=True))
     """How the objects are set down, each a full run of objects x trials x methods: ``stable``
     (a random stable resting pose by its probability) and/or ``natural`` (the rest a person
     would set each object down in, declared in the object set); see :data:`PROTOCOLS`."""
     methods: list[MethodConfig] = field(default_factory=default_methods)
     """The methods compared; every one runs every (object, trial)."""
-    replays: str = "failures"
+    replays: str = ranged("failures", OneOf(REPLAY_MODES))
     """Meshcat replays kept: ``failures`` (every failed trial), ``all`` or ``none``."""
     output_dir: str = ""
     """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
     under the working folder."""
-    engine: str = "local"
+    engine: str = ranged("local", OneOf(ENGINES, note="local worker processes, or Ray tasks at "
+                                                      "ray_address"))
     """Where the trials run: ``local`` (worker processes on this machine, ``--workers``) or
     ``ray`` (Ray tasks at ``ray_address``). ``gbh experiment --ray ADDRESS`` overrides it; it
     changes no row (see :data:`WHERE_FIELDS`)."""
@@ -206,6 +216,14 @@ class Experiment:
         return Path(self.source_path).resolve().parent if self.source_path else Path.cwd()
 
     @property
+    def object_set_path(self) -> Path | None:
+        """The object set's manifest, or None."""
+        if not self.object_set:
+            return None
+        p = Path(self.object_set).expanduser()
+        return p if p.is_absolute() else self.directory / p
+
+    @property
     def base_path(self) -> Path:
         p = Path(self.base).expanduser()
         return p if p.is_absolute() else self.directory / p
@@ -223,6 +241,46 @@ class Experiment:
     def ray_engine_address(self) -> str:
         """The Ray address the trials run at (``engine: ray``), or empty (local workers)."""
         return self.ray_address if self.engine == "ray" else ""
+
+
+@dataclass(frozen=True)
+class TrialObject:
+    """An object of an experiment, resolved: its ``name`` (in rows), whether it is a
+    ``control``, its ``tags`` (the report groups by them), whether it has a natural rest, and
+    ``set_path``: the manifest a trial's scenario names (``object.set``) for an object set's
+    mesh, None for a built-in object."""
+
+    name: str
+    control: bool
+    tags: tuple[str, ...]
+    has_natural_rest: bool
+    set_path: Path | None = None
+
+
+def experiment_objects(experiment: Experiment) -> list[TrialObject]:
+    """The experiment's objects, resolved (:class:`TrialObject`), in order. A built-in object's
+    tags are the built-in set's (``scenarios/object_sets/own.yaml``) unless the experiment's
+    object set lists it with its own."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.objects import make_object
+    from gbh_drake.objects.catalog import natural_rest
+    from gbh_drake.objects.sets import load_object_set
+
+    own = load_object_set(SCENARIOS_DIR / "object_sets" / "own.yaml")
+    chosen = load_object_set(experiment.object_set_path) if experiment.object_set else None
+    found = []
+    for name in experiment.objects:
+        object_set = chosen if chosen is not None and name in chosen.names else own
+        entry = object_set.entry(name) if name in object_set.names else None
+        builtin = entry.builtin if entry is not None else name
+        tags = tuple(entry.tags) if entry is not None else ()
+        if builtin:
+            found.append(TrialObject(name, bool(make_object(builtin).is_control), tags,
+                                     natural_rest(builtin) is not None))
+        else:
+            found.append(TrialObject(name, bool(entry.control), tags, entry.rest is not None,
+                                     object_set.path))
+    return found
 
 
 def trial_seed(seed: int, object_name: str, trial: int, protocol: str = "stable") -> int:
@@ -244,65 +302,28 @@ def _name_key(name: str) -> int:
 
 def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") -> Experiment:
     """Loads and validates an experiment file; ``overrides`` is YAML applied over it (e.g.
-    ``trials: 1``), or a list of such texts applied in order. Raises :class:`ExperimentError`
-    naming the file, the field and its line (as the scenario loader does: the file's text is
-    read, composed and checked by :mod:`gbh_drake.scenario.yaml_text`: UTF-8 only, no key given
-    twice, no string where a list is expected). An empty or comment-only file, or one that is
-    only ``---``, is the defaults (which list no objects: refused at ``objects``)."""
+    ``trials: 1``), or a list of such texts applied in order. The file and each override are
+    layers of one loader, the scenario's (:func:`gbh_drake.yamlfiles.layers.load_layers`): a
+    problem raises :class:`ExperimentError` naming the file (or ``--set`` text), the field and
+    its line. An empty or comment-only file, or one that is only ``---``, is the defaults (which
+    list no objects: refused at ``objects``)."""
     path = Path(filename)
     origin = str(path)
     try:
         text = read_text(path, "experiment")
     except YamlTextError as e:
-        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
+        raise ExperimentError(origin, "", e.line, e.problem, e.column) from None
     layers = [(origin, text)] + [(f"{path} (--set {t!r})", t)
                                  for t in ([overrides] if isinstance(overrides, str) else overrides)
                                  if t.strip()]
-    experiment, roots = Experiment(), []
-    for layer_origin, layer_text in layers:
-        experiment, root = _load_text(layer_text, layer_origin, experiment)
-        roots.append((layer_origin, root))
+    experiment, trees = load_layers(Experiment, layers, Experiment(), what="experiment",
+                                    error=ExperimentError, prepare=_overrides_as_text)
     experiment.source_path = str(path.resolve())
     if not experiment.name:
         experiment.name = path.stem
-    experiment._roots = roots  # where each field is written (lines in errors; not a field)
+    experiment._layers = trees  # where each field is written (lines in errors; not a field)
     validate_experiment(experiment, origin)
     return experiment
-
-
-def experiment_error(origin: str, field: str, line: int | None, problem: str,
-                     column: int | None = None) -> ExperimentError:
-    """``<origin>: <field> (line N): <problem>`` (``<origin>: line N, column C: <problem>``
-    for the file as a whole), as a scenario's errors read."""
-    if field:
-        where = f"{field}{f' (line {line})' if line else ''}: "
-    else:
-        where = f"line {line}{f', column {column}' if column else ''}: " if line else ""
-    return ExperimentError(f"{origin}: {where}{problem}")
-
-
-def _load_text(text: str, origin: str, defaults: Experiment) -> tuple[Experiment, yaml.Node | None]:
-    """``defaults`` updated by one YAML document, and the document's node tree (None: empty)."""
-    try:
-        if "\0" in text:
-            decode(text.encode("utf-8", "surrogatepass"))  # names the NUL's line and column
-        root = compose(text, "experiment")
-    except YamlTextError as e:
-        raise experiment_error(origin, "", e.line, e.problem, e.column) from None
-    if root is None:  # empty, comments only, or only "---": nothing changes
-        return copy.deepcopy(defaults), None
-    try:
-        check_document(root, Experiment, "experiment")
-    except YamlFieldError as e:
-        raise experiment_error(origin, format_path(e.path), e.line, e.problem) from None
-    loaded = _overrides_as_text(root)
-    data = text if loaded is root else yaml.serialize(loaded)
-    try:
-        return yaml_load_typed(schema=Experiment, data=data, defaults=defaults), root
-    except Exception as e:  # noqa: BLE001  (Drake names the unknown or mistyped key)
-        found = locate_load_error(loaded, Experiment, e, "experiment")
-        raise experiment_error(origin, format_path(found.path), found.line,
-                               found.problem) from None
 
 
 def _overrides_as_text(root: yaml.Node) -> yaml.Node:
@@ -341,24 +362,14 @@ def _overrides_as_text(root: yaml.Node) -> yaml.Node:
     return yaml.MappingNode(root.tag, items, root.start_mark, root.end_mark, root.flow_style)
 
 
-def _written_at(experiment: Experiment, path: tuple, *, key: bool = False
-                ) -> tuple[str | None, yaml.Node | None]:
-    """(origin, node) of the layer that wrote ``path`` last (a list replaces a list: the layer
-    that wrote its first part), or (None, None); with ``key``, the node of its key."""
-    for origin, root in reversed(getattr(experiment, "_roots", [])):
-        if root is not None and node_at(root, path[:1]) is not None:
-            return origin, node_at(root, path, key=key)
-    return None, None
+def _layers(experiment: Experiment) -> Layers:
+    """Where the fields of a loaded experiment were written (none for one built in code)."""
+    return getattr(experiment, "_layers", None) or Layers()
 
 
 def _line(experiment: Experiment, path: tuple) -> int | None:
-    """The line where ``path`` is written (of its key, or of its list, as the scenario's)."""
-    for end in range(len(path), 0, -1):
-        if end == len(path) or isinstance(path[end], int):
-            _, node = _written_at(experiment, path[:end], key=True)
-            if node is not None:
-                return line_of_node(node)
-    return None
+    """The line where ``path`` (or the list holding it) was written last."""
+    return _layers(experiment).wrote(path)[1]
 
 
 def field_error(experiment: Experiment, field_path: str | tuple, message: str,
@@ -366,9 +377,9 @@ def field_error(experiment: Experiment, field_path: str | tuple, message: str,
     """``message`` about the field at ``field_path`` (``methods[2].name``), naming the file (or
     ``--set`` text) and line where it is written (else ``origin``, else the experiment file)."""
     path = field_path if isinstance(field_path, tuple) else _parse_path(field_path)
-    where, _ = _written_at(experiment, path)
-    return experiment_error(where or origin or experiment.source_path or "<experiment>",
-                            format_path(path), _line(experiment, path), message)
+    written, line = _layers(experiment).wrote(path)
+    return ExperimentError(written or origin or experiment.source_path or "<experiment>",
+                           format_path(path), line, message)
 
 
 def validate_experiment(experiment: Experiment, origin: str) -> None:
@@ -383,19 +394,40 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         raise field_error(experiment, field_path, message, origin)
 
     try:
-        check_ranges(experiment)
-        check_ranges(experiment.pose, ("pose",))
+        check_fields(experiment)
+        check_fields(experiment.pose, ("pose",))
     except FieldError as e:
         fail(e.path, e.problem)
+    object_set = None
+    if experiment.object_set:
+        from gbh_drake.objects.sets import ObjectSetError, load_object_set
+
+        path = experiment.object_set_path
+        if not path.is_file():
+            fail("object_set", f"{'is a folder' if path.is_dir() else 'file not found'}: {path}")
+        try:
+            object_set = load_object_set(path)
+        except ObjectSetError as e:
+            fail("object_set", str(e))
+        if not experiment.objects:  # every object of the set
+            experiment.objects = list(object_set.names)
     if not experiment.objects:
-        fail("objects", "list at least one object of the set (gbh objects list); the "
-                        "defaults (an empty file) have none")
-    known = list_objects()
+        fail("objects", "list at least one object of the set (gbh objects list), or give an "
+                        "object_set; the defaults (an empty file) have none")
+    known = [*(object_set.names if object_set else []), *list_objects()]
     for i, name in enumerate(experiment.objects):
         if name not in known:
-            fail(f"objects[{i}]", f"unknown object {name!r} (known: {', '.join(known)})")
-        if experiment.objects.index(name) != i:
-            fail(f"objects[{i}]", f"{name!r} is listed twice")
+            fail(f"objects[{i}]", f"unknown object {name!r} (known: "
+                                  f"{', '.join(dict.fromkeys(known))})")
+    if object_set is not None:
+        for i, name in enumerate(experiment.objects):
+            if name in object_set.names:
+                from gbh_drake.objects.sets import ObjectSetError
+
+                try:
+                    object_set.object(name)  # its mesh is found (fetched)
+                except ObjectSetError as e:
+                    fail(f"objects[{i}]", str(e))
     if not experiment.methods:
         fail("methods", "give at least one method")
     names = [m.name for m in experiment.methods]
@@ -420,33 +452,22 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         fail("pose.rest", f"is set by each protocol (protocols: [{pose.rest}]); remove it")
     if not experiment.protocols:
         fail("protocols", f"give at least one of {', '.join(PROTOCOLS)}")
-    for i, protocol in enumerate(experiment.protocols):
-        if protocol not in PROTOCOLS:
-            fail(f"protocols[{i}]", f"unknown protocol {protocol!r} (one of "
-                                    f"{', '.join(PROTOCOLS)})")
-        if experiment.protocols.index(protocol) != i:
-            fail(f"protocols[{i}]", f"{protocol!r} is listed twice")
     if "natural" in experiment.protocols:
-        from gbh_drake.objects.catalog import natural_rest
-
         i = experiment.protocols.index("natural")
         if not pose.stable:
             fail("pose.stable", "false (as modelled) contradicts the natural protocol "
                                 f"(protocols[{i}]), which sets each object in its declared "
                                 "natural rest: remove pose.stable")
-        missing = [(j, o) for j, o in enumerate(experiment.objects) if natural_rest(o) is None]
+        objects = experiment_objects(experiment)
+        missing = [(j, o.name) for j, o in enumerate(objects) if not o.has_natural_rest]
         if missing:
             j, name = missing[0]
             fail(f"protocols[{i}]", f"natural: objects[{j}] {name!r} has no natural rest "
                                     f"declared in the object set ({len(missing)} objects "
                                     "without: " + ", ".join(o for _, o in missing) + "); "
-                                    "declare one where it is registered (rest=...) or drop "
-                                    "the protocol")
-    if experiment.replays not in REPLAY_MODES:
-        fail("replays", f"one of {', '.join(REPLAY_MODES)}, got {experiment.replays!r}")
-    if experiment.engine not in ENGINES:
-        fail("engine", f"one of {', '.join(ENGINES)} (local worker processes, or Ray tasks at "
-                       f"ray_address), got {experiment.engine!r}")
+                                    "declare one (rest: in its object set's entry, or rest=... "
+                                    "where a built-in object is registered) or drop the "
+                                    "protocol")
     problem = address_problem(experiment.ray_address)
     if problem:
         fail("ray_address", problem)
@@ -483,10 +504,10 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
     try:
         base = load_scenario(experiment.base_path, overrides=experiment.base_overrides)
     except ScenarioError as e:
-        raise ExperimentError(f"{origin}: base: {e}") from e
+        raise ExperimentError(origin, "base", None, str(e)) from e
     if base.object.mesh:
         line = line_of(_scenario_root(experiment.base_path), ("object", "mesh"))
-        raise experiment_error(origin, "base", _line(experiment, ("base",)),
+        raise ExperimentError(origin, "base", _line(experiment, ("base",)),
                                f"{experiment.base_path}: object.mesh"
                                f"{f' (line {line})' if line else ''}: an experiment runs the "
                                "named objects of its objects list, not a mesh file; remove "
@@ -508,18 +529,20 @@ def method_scenarios(experiment: Experiment) -> dict[str, Scenario]:
                 else:
                     field = format_path(at + path)
                     line = line or _line(experiment, at)
-                raise experiment_error(layer, field, line, e.problem) from None
+                raise ExperimentError(layer, field, line, e.problem) from None
         scenario.source_path = base.source_path
         scenario.output_dir = ""
         where = f"{origin}: methods[{i}] ({method.name})"
+        first = experiment_objects(dataclasses.replace(experiment,
+                                                       objects=experiment.objects[:1]))[0]
         for protocol in reversed(experiment.protocols):  # (the first one is kept)
-            _set_trial(scenario, experiment, experiment.objects[0], 0, protocol)
+            _set_trial(scenario, experiment, first, 0, protocol)
             try:
                 validate_scenario(scenario, where)
             except ScenarioError as e:
-                raise ExperimentError(str(e)) from e
+                raise ExperimentError(e.origin, e.field, e.line, e.problem) from e
         if scenario.task != "pick":
-            raise experiment_error(layer, format_path(at + ("task",)),
+            raise ExperimentError(layer, format_path(at + ("task",)),
                                    _line(experiment, at + ("task",)) or _line(experiment, at),
                                    f"an experiment picks (task: pick), got {scenario.task!r}")
         scenarios[method.name] = scenario
@@ -531,15 +554,15 @@ def _overrides_root(experiment: Experiment, at: tuple, text: str, origin: str
     """(origin, node tree, written as a mapping in the file) of the overrides at ``at``;
     refuses (:class:`ExperimentError`) fields the experiment sets itself
     (:data:`SET_BY_EXPERIMENT`)."""
-    layer, node = _written_at(experiment, at)
-    layer = layer or origin
+    layer = _layers(experiment).wrote(at)[0] or origin
+    node = _layers(experiment).node(at)
     in_file = isinstance(node, yaml.MappingNode)
     root = node
     if not in_file:
         try:
             root = compose(text) if text.strip() else None
         except YamlTextError as e:  # the scenario loader says it again with its line
-            raise experiment_error(layer, format_path(at), _line(experiment, at),
+            raise ExperimentError(layer, format_path(at), _line(experiment, at),
                                    e.problem) from None
     for path, why in SET_BY_EXPERIMENT.items():
         value = node_at(root, path) if root is not None else None
@@ -549,7 +572,7 @@ def _overrides_root(experiment: Experiment, at: tuple, text: str, origin: str
                 not value.value:
             continue  # mesh: '' clears a mesh
         line = line_of(root, path) if in_file else None
-        raise experiment_error(layer, format_path(at + path), line or _line(experiment, at),
+        raise ExperimentError(layer, format_path(at + path), line or _line(experiment, at),
                                f"{why}: the experiment sets it for every trial, so this "
                                "value would be replaced; remove it")
     return layer, root, in_file
@@ -563,11 +586,15 @@ def _scenario_root(path: Path) -> yaml.Node | None:
         return None
 
 
-def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, trial: int,
+def _set_trial(scenario: Scenario, experiment: Experiment, obj: TrialObject, trial: int,
                protocol: str = "stable") -> int:
-    """Makes ``scenario`` the one of (object, trial, protocol): name, random pose (its rest the
-    protocol) and seed."""
+    """Makes ``scenario`` the one of (object, trial, protocol): name (and its object set,
+    relative to the base scenario's folder: the trial's text does not depend on where the
+    experiment lives), random pose (its rest the protocol) and seed."""
+    object_name = obj.name
     scenario.object.name = object_name
+    scenario.object.set = "" if obj.set_path is None else \
+        os.path.relpath(obj.set_path, scenario.directory)
     scenario.object.mesh = ""
     scenario.object.random_pose = copy.deepcopy(experiment.pose)
     scenario.object.random_pose.rest = protocol
@@ -578,19 +605,23 @@ def _set_trial(scenario: Scenario, experiment: Experiment, object_name: str, tri
 def trial_scenario_yaml(scenario: Scenario) -> str:
     """The YAML of a trial's scenario, as a user would write it: without the fields that say
     where files are (so the same trial has the same digest wherever the experiment lives),
-    without ``object.pose`` when ``object.random_pose`` replaces it, and without
-    ``random_pose.rest`` when it is ``stable`` (the default: the ``stable`` trials keep the
-    text and digest they had before protocols existed)."""
+    without ``object.pose`` when ``object.random_pose`` replaces it, without ``random_pose.rest``
+    when it is ``stable`` and without an empty ``object.set`` (the defaults: the trials of
+    built-in objects keep the text and digest they had before protocols and object sets
+    existed)."""
     scenario = copy.copy(scenario)
     scenario.source_path = ""
     scenario.output_dir = ""
     text = yaml_dump_typed(scenario)
-    if scenario.object.random_pose is None:
+    if scenario.object.random_pose is None and scenario.object.set:
         return text
     root = yaml.compose(text, Loader=yaml.SafeLoader)
     for key, value in root.value:
         if key.value == "object":
-            value.value = [(k, v) for k, v in value.value if k.value != "pose"]
+            random = scenario.object.random_pose is not None
+            value.value = [(k, v) for k, v in value.value
+                           if not (k.value == "pose" and random)
+                           and not (k.value == "set" and v.value == "")]
             for k, v in value.value:
                 if k.value == "random_pose" and isinstance(v, yaml.MappingNode):
                     v.value = [(a, b) for a, b in v.value
@@ -612,10 +643,8 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
     """Every trial of ``experiment``, trial-major (all objects' first trials, in every protocol
     and by every method, come first, so an interrupted experiment has a little of everything).
     ``scenarios``: the methods' (default: :func:`method_scenarios`)."""
-    from gbh_drake.objects import make_object
-
     scenarios = scenarios or method_scenarios(experiment)
-    controls = {name: bool(make_object(name).is_control) for name in experiment.objects}
+    objects = {o.name: o for o in experiment_objects(experiment)}
     # The trials of one (method, object, protocol) differ only in their seed: the YAML is dumped
     # once (its first trial's) and the seed line set for the others (bench/bench_import.py).
     first: dict[tuple[str, str, str], tuple[int, str]] = {}
@@ -629,11 +658,12 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
                     text = _with_seed(*first[key], seed) if key in first else None
                     if text is None:
                         scenario = copy.deepcopy(scenarios[method.name])
-                        _set_trial(scenario, experiment, name, trial, protocol)
+                        _set_trial(scenario, experiment, objects[name], trial, protocol)
                         text = trial_scenario_yaml(scenario)
                         first.setdefault(key, (seed, text))
                     tasks.append(TrialTask(
-                        experiment=experiment.name, object=name, is_control=controls[name],
+                        experiment=experiment.name, object=name,
+                        is_control=objects[name].control, object_tags=objects[name].tags,
                         method=method.name, trial=trial, seed=seed, scenario_yaml=text,
                         source_path=scenarios[method.name].source_path,
                         digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
@@ -653,11 +683,12 @@ def trial_scenario(experiment: Experiment | str | Path, object_name: str, method
     experiment.objects = [object_name]
     by_name = {m.name: m for m in experiment.methods}
     if method not in by_name:
-        raise ExperimentError(f"{experiment.source_path or '<experiment>'}: methods: no method "
+        raise ExperimentError(experiment.source_path or "<experiment>", "methods", None,
+                              f"no method "
                               f"{method!r} (known: {', '.join(by_name)})")
     experiment.methods = [by_name[method]]
     scenario = copy.deepcopy(method_scenarios(experiment)[method])
-    _set_trial(scenario, experiment, object_name, trial, protocol)
+    _set_trial(scenario, experiment, experiment_objects(experiment)[0], trial, protocol)
     return scenario
 
 

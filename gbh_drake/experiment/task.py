@@ -39,6 +39,8 @@ class TrialTask:
     replays: str
     """``failures``: record the trial in Meshcat and send back its replay if it fails;
     ``all``: whatever its outcome; ``none``: do not record."""
+    object_tags: tuple[str, ...] = ()
+    """The object's tags in its object set (``cup``, ``flat``...): the report groups by them."""
     protocol: str = "stable"
     """How the object was set down (``stable`` or ``natural``: the scenario's
     ``object.random_pose.rest``); rows carry it."""

@@ -69,7 +69,8 @@ def _object_asset(scenario):
     from gbh_drake.modeling.object_asset import load_object_asset
 
     o = scenario.object
-    key = (o.name, o.mesh, o.scale, o.orientation, o.density, o.mass, str(scenario.directory))
+    key = (o.name, o.set, o.mesh, o.scale, o.orientation, o.density, o.mass,
+           str(scenario.directory))
     if key not in _assets:
         while len(_assets) >= ASSET_CACHE_SIZE:
             _assets.pop(next(iter(_assets)))
@@ -156,6 +157,7 @@ def _base_row(task: TrialTask) -> dict:
     """The fields every row has, also an ``error`` row."""
     return {
         "experiment": task.experiment, "object": task.object, "is_control": task.is_control,
+        "object_tags": list(task.object_tags),
         "method": task.method, "trial": task.trial, "seed": task.seed,
         "grasp_method": "", "viewpoints": 0, "pose": [], "outcome": "", "success": False,
         "reason": "", "held_by": "", "grasp_kind": "", "grasp_score": None, "grasp_rank": -1,

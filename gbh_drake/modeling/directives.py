@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 from pydrake.common.yaml import yaml_dump_typed
-from pydrake.multibody.parsing import ModelDirective
+from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
 
 from gbh_drake.core.ranges import FieldError, Path_
 from gbh_drake.modeling.names import ARM, GRIPPER, GRIPPER_FILES, HAND_ACTUATORS, TABLE
@@ -221,3 +221,37 @@ def _check_uri(path: Path_, uri: str, package_map, known: list[str], depth: int,
     text = local.read_text(errors="replace")
     for nested in _URI.finditer(text):
         _check_uri(path, nested.group(0), package_map, known, depth + 1, stack + (local,))
+
+
+#: Franka's "ready" pose, the gripper pointing down over the table (rad).
+DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
+
+#: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
+DEFAULT_DIRECTIVES = """
+directives:
+- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
+- add_weld: {parent: world, child: panda::panda_link0}
+- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
+- add_weld:
+    parent: panda::panda_link8
+    child: hook_gripper::panda_hand
+    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
+- add_model: {name: table, file: "package://gbh_drake/table.sdf"}
+- add_weld:
+    parent: world
+    child: table::table_top
+    X_PC: {translation: [0.35, 0, 0]}
+"""
+
+
+def default_directives(*, table: bool = True) -> list[ModelDirective]:
+    """The station's fixed models (without the table's two directives when not ``table``)."""
+    directives = LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
+    return directives if table else without_table(directives)
+
+
+def without_table(directives: list[ModelDirective]) -> list[ModelDirective]:
+    """``directives`` less the ones that add and weld the :data:`TABLE` model."""
+    return [d for d in directives
+            if not (d.add_model and d.add_model.name == TABLE)
+            and not (d.add_weld and d.add_weld.child.startswith(f"{TABLE}::"))]

@@ -19,8 +19,11 @@ import trimesh
 from pydrake.common import RandomGenerator
 from pydrake.math import RigidTransform
 
+from gbh_drake.modeling.object_config import ObjectConfig
 from gbh_drake.modeling.object_sdf import model_name
-from gbh_drake.scenario.schema import ObjectConfig
+
+#: A mesh file's colour in the scene (the built-in objects have their own).
+MESH_RGBA = (0.85, 0.45, 0.2, 1.0)
 
 
 @dataclass
@@ -33,16 +36,17 @@ class ObjectAsset:
     mass: float
     com_O: np.ndarray
     inertia_O: np.ndarray
-    rgba: tuple[float, float, float, float] = (0.85, 0.45, 0.2, 1.0)
+    rgba: tuple[float, float, float, float] = MESH_RGBA
     source: str = ""
     """``object set: <name>`` or the mesh file's path."""
     warnings: list[str] = field(default_factory=list)
     """Plausibility warnings (size, mass), each naming the source and a hint."""
     hangable_parts: list = field(default_factory=list)
-    """Ground truth of a named object (``HangablePart``: hole centre and axis in O, kind, clear
-    diameter); empty for a mesh file. For judging what GbH found, never for planning."""
+    """Ground truth of a named object or of an object set's (``HangablePart``: hole centre and
+    axis in O, kind, clear diameter); empty for a mesh file (unknown). For judging what GbH
+    found, never for planning."""
     natural_rest: object = None
-    """The named object's declared natural rest (``NaturalRest``), None for a mesh file."""
+    """The declared natural rest (``NaturalRest``), None for a mesh file."""
 
     @property
     def model_name(self) -> str:
@@ -50,7 +54,7 @@ class ObjectAsset:
 
 
 def make_asset(name: str, mesh: trimesh.Trimesh, *, density: float = 0.0, mass: float = 0.0,
-               rgba=(0.85, 0.45, 0.2, 1.0), source: str = "") -> ObjectAsset:
+               rgba=MESH_RGBA, source: str = "") -> ObjectAsset:
     """An asset from ``mesh`` in memory (any origin: it is placed to rest on z = 0, centred on
     its footprint) with its mass from ``mass`` (kg) when positive, else ``density`` (kg/m^3;
     600 when 0), and the plausibility warnings of an imported mesh."""
@@ -69,24 +73,21 @@ def _asset(name: str, prepared, rgba, source: str) -> ObjectAsset:
 
 
 def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
-    """The object of ``config``: a named object of the set, or a mesh file (relative paths
-    against ``base_dir``) placed resting on the table, with plausibility warnings (size, mass)
-    that name the file and hint at ``scale``, ``mass`` or ``density``."""
+    """The object of ``config``: a named object of the built-in set or of an object set
+    (``config.set``, :mod:`gbh_drake.objects.sets`), or a mesh file (relative paths against
+    ``base_dir``) placed resting on the table, with plausibility warnings (size, mass) that
+    name the file and hint at ``scale``, ``mass`` or ``density``."""
     # Imported here: the object set pulls in manifold3d and is not needed for other uses.
     from gbh_drake.objects import load_mesh_object, make_object, mass_properties_for
 
+    if config.set:
+        return _set_asset(config, _resolve(config.set, base_dir))
     if config.mesh:
-        path = Path(config.mesh).expanduser()
-        path = path if path.is_absolute() else Path(base_dir) / path
+        path = _resolve(config.mesh, base_dir)
         prepared = load_mesh_object(path, scale=config.scale, density=config.density or None,
                                     mass=config.mass or None, orientation=config.orientation)
-        asset = _asset(path.stem, prepared, (0.85, 0.45, 0.2, 1.0), str(path))
-        if config.random_pose is not None and config.random_pose.stable:
-            # The start pose is one of its stable resting poses: whether it would stand as
-            # given does not matter.
-            as_given = {f"{prepared.source}: {w}" for w in prepared.placement.warnings}
-            asset.warnings = [w for w in asset.warnings if w not in as_given]
-        return asset
+        return _without_warnings_as_given(_asset(path.stem, prepared, MESH_RGBA, str(path)),
+                                          prepared, config)
     spec = make_object(config.name)
     mesh = spec.mesh
     if config.scale != 1.0:
@@ -105,6 +106,42 @@ def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
                        np.asarray(props.inertia, float), tuple(spec.rgba),
                        f"object set: {spec.name}", hangable_parts=parts,
                        natural_rest=spec.natural_rest)
+
+
+def _resolve(path: str, base_dir: Path) -> Path:
+    p = Path(path).expanduser()
+    return p if p.is_absolute() else Path(base_dir) / p
+
+
+def _without_warnings_as_given(asset: ObjectAsset, prepared, config: ObjectConfig) -> ObjectAsset:
+    """A mesh started in one of its stable resting poses: whether it would stand as given in
+    its file does not matter (those warnings are dropped)."""
+    if config.random_pose is not None and config.random_pose.stable:
+        as_given = {f"{prepared.source}: {w}" for w in prepared.placement.warnings}
+        asset.warnings = [w for w in asset.warnings if w not in as_given]
+    return asset
+
+
+def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
+    """The object ``config.name`` of the object set at ``manifest``: a built-in object, or its
+    mesh with the set's scale and mass, its natural rest and its ground truth moved from the
+    file's frame into O."""
+    from gbh_drake.objects import load_mesh_object
+    from gbh_drake.objects.sets import load_object_set, natural_rest_of, parts_in_file_frame
+
+    obj = load_object_set(manifest).object(config.name)
+    if obj.builtin:
+        return load_object_asset(dataclasses.replace(config, set="", name=obj.builtin), manifest)
+    entry = obj.entry
+    prepared = load_mesh_object(obj.mesh_path, scale=entry.scale, density=entry.density or None,
+                                mass=entry.mass or None, orientation="keep")
+    asset = _asset(obj.name, prepared, MESH_RGBA, f"object set {obj.set_name}: {obj.name}")
+    R, p = prepared.X_OF[:3, :3], prepared.X_OF[:3, 3]
+    asset.hangable_parts = [dataclasses.replace(part, center_O=R @ part.center_O + p,
+                                                axis_O=R @ part.axis_O)
+                            for part in parts_in_file_frame(entry)]
+    asset.natural_rest = natural_rest_of(entry)
+    return _without_warnings_as_given(asset, prepared, config)
 
 
 def initial_object_pose(config: ObjectConfig, asset: ObjectAsset, seed: int) -> RigidTransform:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib.util
 from pathlib import Path
 
-from pydrake.multibody.parsing import PackageMap, Parser
+from pydrake.multibody.parsing import ModelDirectives, PackageMap, Parser, ProcessModelDirectives
 
 from gbh_drake import MODELS_DIR
 
@@ -45,3 +45,11 @@ def make_parser(plant, **kwargs) -> Parser:
     parser = Parser(plant, **kwargs)
     add_packages(parser.package_map())
     return parser
+
+
+def add_fixed_models(parser: Parser, directives) -> None:
+    """Adds the fixed models of ``directives`` (a sequence of Drake ``ModelDirective``: arm,
+    gripper, table and a user's) to ``parser.plant()``: the one populate function of the
+    simulated station and of the planning model, so both are the same robot."""
+    add_packages(parser.package_map())
+    ProcessModelDirectives(ModelDirectives(directives=list(directives)), parser.plant(), parser)

@@ -22,6 +22,7 @@ from gbh_drake.objects.spec import ObjectSpec
 #: Direction from the object toward the camera (frame O), before normalising.
 VIEW_DIRECTION = (0.9, -1.3, 1.0)
 FOV_Y = np.radians(35.0)
+TITLE = "gbh_drake object set (red: closed loops, blue: open hooks; rod = hole axis)"
 
 
 def _look_at(eye: np.ndarray, target: np.ndarray):
@@ -101,31 +102,34 @@ def render_object(spec: ObjectSpec, width: int = 400, height: int = 320) -> np.n
     return np.asarray(image.data)[:, :, :3].copy()
 
 
-def contact_sheet(out_png, names: list[str] | None = None, columns: int = 6) -> Path:
-    """Render every object (or ``names``) into one labelled PNG; returns its path."""
+def contact_sheet(out_png, names: list[str] | None = None, columns: int = 6, *,
+                  specs: list[ObjectSpec] | None = None, title: str = TITLE,
+                  dpi: int = 90) -> Path:
+    """Render every object of the set (or ``names``, or the given ``specs``, each in its frame
+    O) into one labelled PNG; returns its path."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = names or list_objects()
-    rows = int(np.ceil(len(names) / columns))
+    if specs is None:
+        specs = [make_object(name) for name in (names or list_objects())]
+    rows = int(np.ceil(len(specs) / columns))
     fig, axes = plt.subplots(rows, columns, figsize=(3.2 * columns, 2.9 * rows))
     for ax in np.ravel(axes):
         ax.axis("off")
-    for ax, name in zip(np.ravel(axes), names, strict=False):
-        spec = make_object(name)
+    for ax, spec in zip(np.ravel(axes), specs, strict=False):
         ax.imshow(render_object(spec))
         lo, hi = spec.mesh.bounds
         mass = spec.density * _volume_for_label(spec)
         size = " x ".join(f"{100 * e:.1f}" for e in hi - lo)
-        title = f"{name}{' (control)' if spec.is_control else ''}\n{size} cm, {mass:.2f} kg"
-        ax.set_title(title, fontsize=9)
-    fig.suptitle("gbh_drake object set (red: closed loops, blue: open hooks; rod = hole axis)")
+        label = f"{spec.name}{' (control)' if spec.is_control else ''}\n{size} cm, {mass:.2f} kg"
+        ax.set_title(label, fontsize=9)
+    fig.suptitle(title)
     fig.tight_layout()
     out = Path(out_png)
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=90)
+    fig.savefig(out, dpi=dpi)
     plt.close(fig)
     return out
 

@@ -24,10 +24,10 @@ from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
 from pydrake.multibody.tree import SpatialInertia
 from pydrake.systems.framework import DiagramBuilder
 
+from gbh_drake.modeling.directives import DEFAULT_Q_HOME, default_directives
 from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.package_map import make_parser
 from gbh_drake.objects import make_object
-from gbh_drake.scenario.schema import DEFAULT_Q_HOME, default_directives
 
 #: The renderer the default ScanConfig uses.
 RENDERER = "default"

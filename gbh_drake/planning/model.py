@@ -1,10 +1,14 @@
 """The robot's planning model: a collision checker and inverse kinematics over the fixed scene.
 
 A ``RobotDiagram`` built from the scenario's own directives (arm, gripper, table and anything a
-user added) plus obstacles the robot perceived (e.g. the scanned object's convex hull), welded
-to the world. It holds no free body: inverse kinematics is solved on this plant, so the free
-object's quaternion (unit only to ~1e-5 after a simulation) is never a decision variable that
-the unit-quaternion constraint could contradict. Collision checks are Drake's
+user added; :func:`parse_robot`, by the station's own populate function
+:func:`gbh_drake.modeling.package_map.add_fixed_models`) plus obstacles the robot perceived
+(e.g. the scanned object's convex hull, added to the checker on the world frame). A trial
+parses its directives once and gives each model it needs (near the grasp, for the transfer
+around the scan, at table level for a scoop) its own copy of that ``RobotDiagram``. It holds
+no free body: inverse kinematics is solved on this plant, so the free object's quaternion (unit
+only to ~1e-5 after a simulation) is never a decision variable that the unit-quaternion
+constraint could contradict. Collision checks are Drake's
 ``SceneGraphCollisionChecker``; proximity treats meshes as their convex hulls.
 
 Configurations of the planning plant are the arm's seven joints plus the hand: both fingers'
@@ -18,16 +22,16 @@ from dataclasses import dataclass
 
 import numpy as np
 from pydrake.common import MemoryFile
-from pydrake.geometry import Convex, InMemoryMesh, ProximityProperties
+from pydrake.geometry import Convex, InMemoryMesh
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.inverse_kinematics import InverseKinematics
-from pydrake.multibody.parsing import ModelDirective, ModelDirectives, ProcessModelDirectives
-from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
+from pydrake.multibody.parsing import ModelDirective
+from pydrake.planning import RobotDiagram, RobotDiagramBuilder, SceneGraphCollisionChecker
 from pydrake.solvers import Solve
 
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.modeling.names import ARM, GRIPPER
-from gbh_drake.modeling.package_map import add_packages
+from gbh_drake.modeling.package_map import add_fixed_models
 
 trimesh = lazy_module("trimesh")
 
@@ -43,24 +47,30 @@ class HandPose:
         return np.array([self.q, self.q, self.bar])
 
 
+def parse_robot(directives: Sequence[ModelDirective]) -> RobotDiagram:
+    """The fixed models of ``directives`` (arm, gripper, table, a user's) as a finalized
+    ``RobotDiagram`` without free bodies: parse once per trial, then give each
+    :class:`PlanningModel` a copy."""
+    builder = RobotDiagramBuilder(time_step=0.0)
+    add_fixed_models(builder.parser(), directives)
+    builder.plant().Finalize()
+    return builder.Build()
+
+
 class PlanningModel:
     """Collision checks and IK of the robot among fixed obstacles (see the module docstring)."""
 
-    def __init__(self, directives: Sequence[ModelDirective], *,
+    def __init__(self, robot: Sequence[ModelDirective] | RobotDiagram, *,
                  obstacles: Sequence[trimesh.Trimesh] = (), padding: float = 0.005,
-                 edge_step_size: float = 0.01):
-        """``obstacles``: meshes in W added as convex obstacles; ``padding`` (m): clearance kept
-        between the robot and the environment; ``edge_step_size`` (rad): spacing of the
-        configurations checked along an edge."""
-        builder = RobotDiagramBuilder(time_step=0.0)
-        plant, parser = builder.plant(), builder.parser()
-        add_packages(parser.package_map())
-        ProcessModelDirectives(ModelDirectives(directives=list(directives)), plant, parser)
-        for i, mesh in enumerate(obstacles):
-            plant.RegisterCollisionGeometry(
-                plant.world_body(), RigidTransform(), _convex(mesh, f"obstacle_{i}"),
-                f"obstacle_{i}", ProximityProperties())
-        plant.Finalize()
+                 edge_step_size: float = 0.01, ignore_models: Sequence[str] = ()):
+        """``robot``: the directives of the fixed models, or a ``RobotDiagram`` of them
+        (:func:`parse_robot`; this model works on a copy); ``obstacles``: meshes in W added as
+        convex obstacles; ``padding`` (m): clearance kept between the robot and the
+        environment; ``edge_step_size`` (rad): spacing of the configurations checked along an
+        edge; ``ignore_models``: model instances (by name) the robot may touch (a scoop's model
+        ignores the table it slides on)."""
+        model = robot.Clone() if isinstance(robot, RobotDiagram) else parse_robot(robot)
+        plant = model.plant()
         self.padding = float(padding)
         """m: the clearance kept between the robot and the environment."""
         self.plant = plant
@@ -68,14 +78,22 @@ class PlanningModel:
         self.gripper = plant.GetModelInstanceByName(GRIPPER)
         self.G = plant.GetFrameByName("G", self.gripper)
         self.checker = SceneGraphCollisionChecker(
-            model=builder.Build(), robot_model_instances=[self.arm, self.gripper],
+            model=model, robot_model_instances=[self.arm, self.gripper],
             edge_step_size=edge_step_size, env_collision_padding=padding,
             self_collision_padding=0.0)
+        for i, mesh in enumerate(obstacles):
+            self.checker.AddCollisionShapeToFrame(
+                "obstacles", plant.world_frame(), _convex(mesh, f"obstacle_{i}"), RigidTransform())
         # The closed hook's bar tip rests on the straight rod by design.
         straight = plant.GetBodyByName("straight_finger", self.gripper).index()
         for name in ("l_finger", "bar"):
             self.checker.SetCollisionFilteredBetween(
                 straight, plant.GetBodyByName(name, self.gripper).index(), True)
+        robot_bodies = [*plant.GetBodyIndices(self.arm), *plant.GetBodyIndices(self.gripper)]
+        for name in ignore_models:
+            for other in plant.GetBodyIndices(plant.GetModelInstanceByName(name)):
+                for body in robot_bodies:
+                    self.checker.SetCollisionFilteredBetween(body, other, True)
         self._arm_dofs = _position_indices(plant, self.arm)
         self._hand_dofs = _position_indices(plant, self.gripper)
         self.arm_lower = plant.GetPositionLowerLimits()[self._arm_dofs]

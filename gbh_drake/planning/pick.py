@@ -36,7 +36,7 @@ import numpy as np
 from pydrake.common.eigen_geometry import Quaternion
 from pydrake.math import RigidTransform, RotationMatrix
 
-from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, lift_for_clearance, rest_on_loop
 from gbh_drake.core.results import PARALLEL, GraspKind
 from gbh_drake.core.unseen import farthest_distance
@@ -146,8 +146,9 @@ class PickSetup:
     """What planning a pick needs besides the grasp: the planning models (``near``: table and
     robot, padding = the grasp's ground clearance, for the segments near the grasp; ``far``:
     also the scanned object's hull, for the transfer; ``table_level``: no table and no padding,
-    for the segments of a scoop, whose rods go down to the table), the scan's points and their centroid
-    (W, m), the pick parameters and the planner's seed."""
+    for the segments of a scoop, whose rods go down to the table), the scan's points and their
+    centroid (W, m), the pick parameters, the planner's seed and the hook gripper's geometry
+    (the variant the station runs)."""
 
     near: PlanningModel
     far: PlanningModel | None
@@ -159,6 +160,7 @@ class PickSetup:
     unseen_W: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     """(m, 3) centres of the grid cells no camera saw free that connect to the scan
     (:func:`gbh_drake.core.unseen.unseen_cells`): where unseen material may be."""
+    gripper: HookGripperGeometry = HOOK_GRIPPER
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
@@ -176,7 +178,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     cfg = setup.config
     if min_lift > cfg.min_lift:
         cfg = dataclasses.replace(cfg, min_lift=min(min_lift, cfg.max_lift))
-    g = HOOK_GRIPPER
+    g = setup.gripper
     X_WG = RigidTransform(np.asarray(X_WG))
     R = X_WG.rotation()
     approach_W, closing_W = R.col(2), R.col(1)  # +z_G: palm -> tips; +y_G: L rod -> straight rod
@@ -500,7 +502,8 @@ def _split(model, q_a, q_b, X_a, X_b, hand, hook_G, min_height, depth):
 
 
 def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: PickConfig,
-                 bar: float = 0.0) -> dict[str, np.ndarray]:
+                 bar: float = 0.0, gripper: HookGripperGeometry = HOOK_GRIPPER
+                 ) -> dict[str, np.ndarray]:
     """How the gripper lets go at ``q_place`` (closed), the reverse of how it went in:
 
     * ``opened``: where the arm is once the fingers are open: a vertical grasp opens about its
@@ -510,8 +513,9 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
       the material it was under; less if the hand would meet the table);
     * ``slide``: then along -y_G by ``release_shift`` (the bar comes out of the hole tip first);
     * ``retreat``: every grasp backs out along -z_G by ``retreat_distance``, or straight up where
-      the arm cannot. A move without IK or with a collision is skipped (the arm stays)."""
-    g = HOOK_GRIPPER
+      the arm cannot. A move without IK or with a collision is skipped (the arm stays).
+    ``gripper``: the hook gripper's geometry."""
+    g = gripper
     closed_hand, open_hand = HandPose(g.q_closed, bar), HandPose(g.q_open, bar)
     X = model.X_WG(q_place, closed_hand)
     R = X.rotation()

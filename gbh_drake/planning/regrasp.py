@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 
-from gbh_drake.core.gripper import BAR_RETRACTED, HOOK_GRIPPER
+from gbh_drake.core.gripper import BAR_RETRACTED
 from gbh_drake.core.regrasp import RegraspPose, pinch_clearance
 from gbh_drake.core.results import GraspKind
 from gbh_drake.core.unseen import farthest_distance
@@ -77,7 +77,7 @@ def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: in
                  q_start: np.ndarray, q_home: np.ndarray) -> RegraspPlan | Refusal:
     """The regrasp with the pinch at ``X_WG`` (4, 4, open) into ``pose``, from the arm at
     ``q_start``, ending at ``q_home`` (module docstring); or why not."""
-    cfg, near, g = setup.config, setup.near, HOOK_GRIPPER
+    cfg, near, g = setup.config, setup.near, setup.gripper
     kind = GraspKind.ANTIPODAL
     open_hand, held = HandPose(g.q_open, BAR_RETRACTED), HandPose(0.5 * g.rod_width, BAR_RETRACTED)
     X = RigidTransform(np.asarray(X_WG, dtype=float))

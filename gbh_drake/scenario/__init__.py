@@ -18,7 +18,6 @@ from gbh_drake.scenario.loader import ScenarioError, dump_resolved, load_scenari
 from gbh_drake.scenario.schema import (
     DEFAULT_DIRECTIVES,
     DEFAULT_Q_HOME,
-    GRASP_METHODS,
     RESTS,
     TASKS,
     HandConfig,
@@ -32,7 +31,7 @@ from gbh_drake.scenario.schema import (
 )
 
 __all__ = [
-    "DEFAULT_DIRECTIVES", "DEFAULT_Q_HOME", "GRASP_METHODS", "RESTS", "TASKS", "FieldError", "HandConfig",
+    "DEFAULT_DIRECTIVES", "DEFAULT_Q_HOME", "RESTS", "TASKS", "FieldError", "HandConfig",
     "MonitorConfig", "ObjectConfig", "PickConfig", "RandomRestingPose", "RobotConfig", "Scenario",
     "ScenarioError", "default_directives", "dump_resolved", "load_scenario", "validate_scenario",
 ]

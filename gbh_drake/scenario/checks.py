@@ -42,13 +42,14 @@ from gbh_drake.core.ranges import (
     format_path,
     rule_of,
 )
+from gbh_drake.method_spec import method_spec
 from gbh_drake.modeling.directives import check_models
 from gbh_drake.scenario.cameras import check_cameras
 from gbh_drake.scenario.object_checks import check_object, object_model_name
 from gbh_drake.scenario.poses import check_poses
-from gbh_drake.scenario.schema import METHOD_GRIPPERS, Scenario
+from gbh_drake.scenario.schema import Scenario
 from gbh_drake.scenario.start_state import check_start_state
-from gbh_drake.scenario.yaml_text import optional_of, struct_fields
+from gbh_drake.yamlfiles.yaml_text import optional_of, struct_fields
 
 #: The ranges and allowed values of Drake's own config structs (not ours: their fields carry no
 #: rules), by section. Fields not listed are checked for finiteness only.
@@ -183,7 +184,8 @@ def check_relations(scenario) -> None:
     if s.pick.cage_test_force > s.robot.hand.max_force:
         raise FieldError(("pick", "cage_test_force"),
                          f"must be <= robot.hand.max_force ({s.robot.hand.max_force:g} N)")
-    needs = METHOD_GRIPPERS.get(s.grasp_method)
+    spec = method_spec(s.grasp_method)
+    needs = spec.gripper if spec.needs_gripper else None
     if needs and s.gripper != needs:
         raise FieldError(("robot", "gripper"), f"{s.robot.gripper}: grasp_method "
                          f"{s.grasp_method} needs the {needs} gripper (give {needs} or auto)")

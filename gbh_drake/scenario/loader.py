@@ -19,49 +19,23 @@ which also takes distributions such as ``!UniformVector``, sampled from the scen
 import copy
 from pathlib import Path
 
-import yaml
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
 from gbh_drake.core.params import PRESETS
 from gbh_drake.core.ranges import FieldError, format_path
 from gbh_drake.scenario.checks import check_scenario
 from gbh_drake.scenario.schema import ObjectConfig, Scenario
-from gbh_drake.scenario.yaml_text import (
-    YamlFieldError,
-    YamlTextError,
-    check_document,
-    compose,
-    decode,
-    line_of,
-    locate_load_error,
-    node_at,
-    read_text,
-)
+from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers, override_layers, written
+from gbh_drake.yamlfiles.yaml_text import YamlTextError, read_text
 
 
-class ScenarioError(ValueError):
+class ScenarioError(LayerError):
     """A scenario file is invalid. The message is ``<origin>: <field> (line N): <problem>``
     (``<origin>: <problem>`` for the file as a whole; the line only where the field is written).
 
     ``origin``: the file, or ``<file> (overrides)``; ``field``: the field's path (``""`` for the
     file as a whole); ``line``: 1-based or None; ``problem``: what is wrong and what was
     expected."""
-
-    def __init__(self, origin: str, field: str, line: int | None, problem: str,
-                 column: int | None = None):
-        if field:
-            where = f"{field}{f' (line {line})' if line else ''}: "
-        else:
-            where = f"line {line}{f', column {column}' if column else ''}: " if line else ""
-        super().__init__(f"{origin}: {where}{problem}")
-        self.origin = origin
-        self.field = field
-        self.line = line
-        self.column = column
-        self.problem = problem
-
-    def __reduce__(self):  # picklable (e.g. from a worker process) with its parts
-        return type(self), (self.origin, self.field, self.line, self.problem, self.column)
 
 
 def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[str, ...] = ""
@@ -74,7 +48,7 @@ def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[st
         text = read_text(path)
     except YamlTextError as e:
         raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
-    return _load_layers([(origin, text), *_override_layers(origin, overrides)], Scenario(),
+    return _load_layers([(origin, text), *override_layers(origin, overrides)], Scenario(),
                         origin, str(path.resolve()))
 
 
@@ -82,63 +56,34 @@ def apply_overrides(scenario: Scenario, overrides: str | list[str] | tuple[str, 
                     origin: str = "<in memory>") -> Scenario:
     """A copy of ``scenario`` with ``overrides`` (YAML text, or several applied in order) on
     top, checked as a loaded file is; raises :class:`ScenarioError` naming ``origin``."""
-    return _load_layers(_override_layers(origin, overrides), scenario, origin,
+    return _load_layers(override_layers(origin, overrides), scenario, origin,
                         scenario.source_path)
-
-
-def _override_layers(origin: str, overrides: str | list[str] | tuple[str, ...]
-                     ) -> list[tuple[str, str]]:
-    """(origin, text) of each non-blank override, labelled for messages."""
-    texts = [overrides] if isinstance(overrides, str) else list(overrides)
-    texts = [t for t in texts if t.strip()]
-    return [(f"{origin} ({'overrides' if len(texts) == 1 else f'overrides {i + 1} of {len(texts)}'})",
-             t) for i, t in enumerate(texts)]
 
 
 def _load_layers(layers: list[tuple[str, str]], start: Scenario, origin: str,
                  source_path: str) -> Scenario:
     """``start`` updated by each (origin, YAML text) layer in turn, then checked."""
-    scenario, roots = copy.deepcopy(start), []
-    for layer_origin, layer_text in layers:
-        scenario, root = _load_layer(layer_text, layer_origin, scenario)
-        roots.append((layer_origin, root))
+    scenario, trees = load_layers(Scenario, layers, start, what="scenario",
+                                  error=ScenarioError, reload=_with_preset)
     scenario.source_path = source_path
     try:
-        _check_layers(roots, scenario)
+        _check_layers(trees, scenario)
         check_scenario(scenario)
     except FieldError as e:
-        raise _located(e, roots, origin) from None
+        raise trees.locate(e, origin, ScenarioError) from None
     return scenario
 
 
-def _load_layer(text: str, origin: str, defaults: Scenario) -> tuple[Scenario, yaml.Node | None]:
-    """``defaults`` updated by one YAML document, and the document's node tree."""
-    try:
-        if "\0" in text:
-            decode(text.encode("utf-8", "surrogatepass"))  # names the NUL's line and column
-        root = compose(text)
-    except YamlTextError as e:
-        raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
-    if root is None:  # empty, whitespace or comments only: nothing changes
-        return copy.deepcopy(defaults), None
-    try:
-        check_document(root, Scenario)
-    except YamlFieldError as e:
-        raise ScenarioError(origin, format_path(e.path), e.line, e.problem) from None
-    try:
+def _with_preset(scenario: Scenario, defaults: Scenario, text: str) -> Scenario:
+    """A layer that names a GbH preset goes over the preset's defaults (then its own fields)."""
+    if scenario.gbh.preset != defaults.gbh.preset and scenario.gbh.preset in PRESETS:
+        defaults = copy.deepcopy(defaults)
+        defaults.gbh = defaults.gbh.with_preset(scenario.gbh.preset)
         scenario = yaml_load_typed(schema=Scenario, data=text, defaults=defaults)
-        if scenario.gbh.preset != defaults.gbh.preset and \
-                scenario.gbh.preset in PRESETS:  # the preset's defaults, then this layer's fields
-            defaults = copy.deepcopy(defaults)
-            defaults.gbh = defaults.gbh.with_preset(scenario.gbh.preset)
-            scenario = yaml_load_typed(schema=Scenario, data=text, defaults=defaults)
-    except Exception as e:  # noqa: BLE001  (Drake raises RuntimeError, ValueError, TypeError...)
-        found = locate_load_error(root, Scenario, e)
-        raise ScenarioError(origin, format_path(found.path), found.line, found.problem) from None
-    return scenario, root
+    return scenario
 
 
-def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario) -> None:
+def _check_layers(trees: Layers, scenario: Scenario) -> None:
     """Fields one of which would be ignored: a named object and a mesh, a pose and a random
     pose; and ``source_path``, which the loader sets.
 
@@ -148,20 +93,20 @@ def _check_layers(roots: list[tuple[str, yaml.Node | None]], scenario: Scenario)
     random pose clears it. Both in one layer are refused unless the pose is the default one (as
     in a resolved ``scenario.yaml``, which writes every field)."""
     last = ""
-    for _, root in roots:
-        wrote = [k for k in ("pose", "random_pose") if _written(root, ("object", k))]
+    for _, root in trees.roots:
+        wrote = [k for k in ("pose", "random_pose") if written(root, ("object", k))]
         if wrote:  # both in one layer: judged below (a default pose beside it is allowed)
             last = wrote[0] if len(wrote) == 1 else "both"
     if last == "random_pose":
         scenario.object.pose = ObjectConfig().pose
     elif last == "pose":
         scenario.object.random_pose = None
-    for _, root in roots:
-        if _written(root, ("source_path",), nonempty=True):
+    for _, root in trees.roots:
+        if written(root, ("source_path",), nonempty=True):
             raise FieldError(("source_path",), "is set by the loader to the file itself; remove "
                                                "it")
-        if _written(root, ("object", "name"), nonempty=True) and \
-                _written(root, ("object", "mesh"), nonempty=True):
+        if written(root, ("object", "name"), nonempty=True) and \
+                written(root, ("object", "mesh"), nonempty=True):
             raise FieldError(("object", "mesh"), _BOTH_OBJECTS)
     obj, default = scenario.object, ObjectConfig()
     if obj.mesh and obj.name not in ("", default.name):
@@ -178,24 +123,6 @@ _BOTH_OBJECTS = ("give object.name or object.mesh, not both (object.name would b
 
 def _pose_text(pose) -> str:
     return yaml_dump_typed(ObjectConfig(pose=pose))
-
-
-def _written(root, path, *, nonempty: bool = False) -> bool:
-    node = node_at(root, path)
-    if node is None or node.tag == "tag:yaml.org,2002:null":
-        return False
-    return not (nonempty and isinstance(node, yaml.ScalarNode) and node.value == "")
-
-
-def _located(error: FieldError, roots, origin: str) -> ScenarioError:
-    """``error`` with the origin (file or overrides) and line where its field was written last."""
-    path = tuple(error.path)
-    for layer_origin, root in reversed(roots):
-        for end in range(len(path), 0, -1):  # the field, else its list (q_home for q_home[3])
-            line = line_of(root, path[:end])
-            if line is not None and (end == len(path) or isinstance(path[end], int)):
-                return ScenarioError(layer_origin, format_path(path), line, error.problem)
-    return ScenarioError(origin, format_path(path), None, error.problem)
 
 
 def validate_scenario(scenario: Scenario, origin: str) -> None:

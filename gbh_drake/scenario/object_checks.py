@@ -21,6 +21,9 @@ MASS_RANGE = (0.001, 3.0)
 
 def check_object(scenario) -> None:
     obj = scenario.object
+    if obj.set:
+        _check_set_object(scenario)
+        return
     if obj.mesh:
         if "\0" in obj.mesh:
             raise FieldError(("object", "mesh"), "holds a NUL character")
@@ -73,6 +76,54 @@ def check_object(scenario) -> None:
                                               f"objects of {NAMED_SIZE[0] * 100:g} cm to "
                                               f"{NAMED_SIZE[1]:g} m can be simulated")
     _check_mass(obj, _named_mass(obj), obj.name)
+
+
+def _check_set_object(scenario) -> None:
+    """``object.set`` is a manifest that loads, ``object.name`` one of its objects, whose mesh
+    is found and loads; ``rest: natural`` needs its declared rest."""
+    from gbh_drake.objects import MeshImportError, load_mesh_object
+    from gbh_drake.objects.sets import ObjectSetError, load_object_set
+
+    obj = scenario.object
+    path = scenario.resolve(obj.set)
+    if not path.is_file():
+        raise FieldError(("object", "set"), f"{'is a folder' if path.is_dir() else 'file not found'}"
+                                            f": {path}")
+    try:
+        object_set = load_object_set(path)
+        if obj.name not in object_set.names:
+            close = difflib.get_close_matches(obj.name, object_set.names, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise FieldError(("object", "name"), f"{obj.name!r} is not an object of {path} "
+                                                 f"({hint}it has: {', '.join(object_set.names)})")
+        found = object_set.object(obj.name)
+    except ObjectSetError as e:
+        raise FieldError(("object", "set"), str(e)) from None
+    entry = found.entry
+    if found.builtin:
+        if _natural(obj) and _builtin_rest(found.builtin) is None:
+            raise FieldError(("object", "random_pose", "rest"), f"natural: {found.builtin} has "
+                                                                "no natural rest declared")
+        return
+    if _natural(obj) and entry.rest is None:
+        raise FieldError(("object", "random_pose", "rest"),
+                         f"natural: {obj.name} of {path} has no natural rest (give the entry "
+                         "rest: {as_given: true, reason: ...} or rpy_deg); use rest: stable")
+    try:
+        loaded = load_mesh_object(found.mesh_path, scale=entry.scale,
+                                  density=entry.density or None, mass=entry.mass or None)
+    except MeshImportError as e:
+        raise FieldError(("object", "set"), f"{path}: {obj.name}: {e}") from None
+    mass = float(loaded.mass_properties.mass)
+    if mass > MASS_RANGE[1]:
+        raise FieldError(("object", "set"), f"{path}: {obj.name} weighs {mass:.3g} kg, above the "
+                                            f"Franka's payload ({MASS_RANGE[1]:g} kg)")
+
+
+def _builtin_rest(name: str):
+    from gbh_drake.objects.catalog import natural_rest
+
+    return natural_rest(name)
 
 
 def _natural(obj) -> bool:

@@ -14,156 +14,44 @@ newtons, times in seconds, masses in kilograms.
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pydrake.common.schema import Transform
-from pydrake.multibody.parsing import LoadModelDirectivesFromString, ModelDirective
+from pydrake.multibody.parsing import ModelDirective
 from pydrake.multibody.plant import MultibodyPlantConfig
 from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
 from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams, ScoopParams
-from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
-from gbh_drake.modeling.names import GRIPPER_FILES, TABLE
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    Registered,
+    ranged,
+    sibling,
+)
+from gbh_drake.method_spec import method_names, method_spec
+from gbh_drake.modeling.directives import (  # noqa: F401  (re-exported: the scenario's defaults)
+    DEFAULT_DIRECTIVES,
+    DEFAULT_Q_HOME,
+    default_directives,
+    without_table,
+)
+from gbh_drake.modeling.names import GRIPPER_FILES
+from gbh_drake.modeling.object_config import RESTS, ObjectConfig, RandomRestingPose  # noqa: F401
 from gbh_drake.perception.config import ScanConfig
 
 #: The hook gripper's variants (``RobotConfig.gripper``): ``auto`` is the grasp method's.
 GRIPPER_VARIANTS = ("auto", *GRIPPER_FILES)
 
-#: Franka's "ready" pose, the gripper pointing down over the table (rad).
-DEFAULT_Q_HOME = [0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785398]
-
-#: The station's fixed models. G of the hook gripper is 5.84 cm past panda_hand along its z.
-DEFAULT_DIRECTIVES = """
-directives:
-- add_model: {name: panda, file: "package://gbh_drake/panda_arm.urdf"}
-- add_weld: {parent: world, child: panda::panda_link0}
-- add_model: {name: hook_gripper, file: "package://gbh_drake/hook_gripper.sdf"}
-- add_weld:
-    parent: panda::panda_link8
-    child: hook_gripper::panda_hand
-    X_PC: {rotation: !Rpy {deg: [0, 0, -45]}}
-- add_model: {name: table, file: "package://gbh_drake/table.sdf"}
-- add_weld:
-    parent: world
-    child: table::table_top
-    X_PC: {translation: [0.35, 0, 0]}
-"""
-
-
-def default_directives(*, table: bool = True) -> list[ModelDirective]:
-    """The station's fixed models (without the table's two directives when not ``table``)."""
-    directives = LoadModelDirectivesFromString(DEFAULT_DIRECTIVES).directives
-    return directives if table else without_table(directives)
-
-
-def without_table(directives: list[ModelDirective]) -> list[ModelDirective]:
-    """``directives`` less the ones that add and weld the :data:`TABLE` model."""
-    return [d for d in directives
-            if not (d.add_model and d.add_model.name == TABLE)
-            and not (d.add_weld and d.add_weld.child.startswith(f"{TABLE}::"))]
-
-
-#: How grasps are chosen (``Scenario.grasp_method``):
-#:
-#: * ``gbh``: Grasping by Hanging (the paper): the hook gripper's bar deployed;
-#: * ``antipodal``: a learning-free antipodal baseline with two straight fingers (the bar
-#:   retracted), the paper's fairness rule for its baseline;
-#: * ``gbh_fallback``: GbH, and when it finds nothing hangable or nothing reachable, an antipodal
-#:   grasp with the bar retracted (the revolute joint the paper proposes in Sec. 4).
-#: * ``gbh_scoop`` (beyond the paper): GbH, then a scoop of material lying flat on the table
-#:   (the wedge bar slid under it at table level, :mod:`gbh_drake.core.scoop`);
-#: * ``gbh_regrasp`` (beyond the paper): GbH, then, when it finds a structure but no hook grasp
-#:   of the object as it lies, a pinch sets it down in a resting pose GbH can hook, a re-scan,
-#:   GbH again (:mod:`gbh_drake.core.regrasp`);
-#: * ``gbh_plus`` (beyond the paper): GbH, the scoop, the regrasp, then the antipodal fallback.
-GRASP_METHODS = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop", "gbh_regrasp", "gbh_plus")
-#: The gripper each method needs where it is not the paper's (``robot.gripper: auto``).
-METHOD_GRIPPERS = {"gbh_scoop": "wedge", "gbh_plus": "wedge"}
 
 #: What a run does: ``pick`` = settle, scan, detect, synthesise, score, pick the best reachable
 #: grasp, carry, release and judge it; ``settle`` = only let the object settle (a smoke test of
 #: the station).
 TASKS = ("pick", "settle")
-
-
-#: How a random start pose rests (``RandomRestingPose.rest``; the experiment's ``protocols``):
-#:
-#: * ``stable``: one of the object's stable resting orientations, drawn by its probability (the
-#:   harder protocol: a mug may lie on its handle, a hanger flat side up or down);
-#: * ``natural``: the rest a person would set the object down in (mugs, kettles, baskets upright;
-#:   a hanger, scissors, a key ring lying flat; a tote standing), declared once per object of the
-#:   set with a one-line reason (``gbh_drake/objects/catalog.py``); the paper's objects were set
-#:   down by a person.
-RESTS = ("stable", "natural")
-
-
-@dataclass
-class RandomRestingPose:
-    """A random start pose: a resting orientation (``rest``: a stable one drawn by its
-    probability, or the object's natural rest), a uniform yaw and a uniform position on the
-    table, from the scenario's seed."""
-
-    x: list[float] = ranged(lambda: [0.45, 0.62], Items(2, what="values [min, max] (m)"))
-    """Range [min, max] (m) of the object's x in W (its footprint's centre)."""
-    y: list[float] = ranged(lambda: [-0.18, 0.18], Items(2, what="values [min, max] (m)"))
-    """Range [min, max] (m) of the object's y in W."""
-    yaw_deg: list[float] = ranged(
-        lambda: [-180.0, 180.0], Items(2, Range(-360.0, 360.0, unit="deg"), what="values [min, max] (deg)"))
-    """Range [min, max] (deg) of the yaw about +z_W."""
-    stable: bool = True
-    """With ``rest: stable``: draw among the object's stable resting orientations (trimesh);
-    False: as modelled."""
-    rest: str = ranged("stable", OneOf(RESTS, note="natural: the rest declared for each object "
-                                                   "of the set; not for a mesh file"))
-    """``stable`` (a stable resting orientation by its probability, or as modelled when
-    ``stable`` is False) or ``natural`` (the rest a person would set the object down in, declared
-    per object of the set); see :data:`RESTS`."""
-
-    def check_relations(self, at: tuple = ()) -> None:
-        for name in ("x", "y", "yaw_deg"):
-            lo_hi = getattr(self, name)
-            if lo_hi[0] > lo_hi[1]:
-                raise FieldError(at + (name,), f"needs [min, max] with min <= max, got {list(lo_hi)}")
-        if self.rest == "natural" and not self.stable:
-            raise FieldError(at + ("stable",), f"{sibling(at, 'rest')}: natural takes the "
-                                               "object's natural rest; stable: false (as "
-                                               "modelled) says otherwise: give one of them")
-
-
-@dataclass
-class ObjectConfig:
-    """The object to pick."""
-
-    name: str = "mug_classic"
-    """A named object of the object set (``gbh objects list``); ignored when ``mesh`` is set."""
-    mesh: str = ""
-    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file; ``scale``
-    turns its units into metres. It is placed resting on the table whatever its origin."""
-    scale: float = ranged(1.0, Pos(1000.0, note="e.g. 0.001 for a file in millimetres"))
-    """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
-    orientation: str = ranged("keep", OneOf(("keep", "nearest_stable", "most_probable")))
-    """How a ``mesh`` file stands on the table: ``keep`` (the file's z is up), ``nearest_stable``
-    (its stable resting pose nearest to that) or ``most_probable`` (its likeliest resting
-    pose)."""
-    density: float = ranged(
-        0.0, NonNeg(25000.0, "kg/m^3", "0: the object's own; osmium, the densest metal, is 22600"))
-    """kg/m^3 for mass and inertia; 0: the named object's own density (600 for a mesh)."""
-    mass: float = ranged(0.0, NonNeg(100.0, "kg", "0: from the density; the Franka carries at most 3 kg"))
-    """kg; when positive, the object's mass (inertia scaled to it) instead of ``density``."""
-    pose: Transform = field(default_factory=lambda: Transform(translation=[0.55, 0.0, 0.0]))
-    """X_WO, the object's pose on the table (its lowest point at z = 0 when the translation's z
-    is 0). Takes Drake's distributions (``!UniformVector``, ``!Rpy {deg: !UniformVector ...}``),
-    sampled from the scenario's seed. Ignored when ``random_pose`` is given."""
-    random_pose: RandomRestingPose | None = None
-    """When given: a stable resting pose, yaw and position drawn from the seed."""
-    drop_height: float = ranged(0.002, NonNeg(0.5, "m"))
-    """Extra height (m) above the resting pose at the start, so the object settles onto the
-    table."""
-
-    def check_relations(self, at: tuple = ()) -> None:
-        if self.density > 0 and self.mass > 0:
-            raise FieldError(at + ("mass",), f"give {sibling(at, 'mass')} or {sibling(at, 'density')}, "
-                                             "not both (mass wins otherwise)")
 
 
 @dataclass
@@ -213,7 +101,8 @@ class RobotConfig:
     the bar's tip is chamfered underneath, a 16 mm ramp at 26.6 deg inside the paper's bar
     (``core.gripper.WEDGE_GRIPPER``, docs/scoop.md), so that it can slide under material lying
     on the table, as the scoop does) or ``auto``: the grasp method's
-    (:data:`METHOD_GRIPPERS`: the wedge for the methods that scoop, else the paper's). It picks
+    (its :attr:`~gbh_drake.method_spec.MethodSpec.gripper`: the wedge for the methods that
+    scoop, else the paper's). It picks
     the gripper's model file where the directives add a packaged one."""
 
 
@@ -354,9 +243,11 @@ class Scenario:
     gbh: GbhParams = field(default_factory=GbhParams)
     """Grasping-by-Hanging parameters (paper values by default). Its surface sampling is seeded
     from the scenario's ``seed``."""
-    grasp_method: str = ranged("gbh", OneOf(GRASP_METHODS))
-    """``gbh`` (the paper), ``antipodal`` (the two-straight-finger baseline) or ``gbh_fallback``
-    (GbH, then an antipodal grasp with the bar folded when GbH has nothing reachable)."""
+    grasp_method: str = ranged("gbh", Registered(method_names, "registered in gbh_drake/method_spec.py"))
+    """How grasps are chosen: a registered method (:mod:`gbh_drake.method_spec`): ``gbh`` (the
+    paper), ``antipodal`` (the two-straight-finger baseline), ``gbh_fallback`` (GbH, then an
+    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``
+    and ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
     scoop: ScoopParams = field(default_factory=ScoopParams)
@@ -382,10 +273,10 @@ class Scenario:
     @property
     def gripper(self) -> str:
         """The gripper variant this scenario runs: ``robot.gripper``, or the grasp method's
-        (:data:`METHOD_GRIPPERS`) when that is ``auto``."""
+        (:attr:`~gbh_drake.method_spec.MethodSpec.gripper`) when that is ``auto``."""
         if self.robot.gripper != "auto":
             return self.robot.gripper
-        return METHOD_GRIPPERS.get(self.grasp_method, "paper")
+        return method_spec(self.grasp_method).gripper
 
     def station_directives(self) -> list[ModelDirective]:
         """The directives the station and the planner build from: ``directives`` with the

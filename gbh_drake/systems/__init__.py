@@ -28,8 +28,9 @@ from gbh_drake.systems.grasp_scorer import GraspScorer
 from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
-from gbh_drake.systems.pick_and_carry import Mode, PickAndCarry, PickStatus
-from gbh_drake.systems.cage_monitor import CageMonitor, GraspSearch, HeldBy, Outcome, Verdict
+from gbh_drake.systems.pick_and_carry import PickAndCarry
+from gbh_drake.systems.cage_monitor import CageMonitor
+from gbh_drake.messages import GraspSearch, HeldBy, Mode, Outcome, PickStatus, Verdict
 from gbh_drake.systems.grasp_search import GraspSearchReport, explain_no_grasp
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
 from gbh_drake.systems.ports import build_checked, check_connections

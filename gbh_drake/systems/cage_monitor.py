@@ -28,7 +28,6 @@ Only contact holds the object: it is a free body throughout, never welded or att
 from __future__ import annotations
 
 import copy
-import enum
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,55 +37,17 @@ from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.messages import (
+    GraspSearch,
+    HeldBy,
+    Mode,
+    Outcome,
+    PickStatus,
+    Verdict,
+)
 from gbh_drake.modeling.names import GRIPPER, TABLE
 from gbh_drake.scenario.schema import MonitorConfig
-from gbh_drake.systems.pick_and_carry import FINAL_MODES, Mode, PickStatus
 from gbh_drake.systems.stage import CopiedShallowly
-
-
-class Outcome(enum.StrEnum):
-    """What a trial came to: decided here, by the monitor, and copied by every record and row
-    (a ``str`` enum: it compares equal to, and is written as, its value)."""
-
-    SUCCESS = "success"
-    """Lifted and carried over the place without falling."""
-    NOT_LIFTED = "not_lifted"
-    DROPPED_DURING_LIFT = "dropped_during_lift"
-    DROPPED_DURING_CARRY = "dropped_during_carry"
-    NO_REACHABLE_GRASP = "no_reachable_grasp"
-    """Grasps were offered; none could be planned."""
-    NO_HANGABLE_STRUCTURE = "no_hangable_structure"
-    """GbH found nothing to hang the object by (a result, not an error)."""
-    NO_GRASP_FOUND = "no_grasp_found"
-    """The method offered no grasp (GbH: no candidate passed its rules)."""
-    EMPTY_SCAN = "empty_scan"
-    """The scan holds no object."""
-    INCOMPLETE = "incomplete"
-    """The machine has not finished (the verdict while it runs, or a trial cut off)."""
-    ERROR = "error"
-    """The pipeline raised (an experiment's row of a broken trial; never a monitor verdict)."""
-
-
-class HeldBy(enum.StrEnum):
-    """How a carried object was held (decided by the cage test)."""
-
-    NONE = ""
-    CAGE = "cage"
-    PINCH = "pinch"
-
-
-
-@dataclass
-class GraspSearch:
-    """Why a method offered no grasp (the monitor's ``grasp_search`` input): the outcome
-    (``empty_scan``, ``no_hangable_structure`` or ``no_grasp_found``) and its reason in words.
-    Made by the method's :class:`~gbh_drake.systems.grasp_search.GraspSearchReport`."""
-
-    outcome: Outcome = Outcome.NO_GRASP_FOUND
-    reason: str = "no grasp to try"
-    rejected_by: dict[str, int] = field(default_factory=dict)
-    """GbH's candidates each collision rule removed, in the order the rules apply
-    (:func:`gbh_drake.core.rejections.count_rejections`); empty without GbH candidates."""
 
 #: A lifted object that is back on the table is dropped once no gripper body has touched it
 #: for this long (s): a basket still hanging on the bar loses contact for a step now and then.
@@ -96,56 +57,6 @@ DROP_CONFIRM = 0.2
 _AIRBORNE = (Mode.LIFT, Mode.CARRY, Mode.HOLD, Mode.CAGE_TEST)
 #: Phases whose end decides success (the cage test only decides cage or pinch).
 _CARRIED = (Mode.LIFT, Mode.CARRY, Mode.HOLD)
-
-
-@dataclass
-class Verdict:
-    """What happened to the object. Lengths in metres, forces in newtons, times in seconds."""
-
-    outcome: Outcome = Outcome.INCOMPLETE
-    """The :class:`Outcome` (``incomplete`` while the machine has not finished)."""
-    success: bool = False
-    reason: str = "the pick has not finished"
-    held_by: HeldBy = HeldBy.NONE
-    """``cage`` or ``pinch`` when the object was carried, else empty."""
-    lifted_at: float = float("nan")
-    """Time when the object's lowest point first reached ``lifted_height``."""
-    dropped_at: float = float("nan")
-    dropped_phase: str = ""
-    sank_at: float = float("nan")
-    sank_phase: str = ""
-    """When and in which phase the lifted object came back down onto the table while a gripper
-    body still touched it (dragged, not dropped; "" if it did not)."""
-    max_clearance: float = 0.0
-    """Highest lowest point above the table while carried."""
-    clearance_after_hold: float = float("nan")
-    """Lowest point above the table at the end of the hold (full force)."""
-    touching: dict[str, list[str]] = field(default_factory=dict)
-    """Gripper bodies that touched the object in each phase."""
-    table_touch_while_carried: bool = False
-    """Whether the object touched the table during the lift or carry after being lifted."""
-    squeeze_force: float = float("nan")
-    """Mean squeeze force of the fingers during the carry and hold (N)."""
-    finger_q_cage_test: float = float("nan")
-    """Mean finger position at the end of the cage test (m; closed loop: q_closed)."""
-    cage_test_held: bool = False
-    """Whether the object was still held at the end of the cage test."""
-    loop_closed: bool = False
-    bar_deployed: bool = True
-    """Whether the bar was out (a hook) during the cage test; folded: two straight rods."""
-    settled_at: list[float] = field(default_factory=list)
-    """The object's position (W) when planning began (after settling, when it was scanned)."""
-    planned_poses: list[list[float]] = field(default_factory=list)
-    """The object's pose (W: x, y, z m, roll, pitch, yaw rad) each time planning began: once,
-    or once more after each regrasp (where it was set down anew and scanned again)."""
-    released_at: list[float] = field(default_factory=list)
-    """The object's position (W) at the end, after release."""
-    released_on_table: bool = False
-    """Whether the object lies on the table, free of the gripper, at the end."""
-    earlier_attempts: list[dict] = field(default_factory=list)
-    """For each executed grasp whose lift came away empty (a retry followed): the lift's
-    record as it stood then (``lifted_at``, ``dropped_at``, ``dropped_phase``,
-    ``max_clearance``, ``touching``); the fields above are the last attempt's."""
 
 
 @dataclass
@@ -379,13 +290,6 @@ def _start_again(w: _Watch) -> None:
     w.lifted = w.dropped = False
     w.free_since, w.free_phase = float("nan"), ""
     w.attempts += 1
-
-
-def verdict_final(mode: Mode) -> bool:
-    """Whether the verdict is final once the machine is in ``mode``: it has stopped, or the
-    cage test is over (later phases set the object down; they judge nothing)."""
-    order = [m.value for m in Mode]
-    return mode in FINAL_MODES or order.index(mode.value) > order.index(Mode.CAGE_TEST.value)
 
 
 def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,

@@ -2,7 +2,7 @@
 
 A method's grasp source may come up empty for different reasons: the scan holds no object, GbH
 found nothing hangable, or no candidate passed the rules. The monitor decides the trial's outcome
-from what it is told here (:class:`~gbh_drake.systems.cage_monitor.GraspSearch`); nothing
+from what it is told here (:class:`~gbh_drake.messages.GraspSearch`); nothing
 re-judges it afterwards. :func:`explain_no_grasp` is the pure rule.
 """
 
@@ -14,8 +14,8 @@ from pydrake.systems.framework import LeafSystem
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.rejections import count_rejections
 from gbh_drake.core.scoop import ScoopResult
+from gbh_drake.messages import GraspSearch, Outcome
 from gbh_drake.perception.scan import ScanResult
-from gbh_drake.systems.cage_monitor import GraspSearch, Outcome
 from gbh_drake.systems.hangability_detector import Hangability
 from gbh_drake.systems.scanner import no_scan
 
@@ -68,7 +68,7 @@ class GraspSearchReport(LeafSystem):
     detector's :class:`~gbh_drake.systems.hangability_detector.Hangability`;
     ``grasp_candidates``: the synthesizer's list; ``scoops``: the
     :class:`~gbh_drake.systems.scoop_synthesizer.ScoopSynthesizer`'s result. ``grasp_search``: a
-    :class:`~gbh_drake.systems.cage_monitor.GraspSearch` (evaluated by the monitor only when the
+    :class:`~gbh_drake.messages.GraspSearch` (evaluated by the monitor only when the
     machine had no grasp to try). Cached; depends only on its inputs.
     """
 

@@ -16,8 +16,8 @@ from pydrake.systems.framework import LeafSystem
 
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.rejections import closest_rejected
+from gbh_drake.messages import Mode, PickStatus
 from gbh_drake.systems.hangability_detector import Hangability
-from gbh_drake.systems.pick_and_carry import Mode, PickStatus
 from gbh_drake.systems.scanner import no_scan
 
 

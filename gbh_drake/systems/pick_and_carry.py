@@ -19,16 +19,19 @@ and, for a retry after a lift that came away empty (beyond the paper)::
 
     LIFT -> RETRY_RELEASE -> RETRY_HOME -> RESCAN -> PLAN
 
-PLAN reads the ranked grasps (evaluating them runs the scan and the grasp pipeline once) and
-tries them in order from the measured configuration (:func:`gbh_drake.planning.pick.plan_pick`),
-keeping each refusal's reason; with a ``scoop_grasps`` input connected, those are tried next
-(beyond the paper: the wedge bar slid under material lying on the table), then, with a
-``fallback_grasps`` input connected, those (GbH first, an antipodal grasp with the bar folded
-last). When nothing can be planned the machine ends in NO_GRASP or NO_REACHABLE_GRASP. A scoop's
+PLAN reads the method's grasps tier by tier (:class:`~gbh_drake.method_spec.Tier`, in the
+order the machine was given: the method's own ``grasps``, then, beyond the paper,
+``scoop_grasps`` (the wedge bar slid under material lying on the table), a regrasp, then
+``fallback_grasps`` (an antipodal grasp with the bar folded); evaluating a tier runs the grasp
+pipeline on the scan once) and tries them in order from the measured configuration
+(:func:`gbh_drake.planning.choice.choose` over :func:`gbh_drake.planning.pick.plan_pick`),
+keeping each refusal's reason. When nothing can be planned the machine ends in NO_GRASP or
+NO_REACHABLE_GRASP. A scoop's
 INSERT goes on down past the grasp pose until the table pushes the hand up with the scoop's
 ``press_force`` (the wrist load, as Franka senses it; at most ``press_depth``) and it closes
 from there, at table level. When no grasp of ``grasps`` or ``scoop_grasps`` can be planned and
-the ``regrasp_poses`` and ``regrasp_grasps`` inputs are connected (beyond the paper), the machine
+the machine has a regrasp tier (beyond the paper: its ``regrasp_poses`` and ``regrasp_grasps``
+inputs), it
 plans a regrasp (:func:`gbh_drake.planning.regrasp.plan_regrasp`): it picks the object with one
 of ``regrasp_grasps`` (a pinch, the bar folded), turns it into the first of ``regrasp_poses`` the
 arm reaches, lowers it until the hand's load drops, lets go, backs off, goes home, asks the
@@ -48,7 +51,6 @@ fingers over the place position.
 from __future__ import annotations
 
 import copy
-import enum
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -59,22 +61,20 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import ModelDirective
 from pydrake.systems.framework import BasicVector, LeafSystem
 
-from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER
+from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import RegraspParams, ScoopParams
 from gbh_drake.core.results import GraspKind
+from gbh_drake.messages import FINAL_MODES, Attempt, Mode, PickStatus
+from gbh_drake.method_spec import Tier
+from gbh_drake.modeling.names import TABLE
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.perception.unseen import scan_unseen
-from gbh_drake.planning.model import HandPose, PlanningModel
-from gbh_drake.planning.pick import (
-    PickPlan,
-    PickSetup,
-    Refusal,
-    plan_pick,
-    release_path,
-)
+from gbh_drake.planning.choice import Offer, choose
+from gbh_drake.planning.model import HandPose, PlanningModel, parse_robot
+from gbh_drake.planning.pick import PickPlan, PickSetup, Refusal, plan_pick, release_path
 from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
 from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
-from gbh_drake.scenario.schema import HandConfig, PickConfig, without_table
+from gbh_drake.scenario.schema import HandConfig, PickConfig
 from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
 
@@ -90,116 +90,6 @@ EMPTY_LOAD = 0.2
 #: this close to a failed one's (same kind), are skipped: what came away empty from an object
 #: that barely moved would come away empty again.
 TRIED_RADIUS = 0.02
-
-
-class Mode(enum.Enum):
-    SETTLE = "settle"
-    PLAN = "plan"
-    # A regrasp (pick with a pinch, set down anew, re-scan), before the pick that is judged.
-    REGRASP_APPROACH = "regrasp_approach"
-    REGRASP_INSERT = "regrasp_insert"
-    REGRASP_CLOSE = "regrasp_close"
-    REGRASP_LIFT = "regrasp_lift"
-    REGRASP_TURN = "regrasp_turn"
-    REGRASP_LOWER = "regrasp_lower"
-    REGRASP_RELEASE = "regrasp_release"
-    REGRASP_RETREAT = "regrasp_retreat"
-    REGRASP_HOME = "regrasp_home"
-    RESCAN = "rescan"
-    # A retry after a lift that came away empty: open, go home, re-scan, plan again.
-    RETRY_RELEASE = "retry_release"
-    RETRY_HOME = "retry_home"
-    APPROACH = "approach"
-    INSERT = "insert"
-    CLOSE = "close"
-    LIFT = "lift"
-    CARRY = "carry"
-    HOLD = "hold"
-    CAGE_TEST = "cage_test"
-    LOWER = "lower"
-    RELEASE = "release"
-    RETREAT = "retreat"
-    DONE = "done"
-    NO_GRASP = "no_grasp"
-    NO_REACHABLE_GRASP = "no_reachable_grasp"
-
-
-#: Modes in which the machine has stopped for good.
-FINAL_MODES = (Mode.DONE, Mode.NO_GRASP, Mode.NO_REACHABLE_GRASP)
-
-
-@dataclass
-class Attempt:
-    """An executed grasp that came away empty (a retry followed). W frame, metres, newtons."""
-
-    kind: str
-    rank: int
-    score: float
-    source: str
-    """The input port the grasp came from."""
-    p_WG: np.ndarray
-    """(3,) the open gripper's origin at the grasp."""
-    c_W: np.ndarray | None
-    """(3,) the centre c of the hanging structure it hooked (None: a grasp without one)."""
-    load: float
-    """What the lift added to the hand's vertical load (below :data:`EMPTY_LOAD`)."""
-    time: float
-    """Simulated time (s) the lift ended."""
-
-    def as_dict(self) -> dict:
-        """Plain numbers and lists (a record's ``attempts`` entry)."""
-        return {"kind": self.kind, "rank": int(self.rank), "score": float(self.score),
-                "source": self.source, "p_WG": np.asarray(self.p_WG, dtype=float).tolist(),
-                "c_W": None if self.c_W is None else np.asarray(self.c_W, dtype=float).tolist(),
-                "load": float(self.load), "time": float(self.time)}
-
-
-@dataclass
-class PickStatus:
-    """What the machine is doing and has done (the ``status`` output)."""
-
-    mode: Mode = Mode.SETTLE
-    phase_start: dict[str, float] = field(default_factory=dict)
-    """Simulated time (s) at which each mode was entered, by mode value."""
-    n_grasps: int = 0
-    """How many grasps were offered (primary and fallback)."""
-    plan: PickPlan | None = None
-    """The plan being executed (None until PLAN succeeds)."""
-    score: float = float("nan")
-    """The executed grasp's score."""
-    fallback: bool = False
-    """Whether the executed grasp came from ``fallback_grasps``."""
-    source: str = ""
-    """The input port the executed grasp came from (``grasps``, ``scoop_grasps``,
-    ``fallback_grasps``; "" until one is planned)."""
-    refusals: list[Refusal] = field(default_factory=list)
-    """Every grasp that was tried and could not be planned, with its reason."""
-    plan_seconds: float = 0.0
-    """Wall seconds spent in PLAN (the grasps' evaluation included)."""
-    grasp_seconds: list[float] = field(default_factory=list)
-    """Wall seconds planning each grasp tried, in order."""
-    grasps_seconds: float = 0.0
-    """Wall seconds the grasps' evaluation took (GbH or the antipodal sampler on the scan)."""
-    regrasps: list[RegraspPlan] = field(default_factory=list)
-    """The regrasps executed (each a pick-and-place into a resting pose, then a re-scan)."""
-    regrasp_note: str = ""
-    """Why a regrasp the method offered was not executed ("" if it was, or none was offered)."""
-    grasp_X_WG: np.ndarray | None = None
-    """(4, 4) the executed grasp's open-gripper pose in W (None until one is planned)."""
-    grasp_c_W: np.ndarray | None = None
-    """(3,) the centre of the hanging structure it hooks (None: none, or not planned yet)."""
-    attempts: list[Attempt] = field(default_factory=list)
-    """Executed grasps whose lift came away empty, each followed by a retry (beyond the paper)."""
-    skipped: int = 0
-    """Grasps skipped on retries for lying within :data:`TRIED_RADIUS` of a failed one."""
-
-    @property
-    def phase(self) -> str:
-        return self.mode.value
-
-    @property
-    def finished(self) -> bool:
-        return self.mode in FINAL_MODES
 
 
 @dataclass
@@ -237,10 +127,10 @@ class PickAndCarry(LeafSystem):
         name: PickAndCarry
         input_ports:
         - grasps
-        - scoop_grasps (optional)
-        - regrasp_poses (optional)
-        - regrasp_grasps (optional)
-        - fallback_grasps (optional)
+        - scoop_grasps (a scoop tier)
+        - regrasp_poses (a regrasp tier)
+        - regrasp_grasps (a regrasp tier)
+        - fallback_grasps (a fallback tier)
         - scan
         - panda.state
         - hook_gripper.state
@@ -251,8 +141,10 @@ class PickAndCarry(LeafSystem):
         - status
         - scan_request
 
-    ``grasps``, ``scoop_grasps``, ``fallback_grasps``: lists of grasps, best first, tried in that
-    order, each with ``X_WG`` (4, 4, the open gripper's pose in W) and ``kind`` (``parallel``,
+    One input per grasp tier it was given (``tiers``, default the ``grasps`` alone), tried in
+    that order; a tier's input left unconnected is passed over. ``grasps``, ``scoop_grasps``,
+    ``fallback_grasps``: lists of grasps, best first, each with ``X_WG`` (4, 4, the open
+    gripper's pose in W) and ``kind`` (``parallel``,
     ``vertical``, ``scoop`` or ``antipodal``; an antipodal grasp is executed with the bar
     folded). ``regrasp_poses`` (``list[RegraspPose]``, the
     :class:`~gbh_drake.systems.regrasp_planner.RegraspPlanner`'s) and ``regrasp_grasps`` (pinches,
@@ -271,7 +163,9 @@ class PickAndCarry(LeafSystem):
                  hand: HandConfig, *, settle_time: float, ground_clearance: float = 0.003,
                  seed: int = 0, bar_angle: float = BAR_DEPLOYED, period: float = 0.01,
                  scoop: ScoopParams | None = None, regrasp: RegraspParams | None = None,
-                 scan_height: float = 0.06, max_retries: int = 0):
+                 scan_height: float = 0.06, max_retries: int = 0,
+                 tiers: Sequence[Tier] = (Tier.GRASPS,),
+                 gripper: HookGripperGeometry = HOOK_GRIPPER):
         """``directives``: the scenario's fixed models (the planning model is built from them);
         ``settle_time`` (s): when planning starts (the scan is taken then); ``ground_clearance``
         (m): the clearance grasps keep from the table, kept by the segments near the grasp too
@@ -281,7 +175,10 @@ class PickAndCarry(LeafSystem):
         ``regrasp``: how often the object may be set down anew (``max_regrasps``) and how
         many pinches are planned for per resting pose; ``scan_height`` (m): the height of a
         re-scan's target (the scenario's ``scan_target`` z); ``max_retries``: how often a lift
-        that came away empty is followed by a re-scan and a new plan (0: never, the paper)."""
+        that came away empty is followed by a re-scan and a new plan (0: never, the paper);
+        ``tiers``: the grasp tiers to try, in order (a method's
+        :attr:`~gbh_drake.method_spec.MethodSpec.tiers`; the first must be ``grasps``);
+        ``gripper``: the hook gripper's geometry (the variant the station runs)."""
         super().__init__()
         self._directives = list(directives)
         self._config = config
@@ -293,12 +190,16 @@ class PickAndCarry(LeafSystem):
         self._settle_time = float(settle_time)
         self._seed = int(seed)
         self._bar = float(bar_angle)
-        self._near = PlanningModel(self._directives, padding=max(ground_clearance - 1e-3, 0.0))
-        self._grasps = self.DeclareAbstractInputPort("grasps", AbstractValue.Make([]))
-        self._scoops = self.DeclareAbstractInputPort("scoop_grasps", AbstractValue.Make([]))
-        self._regrasp_poses = self.DeclareAbstractInputPort("regrasp_poses", AbstractValue.Make([]))
-        self._pinches = self.DeclareAbstractInputPort("regrasp_grasps", AbstractValue.Make([]))
-        self._fallback = self.DeclareAbstractInputPort("fallback_grasps", AbstractValue.Make([]))
+        self._gripper = gripper
+        self._tiers = tuple(Tier(tier) for tier in tiers)
+        if not self._tiers or self._tiers[0] is not Tier.GRASPS:
+            raise ValueError(f"PickAndCarry: tiers must start with grasps, got {tiers}")
+        # The fixed models parsed once; each planning model works on its own copy.
+        self._robot = parse_robot(self._directives)
+        self._near = PlanningModel(self._robot, padding=max(ground_clearance - 1e-3, 0.0))
+        self._table_level: PlanningModel | None = None
+        self._inputs = {name: self.DeclareAbstractInputPort(name, AbstractValue.Make([]))
+                        for tier in self._tiers for name in tier.ports}
         self._scan = self.DeclareAbstractInputPort(
             "scan", AbstractValue.Make(no_scan("not scanned yet")))
         self._arm_state = self.DeclareVectorInputPort("panda.state", 14)
@@ -352,12 +253,12 @@ class PickAndCarry(LeafSystem):
         if mode in FINAL_MODES:
             return
         if t < s.until:
-            # Some modes watch the robot while they run (``_during_<mode>``, True: changed).
-            watch = getattr(self, f"_during_{mode.value}", None)
-            if watch is None or not watch(context, s, t):
+            # Some modes watch the robot while they run (DURING, True: changed).
+            watch = self.DURING.get(mode)
+            if watch is None or not watch(self, context, s, t):
                 return
         else:
-            getattr(self, f"_after_{mode.value}")(context, s, t)
+            self.AFTER[mode](self, context, s, t)
         state.get_mutable_abstract_state(self._state).set_value(s)
 
     def _enter(self, s: _State, mode: Mode, t: float, *, arm=None, until: float | None = None):
@@ -371,7 +272,7 @@ class PickAndCarry(LeafSystem):
     def _move(self, s: _State, mode: Mode, t: float, waypoints, **kwargs) -> None:
         self._enter(s, mode, t, arm=joint_path(waypoints, t, **kwargs))
 
-    # Each _after_<mode> runs once the mode's time is up and chooses the next mode.
+    # Each _after_<mode> runs once the mode's time is up and chooses the next mode (AFTER).
     def _after_settle(self, context, s: _State, t: float) -> None:
         # Plan once the scan is taken (a Scanner may wait for the object to be still).
         if t > self._settle_time and not scan_pending(self._scan.Eval(context)):
@@ -403,7 +304,7 @@ class PickAndCarry(LeafSystem):
                    velocity_scale=0.15, min_duration=1.0)
 
     def _after_regrasp_insert(self, context, s: _State, t: float) -> None:
-        g = HOOK_GRIPPER
+        g = self._gripper
         duration = (g.q_open - 0.5 * g.rod_width) / self._hand.speed
         s.command[:2] = [0.5 * g.rod_width, self._hand.force]
         self._enter(s, Mode.REGRASP_CLOSE, t, until=t + duration + 0.3)
@@ -436,7 +337,7 @@ class PickAndCarry(LeafSystem):
         self._let_go(s, t, s.status.regrasps[-1].q["place"])
 
     def _let_go(self, s: _State, t: float, q_at: np.ndarray) -> None:
-        g = HOOK_GRIPPER
+        g = self._gripper
         s.q_hold, s.arm = np.asarray(q_at, dtype=float), None
         s.command[:2] = [g.q_open, self._hand.force]
         self._enter(s, Mode.REGRASP_RELEASE, t,
@@ -444,7 +345,7 @@ class PickAndCarry(LeafSystem):
 
     def _after_regrasp_release(self, context, s: _State, t: float) -> None:
         back = release_path(self._near, s.q_hold, GraspKind.ANTIPODAL, self._config,
-                            BAR_RETRACTED)["retreat"]
+                            BAR_RETRACTED, self._gripper)["retreat"]
         self._move(s, Mode.REGRASP_RETREAT, t, [s.q_hold, back], velocity_scale=0.2)
 
     def _after_regrasp_retreat(self, context, s: _State, t: float) -> None:
@@ -482,7 +383,7 @@ class PickAndCarry(LeafSystem):
         st.plan, st.score, st.fallback, st.source, st.grasp_X_WG, st.grasp_c_W = \
             None, float("nan"), False, "", None, None
         s.q_hold, s.arm = np.asarray(sample(s.arm, t)[0], dtype=float), None
-        g = HOOK_GRIPPER
+        g = self._gripper
         s.command[:2] = [g.q_open, self._hand.force]
         self._enter(s, Mode.RETRY_RELEASE, t,
                     until=t + (g.q_open - g.q_closed) / self._hand.speed + 0.2)
@@ -511,7 +412,7 @@ class PickAndCarry(LeafSystem):
     def _fingers_stopped(self, context, s: _State, t: float, mode: Mode) -> bool:
         """Whether the fingers closing since ``mode`` began have stopped (or timed out)."""
         v_fingers = self._hand_state.Eval(context)[3:5]
-        timeout = s.status.phase_start[mode.value] + HOOK_GRIPPER.q_open / self._hand.speed + 0.5
+        timeout = s.status.phase_start[mode.value] + self._gripper.q_open / self._hand.speed + 0.5
         return not (np.max(np.abs(v_fingers)) > 2e-3 and t < timeout)
 
     def _after_approach(self, context, s: _State, t: float) -> None:
@@ -524,7 +425,7 @@ class PickAndCarry(LeafSystem):
 
     def _press_pose(self, plan: PickPlan) -> np.ndarray:
         """The arm where a scoop's press ends at the latest: ``press_depth`` below the grasp."""
-        hand = HandPose(HOOK_GRIPPER.q_open, plan.bar)
+        hand = HandPose(self._gripper.q_open, plan.bar)
         X = self._near.X_WG(plan.q["grasp"], hand)
         X_down = RigidTransform(X.rotation(), X.translation() - [0.0, 0.0, self._scoop.press_depth])
         q = self._near.ik(X_down, plan.q["grasp"], hand)
@@ -554,7 +455,7 @@ class PickAndCarry(LeafSystem):
         """CLOSE from the arm at ``q_from``: the planned close, or a scoop's from where its
         press stopped (the hand moving along +y_G as each finger travels, at that height)."""
         plan = s.status.plan
-        g = HOOK_GRIPPER
+        g = self._gripper
         # Hooks: close to the loop's closure (q_closed), squeezing with the force whatever stops
         # the fingers first; pinches: until the rods touch (the material stops them first).
         q_stop = g.q_closed if GraspKind(plan.kind).hooks else 0.5 * g.rod_width
@@ -610,14 +511,15 @@ class PickAndCarry(LeafSystem):
             return False
         q_now = sample(s.arm, t)[0]
         plan = s.status.plan
-        hand = HandPose(HOOK_GRIPPER.q_closed, plan.bar)
+        hand = HandPose(self._gripper.q_closed, plan.bar)
         X = self._near.X_WG(q_now, hand)
         X_down = RigidTransform(X.rotation(), X.translation() -
                                 [0.0, 0.0, self._config.unload_depth])
         q_down = self._near.ik(X_down, q_now, hand)
         q_down = q_now if q_down is None else q_down
         s.release = {"place": q_down,
-                     **release_path(self._near, q_down, plan.kind, self._config, plan.bar)}
+                     **release_path(self._near, q_down, plan.kind, self._config, plan.bar,
+                                     self._gripper)}
         self._enter(s, Mode.LOWER, s.status.phase_start[Mode.LOWER.value],
                     arm=joint_path([q_now, q_down], t, velocity_scale=0.1, min_duration=0.3))
         return True
@@ -626,9 +528,10 @@ class PickAndCarry(LeafSystem):
         """Open as the grasp closed: in place, or about the straight rod (vertical grasps: the
         arm follows the fingers so that the bar leaves from under the material)."""
         q = s.release or s.status.plan.q
-        travel = HOOK_GRIPPER.q_open - 0.5 * HOOK_GRIPPER.rod_width
-        s.command[:2] = [HOOK_GRIPPER.q_open, self._hand.force]
-        duration = (HOOK_GRIPPER.q_open - HOOK_GRIPPER.q_closed) / self._hand.speed
+        g = self._gripper
+        travel = g.q_open - 0.5 * g.rod_width
+        s.command[:2] = [g.q_open, self._hand.force]
+        duration = (g.q_open - g.q_closed) / self._hand.speed
         self._enter(s, Mode.RELEASE, t, arm=linear_move(q["place"], q["opened"], t, duration),
                     until=t + travel / self._hand.speed + 0.2)
 
@@ -641,94 +544,119 @@ class PickAndCarry(LeafSystem):
         s.q_hold = (s.release or s.status.plan.q)["retreat"]
         self._enter(s, Mode.DONE, t)
 
+    # The machine: what each mode does once its time is up (it chooses the next mode), and
+    # what some modes watch while they run (True: the state changed). Every mode but the final
+    # ones has an AFTER handler (tests/systems/test_pick_machine.py).
+    AFTER = {
+        Mode.SETTLE: _after_settle,
+        Mode.PLAN: _after_plan,
+        Mode.REGRASP_APPROACH: _after_regrasp_approach,
+        Mode.REGRASP_INSERT: _after_regrasp_insert,
+        Mode.REGRASP_CLOSE: _after_regrasp_close,
+        Mode.REGRASP_LIFT: _after_regrasp_lift,
+        Mode.REGRASP_TURN: _after_regrasp_turn,
+        Mode.REGRASP_LOWER: _after_regrasp_lower,
+        Mode.REGRASP_RELEASE: _after_regrasp_release,
+        Mode.REGRASP_RETREAT: _after_regrasp_retreat,
+        Mode.REGRASP_HOME: _after_regrasp_home,
+        Mode.RESCAN: _after_rescan,
+        Mode.RETRY_RELEASE: _after_retry_release,
+        Mode.RETRY_HOME: _after_retry_home,
+        Mode.APPROACH: _after_approach,
+        Mode.INSERT: _after_insert,
+        Mode.CLOSE: _after_close,
+        Mode.LIFT: _after_lift,
+        Mode.CARRY: _after_carry,
+        Mode.HOLD: _after_hold,
+        Mode.CAGE_TEST: _after_cage_test,
+        Mode.LOWER: _after_lower,
+        Mode.RELEASE: _after_release,
+        Mode.RETREAT: _after_retreat,
+    }
+    DURING = {
+        Mode.REGRASP_LOWER: _during_regrasp_lower,
+        Mode.INSERT: _during_insert,
+        Mode.LOWER: _during_lower,
+    }
+
     # ---- planning -------------------------------------------------------------------------------
     def _plan(self, context, s: _State) -> tuple[PickPlan | RegraspPlan | None, float, bool]:
-        """The first plannable grasp: the primary grasps, the scoops, then a regrasp, then
-        (only if none of those could be planned) the fallback grasps; every refusal is
-        recorded."""
+        """The first plannable grasp of the machine's tiers, in order (:func:`choose`): the plan,
+        its grasp's score and whether it came from the fallback tier; every refusal, the
+        evaluation and planning times and the counts are recorded in the status."""
         q_start = self._arm_state.Eval(context)[:7]
-        plan, score, setup = self._plan_ports(context, s, (self._grasps, self._scoops), q_start)
-        if plan is None and len(s.status.regrasps) < self._regrasp.max_regrasps and \
-                self._regrasp_poses.HasValue(context) and self._pinches.HasValue(context):
-            setup = setup or self._setup(self._scan.Eval(context))
-            regrasp = self._plan_regrasp(context, s, setup, q_start)
-            if regrasp is not None:
-                return regrasp, float("nan"), False
-        if plan is None and self._fallback.HasValue(context):
-            plan, score, _ = self._plan_ports(context, s, (self._fallback,), q_start, setup)
-            return plan, score, plan is not None
-        return plan, score, False
-
-    def _plan_regrasp(self, context, s: _State, setup: PickSetup, q_start) -> RegraspPlan | None:
-        """The first regrasp the arm can do: resting poses best first, each with the pinches
-        best first; refusals recorded (``regrasp_note`` says why none)."""
-        start = time.perf_counter()
-        poses = self._regrasp_poses.Eval(context)  # GbH on each resting pose of the scan
-        pinches = self._pinches.Eval(context)[: self._regrasp.max_pinches]
-        s.status.grasps_seconds += time.perf_counter() - start
-        if not poses or not pinches:
-            s.status.regrasp_note = ("no resting pose offers a hook grasp" if not poses else
-                                     "no pinch to turn the object with")
-            return None
-        for pose in poses:
-            # The pinches that hold it from above in that pose first, then the fallback's.
-            mine = [X for X in (pose.pinches or [])][: self._regrasp.max_pinches]
-            for rank, X_WG in enumerate([*mine, *(g.X_WG for g in pinches)]):
-                start = time.perf_counter()
-                result = plan_regrasp(setup, X_WG, pose, rank, q_start, s.q_home)
-                s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
-                if isinstance(result, RegraspPlan):
-                    return result
-                s.status.refusals = [*s.status.refusals, result]
-        s.status.regrasp_note = (f"none of {len(poses)} resting poses x {len(pinches)} pinches "
-                                 "could be planned")
-        return None
-
-    def _plan_ports(self, context, s: _State, ports, q_start, setup: PickSetup | None = None
-                    ) -> tuple[PickPlan | None, float, PickSetup | None]:
-        """The first plannable grasp of ``ports`` (in order; unconnected ones skipped)."""
         scan: ScanResult = self._scan.Eval(context)
-        for port in ports:
-            if port is not self._grasps and not port.HasValue(context):
+        setup: list[PickSetup] = []  # made once, when the first grasp is planned
+
+        def get_setup() -> PickSetup:
+            if not setup:
+                setup.append(self._setup(scan))
+            return setup[0]
+
+        def plan_grasp(tier: Tier, rank: int, grasp) -> PickPlan | Refusal:
+            bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
+            min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
+            return plan_pick(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift)
+
+        def plan_regrasp_(rank: int, X_WG, pose) -> RegraspPlan | Refusal:
+            return plan_regrasp(get_setup(), X_WG, pose, rank, q_start, s.q_home)
+
+        choice = choose(
+            self._offers(context), plan_grasp=plan_grasp, plan_regrasp=plan_regrasp_,
+            is_plan=lambda result: isinstance(result, PickPlan | RegraspPlan),
+            max_grasps=self._config.max_grasps, max_pinches=self._regrasp.max_pinches,
+            regrasp_allowed=len(s.status.regrasps) < self._regrasp.max_regrasps,
+            skip=lambda grasp: bool(s.status.attempts) and self._tried(s, grasp),
+            check=lambda tier, grasps: _check_grasps(tier.value, grasps))
+        st = s.status
+        st.n_grasps += choice.n_offered
+        st.skipped += choice.skipped
+        st.grasps_seconds += choice.offer_seconds
+        st.grasp_seconds = [*st.grasp_seconds, *choice.grasp_seconds]
+        st.refusals = [*st.refusals, *choice.refusals]
+        if choice.regrasp_note:
+            st.regrasp_note = choice.regrasp_note
+        if isinstance(choice.plan, RegraspPlan):
+            return choice.plan, float("nan"), False
+        if choice.plan is None:
+            return None, float("nan"), False
+        st.source = choice.tier.value
+        st.grasp_X_WG = np.asarray(choice.grasp.X_WG, dtype=float)
+        st.grasp_c_W = _structure_centre(choice.grasp)
+        return (choice.plan, float(getattr(choice.grasp, "score", float("nan"))),
+                choice.tier is Tier.FALLBACK)
+
+    def _offers(self, context) -> list[Offer]:
+        """The tiers' grasps, evaluated when :func:`choose` reaches them; a tier whose input is
+        not connected is passed over (the first, ``grasps``, must be)."""
+        offers = []
+        for tier in self._tiers:
+            ports = [self._inputs[name] for name in tier.ports]
+            if tier is not Tier.GRASPS and not all(p.HasValue(context) for p in ports):
                 continue
-            start = time.perf_counter()
-            grasps = port.Eval(context)  # runs GbH (or the sampler) on the scan, once
-            s.status.grasps_seconds += time.perf_counter() - start
-            _check_grasps(port.get_name(), grasps)
-            s.status.n_grasps += len(grasps)
-            if grasps and setup is None:
-                setup = self._setup(scan)
-            for rank, grasp in enumerate(grasps[: self._config.max_grasps]):
-                if s.status.attempts and self._tried(s, grasp):
-                    s.status.skipped += 1
-                    continue
-                if grasp.kind == GraspKind.SCOOP and setup.table_level is None:
-                    # A scoop touches the table by design: its last segments are checked
-                    # against everything else (the arm's own links, other models).
-                    setup.table_level = PlanningModel(without_table(self._directives),
-                                                      padding=0.0)
-                bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
-                start = time.perf_counter()
-                min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
-                result = plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift)
-                s.status.grasp_seconds = [*s.status.grasp_seconds, time.perf_counter() - start]
-                if isinstance(result, PickPlan):
-                    s.status.source = port.get_name()
-                    s.status.grasp_X_WG = np.asarray(grasp.X_WG, dtype=float)
-                    s.status.grasp_c_W = _structure_centre(grasp)
-                    return result, float(getattr(grasp, "score", float("nan"))), setup
-                s.status.refusals = [*s.status.refusals, result]
-        return None, float("nan"), setup
+            if tier is Tier.REGRASP:
+                poses, pinches = ports
+                offers.append(Offer(tier, lambda port=pinches: port.Eval(context),
+                                    poses=lambda port=poses: port.Eval(context)))
+            else:
+                offers.append(Offer(tier, lambda port=ports[0]: port.Eval(context)))
+        return offers
 
     def _setup(self, scan: ScanResult) -> PickSetup:
-        """Planning models and the scan's points for this pick."""
+        """Planning models and the scan's points for this pick: the near model, one around the
+        scan's hull for the transfer, and (made once, for a scoop) one at table level."""
         points = np.asarray(scan.mesh_W.vertices, dtype=float).reshape(-1, 3)
         far = None
         if self._config.plan_paths and len(points) >= 4:
-            far = PlanningModel(self._directives, obstacles=[scan.mesh_W])
+            far = PlanningModel(self._robot, obstacles=[scan.mesh_W])
+        if Tier.SCOOP in self._tiers and self._table_level is None:
+            # A scoop touches the table by design: its last segments are checked against
+            # everything else (the arm's own links, other models).
+            self._table_level = PlanningModel(self._robot, padding=0.0, ignore_models=(TABLE,))
         com = points.mean(axis=0) if len(points) else np.zeros(3)
         return PickSetup(self._near, far, points, com, self._config, self._seed,
-                         unseen_W=scan_unseen(scan))
+                         table_level=self._table_level, unseen_W=scan_unseen(scan),
+                         gripper=self._gripper)
 
 
 def _structure_centre(grasp) -> np.ndarray | None:

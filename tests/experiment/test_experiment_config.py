@@ -211,7 +211,8 @@ def assert_refused(tmp_path, text: str, where: str, words: str) -> None:
 
 
 @pytest.mark.parametrize("text, where, words", [
-    ("protocols: [stable, upright]\n", "protocols[1]", "unknown protocol 'upright'"),
+    ("protocols: [stable, upright]\n", "protocols[1]", "must be one of stable, natural; got "
+                                                        "'upright'"),
     ("protocols: [natural, natural]\n", "protocols[1]", "listed twice"),
     ("protocols: []\n", "protocols", "at least one"),
     ("protocols: [natural]\npose: {rest: natural}\n", "pose.rest", "set by each protocol"),
@@ -278,8 +279,8 @@ def test_the_engine_changes_no_trial_nor_the_folders_definition():
 
 
 @pytest.mark.parametrize("text, where, words", [
-    ("engine: Ray\n", "engine", "one of local, ray (local worker processes, or Ray tasks at "
-                                "ray_address), got 'Ray'"),
+    ("engine: Ray\n", "engine", "must be one of local, ray; got 'Ray' (local worker processes, "
+                                "or Ray tasks at ray_address)"),
     ("engine: slurm\n", "engine", "got 'slurm'"),
     ("engine: ray\nray_address: 10.0.0.5\n", "ray_address", "not 'local', 'auto' or a "
                                                             "cluster's address host:port"),
@@ -315,16 +316,17 @@ def test_each_task_is_the_trial_scenario_dumped_alone():
     import copy
     import hashlib
 
-    from gbh_drake.experiment.config import _set_trial, trial_scenario_yaml
+    from gbh_drake.experiment.config import _set_trial, experiment_objects, trial_scenario_yaml
 
     experiment = load_experiment(SCENARIOS_DIR / "experiment_small.yaml",
                                  overrides="trials: 3\nprotocols: [stable, natural]\n")
     scenarios = method_scenarios(experiment)
     tasks = make_tasks(experiment, scenarios=scenarios)
+    objects = {o.name: o for o in experiment_objects(experiment)}
     assert len(tasks) == 4 * 3 * 2 * len(experiment.methods)
     for task in tasks:
         scenario = copy.deepcopy(scenarios[task.method])
-        _set_trial(scenario, experiment, task.object, task.trial, task.protocol)
+        _set_trial(scenario, experiment, objects[task.object], task.trial, task.protocol)
         text = trial_scenario_yaml(scenario)
         assert (task.scenario_yaml, task.seed) == (text, scenario.seed)
         assert task.digest == hashlib.sha256(text.encode()).hexdigest()

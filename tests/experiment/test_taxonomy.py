@@ -89,7 +89,7 @@ def test_refusals_are_read_from_the_record_when_the_row_has_none():
 
 
 def test_every_failing_outcome_has_a_class_and_an_unknown_one_raises():
-    from gbh_drake.systems.cage_monitor import Outcome
+    from gbh_drake.messages import Outcome
 
     for outcome in Outcome:
         if outcome != Outcome.SUCCESS:

@@ -36,8 +36,8 @@ CASES: list[Case] = [
     _c("two_documents", "---\ntrials: 2\n", "", 3, "expected a single document"),
     # ---- empty documents are the defaults, which list no objects ------------------------------
     _c("comment_only", "!raw\n# nothing yet\n", "objects", None,
-       "list at least one object of the set (gbh objects list); the defaults (an empty file) "
-       "have none"),
+       "list at least one object of the set (gbh objects list), or give an object_set; the "
+       "defaults (an empty file) have none"),
     _c("dashes_only", "!raw\n---\n", "objects", None, "the defaults (an empty file) have none"),
     _c("null_document", "!raw\n~\n", "objects", None, "the defaults (an empty file) have none"),
     _c("no_objects", "!raw\nbase: @BASE@\n", "objects", None, "list at least one object"),

@@ -5,9 +5,11 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.primitives import ConstantValueSource
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED
-from gbh_drake.methods import GraspMethod, GraspSource, method_named, method_names
+from gbh_drake.method_spec import MethodSpec, Tier, method_names, method_spec
+from gbh_drake.methods import GraspMethod, GraspSource, GraspTier, method_named, register_method
 from gbh_drake.modeling.names import GRIPPER
-from gbh_drake.scenario import GRASP_METHODS, Scenario
+from gbh_drake.scenario import Scenario, ScenarioError
+from gbh_drake.scenario.loader import apply_overrides
 from gbh_drake.systems import GraspSearchReport, Outcome
 from gbh_drake.trial import build_trial, simulate_trial
 
@@ -16,13 +18,22 @@ pytestmark = pytest.mark.sim
 GBH = {"hangability_detector", "grasp_synthesizer", "grasp_scorer"}
 
 
-def test_the_registry_holds_what_a_scenario_may_name():
-    assert method_names() == GRASP_METHODS
+SHIPPED = ("gbh", "antipodal", "gbh_fallback", "gbh_scoop", "gbh_regrasp", "gbh_plus")
+
+
+def test_every_shipped_spec_has_its_method_and_a_scenario_may_name_it():
+    assert method_names()[:len(SHIPPED)] == SHIPPED
+    for name in SHIPPED:
+        assert method_named(name).spec is method_spec(name)
+        assert apply_overrides(Scenario(), f"grasp_method: {name}").grasp_method == name
 
 
 def test_an_unknown_method_names_the_known_ones():
-    with pytest.raises(KeyError, match="known: antipodal, gbh, gbh_fallback"):
+    with pytest.raises(KeyError, match="known: gbh, antipodal, gbh_fallback"):
         method_named("graspnet")
+    with pytest.raises(ScenarioError, match=r"grasp_method \(line 1\): must be one of gbh, antipodal, "
+                                            r"gbh_fallback, .*; got 'graspnet'"):
+        apply_overrides(Scenario(), "grasp_method: graspnet")
 
 
 @pytest.mark.parametrize(("name", "present", "absent", "bar"), [
@@ -39,9 +50,12 @@ def test_each_method_adds_its_own_systems(name, present, absent, bar):
     trial = build_trial(Scenario(grasp_method=name))
     names = {s.get_name() for s in trial.diagram.GetSystems()}
     assert present <= names and not absent & names and "grasp_search" in names
-    assert (trial.source.fallback is not None) == (name in ("gbh_fallback", "gbh_plus"))
-    assert (trial.source.scoop is not None) == (name in ("gbh_scoop", "gbh_plus"))
-    assert (trial.source.regrasp_poses is not None) == (name in ("gbh_regrasp", "gbh_plus"))
+    # The source offers the spec's tiers, in order, and the machine has one input per port.
+    assert tuple(tier.tier for tier in trial.source.tiers) == method_spec(name).tiers
+    inputs = {trial.pick.get_input_port(i).get_name()
+              for i in range(trial.pick.num_input_ports())}
+    for tier in Tier:
+        assert (set(tier.ports) <= inputs) == (tier in method_spec(name).tiers), tier
     plant = trial.station.plant
     bar_joint = plant.GetJointByName("bar_joint", plant.GetModelInstanceByName(GRIPPER))
     assert bar_joint.get_default_angle() == pytest.approx(bar)
@@ -50,14 +64,15 @@ def test_each_method_adds_its_own_systems(name, present, absent, bar):
 class NoGrasps(GraspMethod):
     """A method of one's own: offers nothing, and says why in its own words."""
 
-    name = "no_grasps"
+    spec = MethodSpec("no_grasps", "offers nothing", hooks=False)
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         grasps = builder.AddNamedSystem("mine", ConstantValueSource(AbstractValue.Make([])))
         search = builder.AddNamedSystem("grasp_search", GraspSearchReport(
             hook=False, sampler="my sampler"))
         builder.Connect(scan, search.GetInputPort("scan"))
-        return GraspSource(grasps.get_output_port(), search.get_output_port())
+        return GraspSource([GraspTier(Tier.GRASPS, grasps.get_output_port())],
+                           search.get_output_port())
 
 
 def test_a_method_of_ones_own_runs_through_the_same_trial():
@@ -71,12 +86,25 @@ def test_a_method_of_ones_own_runs_through_the_same_trial():
     assert record.verdict.outcome is record.outcome and record.verdict.reason == record.reason
 
 
+def test_a_registered_method_is_named_in_a_scenario_and_runs():
+    """register_method makes a method of one's own a scenario's grasp_method, by name."""
+    register_method(NoGrasps())
+    scenario = apply_overrides(Scenario(max_time=1.5), "grasp_method: no_grasps")
+    _, record = simulate_trial(build_trial(scenario))
+    assert record.method == "no_grasps" and record.outcome is Outcome.NO_GRASP_FOUND
+
+
+def test_a_spec_starts_with_the_methods_own_grasps():
+    with pytest.raises(ValueError, match="tiers must start with grasps"):
+        MethodSpec("odd", "a fallback first", tiers=(Tier.FALLBACK, Tier.GRASPS))
+
+
 class MisWired(NoGrasps):
     """Hands the scan itself to the machine as its grasps."""
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         source = super().add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
-        source.grasps = scan
+        source.tiers = [GraspTier(Tier.GRASPS, scan)]
         return source
 
 

@@ -22,7 +22,7 @@ from gbh_drake.cli import main
 from gbh_drake.core.ranges import Fixed, Items, OneOf, Range, format_path
 from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.checks import rule_table
-from gbh_drake.scenario.yaml_text import optional_of, struct_fields, union_options
+from gbh_drake.yamlfiles.yaml_text import optional_of, struct_fields, union_options
 
 RULES = rule_table()
 

@@ -141,7 +141,7 @@ def test_errors_pickle_with_their_parts():
 
     from gbh_drake.outputs import OutputError
     from gbh_drake.scenario import FieldError
-    from gbh_drake.scenario.yaml_text import YamlFieldError, YamlTextError
+    from gbh_drake.yamlfiles.yaml_text import YamlFieldError, YamlTextError
 
     for error in (ScenarioError("f.yaml", "seed", 2, "expected an integer", None),
                   ScenarioError("f.yaml", "", 3, "not valid YAML", 7),

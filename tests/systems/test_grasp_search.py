@@ -5,12 +5,12 @@ import trimesh
 
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate, GraspKind, HangingStructure
+from gbh_drake.messages import GraspSearch, Mode, Outcome, PickStatus
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.scenario.schema import MonitorConfig
-from gbh_drake.systems.cage_monitor import GraspSearch, Observation, Outcome, _Watch, observe
+from gbh_drake.systems.cage_monitor import Observation, _Watch, observe
 from gbh_drake.systems.grasp_search import explain_no_grasp
 from gbh_drake.systems.hangability_detector import Hangability
-from gbh_drake.systems.pick_and_carry import Mode, PickStatus
 from gbh_drake.systems.scanner import no_scan
 
 SCAN = ScanResult(trimesh.creation.box([0.05] * 3), np.zeros((1, 3)))

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.messages import HeldBy, Mode, Outcome, PickStatus
 from gbh_drake.scenario.schema import MonitorConfig
-from gbh_drake.systems.cage_monitor import HeldBy, Observation, Outcome, _Watch, observe
-from gbh_drake.systems.pick_and_carry import Mode, PickStatus
+from gbh_drake.systems.cage_monitor import Observation, _Watch, observe
 
 CFG = MonitorConfig()
 CLOSED = np.array([HOOK_GRIPPER.q_closed] * 2 + [0.0, 0, 0, 0])
@@ -98,7 +98,7 @@ def test_a_retry_starts_the_lift_record_anew_and_keeps_the_failed_one():
     """A first grasp lifts the object and drops it during the lift; the machine retries
     (``PickStatus.attempts`` grows) and the second grasp carries it: a success, the drop kept
     in ``earlier_attempts``, the reason saying a retry came first."""
-    from gbh_drake.systems.pick_and_carry import Attempt
+    from gbh_drake.messages import Attempt
 
     failed = Attempt(kind="parallel", rank=0, score=0.5, source="grasps", p_WG=np.zeros(3),
                      c_W=None, load=0.05, time=1.0)
@@ -127,7 +127,7 @@ def test_a_retry_starts_the_lift_record_anew_and_keeps_the_failed_one():
 def test_nothing_left_after_a_retry_says_so():
     """Every grasp offered after a retry was skipped (near the one that failed): the reason says
     nothing was left to try, not that none of 0 grasps could be planned."""
-    from gbh_drake.systems.pick_and_carry import Attempt
+    from gbh_drake.messages import Attempt
 
     failed = Attempt(kind="parallel", rank=0, score=0.5, source="grasps", p_WG=np.zeros(3),
                      c_W=np.zeros(3), load=0.0, time=1.0)

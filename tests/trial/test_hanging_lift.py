@@ -3,8 +3,8 @@ centre, and carries it at that height (a scan, the grasp search and planning; no
 
 import pytest
 
+from gbh_drake.messages import Mode
 from gbh_drake.planning.pick import CARRY_TOLERANCE, PickPlan
-from gbh_drake.systems.pick_and_carry import Mode
 from gbh_drake.trial import build_trial, simulate_trial
 
 pytestmark = pytest.mark.sim

@@ -4,8 +4,7 @@ cage test the verdict stands with a warning; before it the trial has no outcome 
 import pytest
 
 from gbh_drake import REPO_ROOT
-from gbh_drake.systems.cage_monitor import verdict_final
-from gbh_drake.systems.pick_and_carry import Mode
+from gbh_drake.messages import Mode, verdict_final
 
 
 def test_the_verdict_is_final_once_the_cage_test_is_over():

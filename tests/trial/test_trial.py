@@ -10,11 +10,11 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
+from gbh_drake.messages import Mode
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.objects import list_objects
 from gbh_drake.run import RunSummary
 from gbh_drake.seeds import derive_seeds
-from gbh_drake.systems.pick_and_carry import Mode
 from gbh_drake.trial import build_trial, make_record, simulate_trial
 
 pytestmark = pytest.mark.sim

@@ -1,0 +1,123 @@
+"""The plan choice: the first grasp that can be planned, tier by tier (pure: no Drake system).
+
+A method offers its grasps in ordered tiers (:class:`~gbh_drake.method_spec.Tier`: its own,
+then a scoop, a regrasp, a fallback pinch). :func:`choose` tries every grasp of a tier, best
+first, before it looks at the next tier; a tier's grasps are evaluated only when it is reached
+(evaluating GbH's or the sampler's output runs them on the scan). Planning one grasp is the
+caller's (:func:`gbh_drake.planning.pick.plan_pick` from the measured arm, or
+:func:`gbh_drake.planning.regrasp.plan_regrasp`); every refusal is kept, in order, and the wall
+time of each evaluation and of each grasp planned is measured.
+
+The :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine calls it at PLAN::
+
+    choice = choose([Offer(Tier.GRASPS, lambda: ranked), Offer(Tier.FALLBACK, lambda: pinches)],
+                    plan_grasp=..., plan_regrasp=..., max_grasps=10)
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from gbh_drake.method_spec import Tier
+
+
+@dataclass
+class Offer:
+    """One tier's grasps, evaluated on first need: ``grasps()`` returns a list, best first (for
+    a regrasp: the pinches that turn the object); ``poses()``, a regrasp's resting poses (each
+    with ``pinches``, its own pinches' X_WG, tried before the tier's)."""
+
+    tier: Tier
+    grasps: Callable[[], Sequence]
+    poses: Callable[[], Sequence] | None = None
+
+
+@dataclass
+class Choice:
+    """What :func:`choose` found: ``plan`` (None: nothing could be planned) with the ``tier``,
+    ``rank`` and ``grasp`` it came from (a regrasp's grasp is its pinch's X_WG); ``refusals``
+    of every grasp tried before, in order; ``n_offered``: grasps the grasp tiers offered (not
+    counting a regrasp's pinches); ``skipped``: grasps ``skip`` ruled out; wall seconds of the
+    offers' evaluation (``offer_seconds``) and of each grasp planned (``grasp_seconds``);
+    ``regrasp_note``: why a regrasp tier that was reached planned none ("" otherwise)."""
+
+    plan: object | None = None
+    tier: Tier | None = None
+    rank: int = -1
+    grasp: object | None = None
+    refusals: list = field(default_factory=list)
+    n_offered: int = 0
+    skipped: int = 0
+    offer_seconds: float = 0.0
+    grasp_seconds: list[float] = field(default_factory=list)
+    regrasp_note: str = ""
+
+
+def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Callable | None = None,
+           is_plan: Callable[[object], bool], max_grasps: int, max_pinches: int = 0,
+           regrasp_allowed: bool = True, skip: Callable[[object], bool] = lambda grasp: False,
+           check: Callable[[Tier, Sequence], None] = lambda tier, grasps: None) -> Choice:
+    """The first plannable grasp of ``offers``, tier by tier (see the module docstring).
+
+    ``plan_grasp(tier, rank, grasp)`` and ``plan_regrasp(rank, X_WG, pose)`` return a plan
+    (``is_plan`` true) or a refusal; only the first ``max_grasps`` grasps of a tier are tried,
+    and of a regrasp ``max_pinches`` pinches per resting pose of each kind; ``regrasp_allowed``
+    false passes over a regrasp tier (the object was regrasped often enough); ``check(tier,
+    grasps)`` may refuse an offer that cannot be executed (raise)."""
+    choice = Choice()
+    for offer in offers:
+        if offer.tier is Tier.REGRASP:
+            if regrasp_allowed and plan_regrasp is not None and \
+                    _regrasp(offer, choice, plan_regrasp, is_plan, max_pinches):
+                return choice
+            continue
+        start = time.perf_counter()
+        grasps = list(offer.grasps())
+        choice.offer_seconds += time.perf_counter() - start
+        check(offer.tier, grasps)
+        choice.n_offered += len(grasps)
+        for rank, grasp in enumerate(grasps[:max_grasps]):
+            if skip(grasp):
+                choice.skipped += 1
+                continue
+            start = time.perf_counter()
+            result = plan_grasp(offer.tier, rank, grasp)
+            choice.grasp_seconds.append(time.perf_counter() - start)
+            if _try(choice, result, is_plan, offer.tier, rank, grasp):
+                return choice
+    return choice
+
+
+def _try(choice: Choice, result, is_plan, tier: Tier, rank: int, grasp) -> bool:
+    """Records ``result``: the plan (True) or one more refusal (False)."""
+    if is_plan(result):
+        choice.plan, choice.tier, choice.rank, choice.grasp = result, tier, rank, grasp
+        return True
+    choice.refusals.append(result)
+    return False
+
+
+def _regrasp(offer: Offer, choice: Choice, plan_regrasp, is_plan, max_pinches: int) -> bool:
+    """A regrasp tier: resting poses best first, each with its own pinches first, then the
+    tier's; True when one was planned."""
+    start = time.perf_counter()
+    poses = list(offer.poses()) if offer.poses is not None else []
+    pinches = list(offer.grasps())[:max_pinches]
+    choice.offer_seconds += time.perf_counter() - start
+    if not poses or not pinches:
+        choice.regrasp_note = ("no resting pose offers a hook grasp" if not poses else
+                               "no pinch to turn the object with")
+        return False
+    for pose in poses:
+        mine = list(pose.pinches or [])[:max_pinches]
+        for rank, X_WG in enumerate([*mine, *(g.X_WG for g in pinches)]):
+            start = time.perf_counter()
+            result = plan_regrasp(rank, X_WG, pose)
+            choice.grasp_seconds.append(time.perf_counter() - start)
+            if _try(choice, result, is_plan, Tier.REGRASP, rank, X_WG):
+                return True
+    choice.regrasp_note = (f"none of {len(poses)} resting poses x {len(pinches)} pinches "
+                           "could be planned")
+    return False

@@ -1,0 +1,125 @@
+"""The plan choice alone: tiers in order, every grasp of a tier before the next, lazily."""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from gbh_drake.method_spec import Tier
+from gbh_drake.planning.choice import Offer, choose
+
+
+@dataclass
+class Grasp:
+    name: str
+    X_WG: np.ndarray = field(default_factory=lambda: np.eye(4))
+    kind: str = "parallel"
+
+
+@dataclass
+class Pose:
+    name: str
+    pinches: list = field(default_factory=list)
+
+
+def planner(plannable: set[str], log: list):
+    """plan_grasp / plan_regrasp that plan the grasps named in ``plannable`` and refuse the
+    others, logging every call."""
+
+    def plan_grasp(tier, rank, grasp):
+        log.append((tier, rank, grasp.name))
+        return ("plan", grasp.name) if grasp.name in plannable else ("refused", grasp.name)
+
+    def plan_regrasp(rank, X_WG, pose):
+        log.append((Tier.REGRASP, rank, pose.name))
+        return ("plan", pose.name) if pose.name in plannable else ("refused", pose.name)
+
+    return plan_grasp, plan_regrasp
+
+
+def is_plan(result):
+    return result[0] == "plan"
+
+
+def evaluated(names, seen: list, tier: Tier):
+    def grasps():
+        seen.append(tier)
+        return [Grasp(n) for n in names]
+    return grasps
+
+
+def test_every_grasp_of_a_tier_is_tried_before_the_next_tier_and_later_tiers_stay_unevaluated():
+    log, seen = [], []
+    plan_grasp, plan_regrasp = planner({"f1", "a2"}, log)
+    offers = [Offer(Tier.GRASPS, evaluated(["a0", "a1", "a2"], seen, Tier.GRASPS)),
+              Offer(Tier.FALLBACK, evaluated(["f0", "f1"], seen, Tier.FALLBACK))]
+    choice = choose(offers, plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10)
+    assert choice.plan == ("plan", "a2") and choice.tier is Tier.GRASPS and choice.rank == 2
+    assert [r[1] for r in choice.refusals] == ["a0", "a1"]
+    assert seen == [Tier.GRASPS]  # the fallback was never evaluated (it runs a sampler)
+    assert len(choice.grasp_seconds) == 3 and choice.n_offered == 3
+
+
+def test_the_fallback_follows_a_regrasp_and_counts_only_grasp_tiers():
+    log, seen = [], []
+    plan_grasp, plan_regrasp = planner({"f1"}, log)
+    offers = [Offer(Tier.GRASPS, evaluated(["a0"], seen, Tier.GRASPS)),
+              Offer(Tier.SCOOP, evaluated(["s0"], seen, Tier.SCOOP)),
+              Offer(Tier.REGRASP, evaluated(["p0", "p1", "p2"], seen, Tier.REGRASP),
+                    poses=lambda: [Pose("upright", pinches=[np.eye(4)]), Pose("side")]),
+              Offer(Tier.FALLBACK, evaluated(["f0", "f1"], seen, Tier.FALLBACK))]
+    choice = choose(offers, plan_grasp=plan_grasp, plan_regrasp=plan_regrasp, is_plan=is_plan,
+                    max_grasps=10, max_pinches=2)
+    assert choice.plan == ("plan", "f1") and choice.tier is Tier.FALLBACK and choice.rank == 1
+    # Each resting pose: its own pinch first, then the tier's first two (max_pinches).
+    assert [entry for entry in log if entry[0] is Tier.REGRASP] == [
+        (Tier.REGRASP, 0, "upright"), (Tier.REGRASP, 1, "upright"), (Tier.REGRASP, 2, "upright"),
+        (Tier.REGRASP, 0, "side"), (Tier.REGRASP, 1, "side")]
+    assert choice.regrasp_note == "none of 2 resting poses x 2 pinches could be planned"
+    assert choice.n_offered == 4  # a0, s0, f0, f1: a regrasp's pinches are not offered grasps
+    assert [r[1] for r in choice.refusals] == ["a0", "s0", *["upright"] * 3, *["side"] * 2, "f0"]
+
+
+def test_a_regrasp_plan_wins_over_the_fallback_unless_regrasping_is_used_up():
+    log = []
+    plan_grasp, plan_regrasp = planner({"side", "f0"}, log)
+    offers = [Offer(Tier.GRASPS, lambda: []),
+              Offer(Tier.REGRASP, lambda: [Grasp("p0")], poses=lambda: [Pose("side")]),
+              Offer(Tier.FALLBACK, lambda: [Grasp("f0")])]
+    kwargs = dict(plan_grasp=plan_grasp, plan_regrasp=plan_regrasp, is_plan=is_plan,
+                  max_grasps=10, max_pinches=1)
+    assert choose(offers, **kwargs).tier is Tier.REGRASP
+    assert choose(offers, regrasp_allowed=False, **kwargs).tier is Tier.FALLBACK
+
+
+@pytest.mark.parametrize(("poses", "pinches", "note"), [
+    ([], ["p0"], "no resting pose offers a hook grasp"),
+    ([Pose("side")], [], "no pinch to turn the object with"),
+])
+def test_a_regrasp_without_poses_or_pinches_says_why(poses, pinches, note):
+    plan_grasp, plan_regrasp = planner(set(), [])
+    offers = [Offer(Tier.GRASPS, lambda: []),
+              Offer(Tier.REGRASP, lambda: [Grasp(n) for n in pinches], poses=lambda: poses)]
+    choice = choose(offers, plan_grasp=plan_grasp, plan_regrasp=plan_regrasp, is_plan=is_plan,
+                    max_grasps=10, max_pinches=3)
+    assert choice.plan is None and choice.regrasp_note == note
+
+
+def test_only_the_first_max_grasps_are_tried_and_skipped_ones_are_counted():
+    log = []
+    plan_grasp, _ = planner(set(), log)
+    offers = [Offer(Tier.GRASPS, lambda: [Grasp(f"a{i}") for i in range(6)])]
+    choice = choose(offers, plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=4,
+                    skip=lambda grasp: grasp.name == "a1")
+    assert [name for _, _, name in log] == ["a0", "a2", "a3"]
+    assert choice.plan is None and choice.skipped == 1 and choice.n_offered == 6
+
+
+def test_an_offer_the_caller_refuses_raises():
+    def check(tier, grasps):
+        if any(not hasattr(g, "X_WG") for g in grasps):
+            raise TypeError(f"{tier.value}: a grasp without X_WG")
+
+    with pytest.raises(TypeError, match="grasps: a grasp without X_WG"):
+        choose([Offer(Tier.GRASPS, lambda: [object()])], plan_grasp=lambda *a: None,
+               is_plan=is_plan, max_grasps=10, check=check)
