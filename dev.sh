@@ -12,6 +12,7 @@ cd "$(dirname "$0")"
 PYTHON=${PYTHON:-python3.11}
 VENV=.venv
 STAMP=$VENV/.gbh-installed
+MESH_STAMP=$VENV/.gbh-meshes
 
 as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
 
@@ -43,10 +44,24 @@ setup_venv() {
   fi
 }
 
+setup_meshes() {
+  # The third-party meshes of the shipped object sets (scenarios/object_sets/), downloaded from
+  # PyPI into the cache once (gbh objects fetch; never at run time, never committed).
+  local want cache
+  want=$(cat scenarios/object_sets/*.yaml | sha256sum | cut -d' ' -f1)
+  cache=${GBH_DRAKE_CACHE:-$HOME/.cache/gbh_drake}
+  if [ ! -f "$MESH_STAMP" ] || [ "$(cat "$MESH_STAMP")" != "$want" ] || [ ! -d "$cache" ]; then
+    echo "dev.sh: fetching the object sets' third-party meshes into $cache (first time: ~1 min)"
+    "$VENV/bin/gbh" objects fetch
+    echo "$want" > "$MESH_STAMP"
+  fi
+}
+
 cmd=${1:-run}
 shift || true
 setup_system
 setup_venv
+setup_meshes
 case "$cmd" in
   setup) ;;
   run)   exec "$VENV/bin/gbh" run "$@" ;;

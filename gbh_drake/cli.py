@@ -4,7 +4,8 @@
                                                        the packaged scenarios/default.yaml)
     gbh diagram [SCENARIO.yaml] [--out DIR]            write the station's and the trial's diagrams
                                                        (default output/diagrams/)
-    gbh objects list                                   the object set: sizes, masses, hangable parts
+    gbh objects list [--set SET.yaml] [--csv|--json]   an object set: sizes, masses, hangable parts
+    gbh objects fetch [--set SET.yaml]                 download the sets' third-party meshes (PyPI)
     gbh objects build [--out DIR]                      write every object's Drake model (models/objects/)
     gbh experiment EXPERIMENT.yaml [--workers N] [--ray ADDRESS]   objects x trials x methods (Table 1)
     gbh report DIR                                     rebuild an experiment's tables and plot
@@ -23,6 +24,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import functools
+import json
 import logging
 import os
 import sys
@@ -59,6 +61,9 @@ def _input_error(error: BaseException) -> str | None:
     mesh_io = sys.modules.get("gbh_drake.objects.mesh_io")
     if mesh_io is not None and isinstance(error, mesh_io.MeshImportError):
         return f"invalid mesh: {error}"
+    sets = sys.modules.get("gbh_drake.objects.sets")
+    if sets is not None and isinstance(error, sets.ObjectSetError):
+        return f"invalid object set: {error}"
     return None
 
 
@@ -191,8 +196,15 @@ def main(argv: list[str] | None = None) -> int:
     p_diag.add_argument("--out", default=str(DEFAULT_DIAGRAMS),
                         help=f"output folder (default {DEFAULT_DIAGRAMS})")
 
-    p_obj = sub.add_parser("objects", help="the object set")
-    p_obj.add_argument("action", choices=["list", "build"])
+    p_obj = sub.add_parser("objects", help="object sets: list them, fetch their meshes, build "
+                                           "the built-in set's models")
+    p_obj.add_argument("action", choices=["list", "fetch", "build"])
+    p_obj.add_argument("--set", dest="sets", action="append", default=[], metavar="SET.yaml",
+                       help="an object set's manifest (default: list the built-in set; fetch "
+                            "the shipped sets' meshes); may be repeated")
+    fmt = p_obj.add_mutually_exclusive_group()
+    fmt.add_argument("--csv", action="store_true", help="list as CSV")
+    fmt.add_argument("--json", action="store_true", help="list as JSON")
     p_obj.add_argument("--out", default=None, help="output folder of build (default models/objects)")
     experiment_cli.add_subcommands(sub)  # gbh experiment, gbh report
 
@@ -201,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "run" and args.port is not None and not 0 < args.port < 65536:
         parser.error(f"--port {args.port}: a port is 1-65535")
     if args.command == "objects":
-        return _objects(args.action, args.out)
+        return _objects(args)
     if args.command in experiment_cli.COMMANDS:
         return experiment_cli.run_command(args)
     from gbh_drake.scenario import load_scenario
@@ -252,16 +264,35 @@ def _run(scenario, *, live: bool, port: int | None = None) -> int:
     return 1 if summary.record.outcome == "error" else 0
 
 
-def _objects(action: str, out: str | None) -> int:
+def _objects(args) -> int:
     from gbh_drake.modeling.object_set import (
         OBJECT_MODELS_DIR,
         build_object_models,
-        describe_object_set,
+        describe_lines,
+        describe_set,
     )
 
-    if action == "list":
-        print("\n".join(describe_object_set()))
+    if args.action == "fetch":
+        from gbh_drake.objects.fetch import main as fetch
+
+        return fetch([str(p) for p in args.sets or _shipped_sets()])
+    if args.action == "list":
+        # Each object's warnings are in its row, not also as log lines.
+        logging.getLogger("gbh_drake.objects").setLevel(logging.ERROR)
+        rows = [row for path in args.sets or [None] for row in describe_set(path)]
+        if args.json:
+            print(json.dumps(rows, indent=1))
+        elif args.csv:
+            import csv
+
+            writer = csv.DictWriter(sys.stdout, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows({k: "; ".join(map(str, v)) if isinstance(v, list) else v
+                              for k, v in r.items()} for r in rows)
+        else:
+            print("\n".join(describe_lines(rows)))
         return 0
+    out = args.out
     from gbh_drake.outputs import replace_contents
 
     folder = Path(out) if out else OBJECT_MODELS_DIR
@@ -271,6 +302,13 @@ def _objects(action: str, out: str | None) -> int:
         sdf = Path(model.sdf)  # <staging>/<object>/<object>.sdf, now in <folder>/<object>/
         print(f"wrote {folder.resolve() / sdf.parent.name / sdf.name} ({model.mass * 1000:.0f} g)")
     return 0
+
+
+def _shipped_sets() -> list[Path]:
+    """The object sets shipped with gbh_drake (scenarios/object_sets/)."""
+    from gbh_drake import SCENARIOS_DIR
+
+    return sorted((SCENARIOS_DIR / "object_sets").glob("*.yaml"))
 
 
 def _diagram(scenario, out: Path) -> int:

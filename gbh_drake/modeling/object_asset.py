@@ -10,6 +10,7 @@ never starts inside the table.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -124,24 +125,66 @@ def _without_warnings_as_given(asset: ObjectAsset, prepared, config: ObjectConfi
 
 def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
     """The object ``config.name`` of the object set at ``manifest``: a built-in object, or its
-    mesh with the set's scale and mass, its natural rest and its ground truth moved from the
-    file's frame into O."""
-    from gbh_drake.objects import load_mesh_object
-    from gbh_drake.objects.sets import load_object_set, natural_rest_of, parts_in_file_frame
+    mesh with the set's scale and mass, turned into its natural rest (frame O is that rest, as
+    the built-in objects are modelled in theirs), with its ground truth moved from the file's
+    frame into O. The last few are kept per process (a scenario's check and its station load
+    the same object)."""
+    from gbh_drake.objects.sets import load_object_set
 
-    obj = load_object_set(manifest).object(config.name)
-    if obj.builtin:
-        return load_object_asset(dataclasses.replace(config, set="", name=obj.builtin), manifest)
+    try:
+        stamp = manifest.stat().st_mtime_ns
+    except OSError:
+        stamp = None
+    key = (str(manifest.resolve()), stamp, config.name)
+    if key not in _SET_ASSETS:
+        obj = load_object_set(manifest).object(config.name)
+        if obj.builtin:
+            asset = load_object_asset(dataclasses.replace(config, set="", name=obj.builtin),
+                                      manifest)
+        else:
+            asset = _mesh_entry_asset(obj)
+        while len(_SET_ASSETS) >= 8:
+            _SET_ASSETS.pop(next(iter(_SET_ASSETS)))
+        _SET_ASSETS[key] = asset
+    asset = copy.deepcopy(_SET_ASSETS[key])
+    if config.random_pose is not None and config.random_pose.stable and \
+            config.random_pose.rest != "natural":
+        # A stable draw: how it rests as modelled does not matter.
+        asset.warnings = [w for w in asset.warnings if not _as_given(w)]
+    return asset
+
+
+_SET_ASSETS: dict[tuple, ObjectAsset] = {}
+
+
+def _as_given(warning: str) -> bool:
+    """Whether ``warning`` is about how the mesh rests as given (its placement's)."""
+    return any(words in warning for words in ("as given", "off its nearest stable face"))
+
+
+def _mesh_entry_asset(obj) -> ObjectAsset:
+    """An object set's mesh entry (``SetObject``) as an asset, in its natural rest."""
+    from gbh_drake.objects import load_mesh_file, prepare_mesh_object
+    from gbh_drake.objects.sets import natural_rest_of, parts_in_file_frame
+    from gbh_drake.objects.spec import NaturalRest
+
     entry = obj.entry
-    prepared = load_mesh_object(obj.mesh_path, scale=entry.scale, density=entry.density or None,
-                                mass=entry.mass or None, orientation="keep")
+    rest = natural_rest_of(entry)
+    mesh = load_mesh_file(obj.mesh_path, scale=entry.scale)
+    X_RF = np.eye(4)
+    if rest is not None:
+        X_RF[:3, :3] = rest.R
+        mesh.apply_transform(X_RF)
+    prepared = prepare_mesh_object(mesh, source=str(obj.mesh_path), scale=entry.scale,
+                                   density=entry.density or None, mass=entry.mass or None)
     asset = _asset(obj.name, prepared, MESH_RGBA, f"object set {obj.set_name}: {obj.name}")
-    R, p = prepared.X_OF[:3, :3], prepared.X_OF[:3, 3]
+    X_OF = prepared.X_OF @ X_RF
+    R, p = X_OF[:3, :3], X_OF[:3, 3]
     asset.hangable_parts = [dataclasses.replace(part, center_O=R @ part.center_O + p,
                                                 axis_O=R @ part.axis_O)
                             for part in parts_in_file_frame(entry)]
-    asset.natural_rest = natural_rest_of(entry)
-    return _without_warnings_as_given(asset, prepared, config)
+    asset.natural_rest = None if rest is None else NaturalRest((0.0, 0.0, 0.0), rest.reason)
+    return asset
 
 
 def initial_object_pose(config: ObjectConfig, asset: ObjectAsset, seed: int) -> RigidTransform:

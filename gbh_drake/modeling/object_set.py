@@ -30,14 +30,55 @@ def build_object_models(out_dir: Path = OBJECT_MODELS_DIR,
     return models
 
 
-def describe_object_set() -> list[str]:
-    """One line per object: name, size (cm), mass (g), hangable parts."""
+#: The columns of ``gbh objects list`` (and its --csv/--json), in order.
+COLUMNS = ("name", "size_cm", "mass_g", "watertight", "control", "tags", "hangable_parts",
+           "natural_rest", "source", "warnings")
+
+
+def describe_set(manifest: Path | None = None) -> list[dict]:
+    """One row per object of the set at ``manifest`` (None: the built-in set), as the station
+    would load it: name, size (cm: x, y, z in its frame O), mass (g), watertight, control,
+    tags, ground-truth parts ("name (kind, clear diameter mm)"; "unknown" when a mesh entry
+    declares none), natural rest, where it comes from and the import's warnings."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.modeling.object_asset import load_object_asset
+    from gbh_drake.modeling.object_config import ObjectConfig
+    from gbh_drake.objects.sets import load_object_set
+
+    path = (Path(manifest) if manifest else SCENARIOS_DIR / "object_sets" / "own.yaml").resolve()
+    object_set = load_object_set(path)
+    rows = []
+    for name in object_set.names:
+        obj = object_set.object(name)
+        asset = load_object_asset(ObjectConfig(set=str(path), name=name), path.parent)
+        size = (asset.mesh.bounds[1] - asset.mesh.bounds[0]) * 100
+        if asset.hangable_parts:
+            parts = ", ".join(f"{p.name} ({p.kind}, {p.clear_diameter * 1000:.1f} mm)"
+                              for p in asset.hangable_parts)
+        else:
+            parts = "none (control)" if obj.is_control else ("none" if obj.builtin else "unknown")
+        rows.append({
+            "name": name, "size_cm": [round(float(v), 1) for v in size],
+            "mass_g": round(asset.mass * 1000.0, 1), "watertight": bool(asset.mesh.is_watertight),
+            "control": bool(obj.is_control), "tags": list(obj.tags), "hangable_parts": parts,
+            "natural_rest": asset.natural_rest.reason if asset.natural_rest else "",
+            "source": asset.source, "warnings": list(asset.warnings)})
+    return rows
+
+
+def describe_lines(rows: list[dict]) -> list[str]:
+    """``gbh objects list``'s text: one line per object (name, size, mass, parts), then each
+    object's warnings indented."""
     lines = []
-    for name in list_objects():
-        spec = make_object(name)
-        size = (spec.mesh.bounds[1] - spec.mesh.bounds[0]) * 100
-        gt = ground_truth(spec)
-        parts = ", ".join(f"{p.name} ({p.kind})" for p in spec.hangable_parts) or "none (control)"
-        lines.append(f"{name:20s} {size[0]:5.1f} x {size[1]:5.1f} x {size[2]:5.1f} cm "
-                     f"{gt['mass_kg'] * 1000:6.0f} g   {parts}")
+    for r in rows:
+        x, y, z = r["size_cm"]
+        flag = "" if r["watertight"] else "  (not watertight)"
+        lines.append(f"{r['name']:24s} {x:5.1f} x {y:5.1f} x {z:5.1f} cm {r['mass_g']:7.0f} g   "
+                     f"{r['hangable_parts']}{flag}")
+        lines += [f"    warning: {w}" for w in r["warnings"]]
     return lines
+
+
+def describe_object_set() -> list[str]:
+    """One line per object of the built-in set: name, size (cm), mass (g), hangable parts."""
+    return describe_lines(describe_set())

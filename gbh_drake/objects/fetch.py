@@ -340,37 +340,19 @@ def _write_source_yaml(path: Path, source: Source, archive: Path, url, files) ->
 
 
 def read_manifest_entries(manifest) -> list[dict]:
-    """The ``objects[*]`` ``{"name", "mesh", "source"}`` of an object-set YAML. ValueError
-    naming the file and field for anything malformed."""
-    import yaml
+    """The ``{"name", "mesh", "source"}`` of an object set's ``pypi://`` meshes (its manifest
+    read and checked by :func:`gbh_drake.objects.sets.load_object_set`; built-in objects and
+    local files need nothing fetched). ValueError naming the file, the entry and the field."""
+    from gbh_drake.objects.sets import ObjectSetError, entry_name, load_object_set
 
-    path = Path(manifest)
     try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise ValueError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except yaml.YAMLError as exc:
-        raise ValueError(f"{path}: not valid YAML ({str(exc).splitlines()[0]})") from None
-    objects = data.get("objects") if isinstance(data, dict) else None
-    if not isinstance(objects, list) or not objects:
-        raise ValueError(f"{path}: 'objects' must be a non-empty list")
-    entries = []
-    for k, obj in enumerate(objects):
-        name = obj.get("name", f"#{k}") if isinstance(obj, dict) else f"#{k}"
-        where = f"{path}: objects[{k}] ({name})"
-        if not isinstance(obj, dict):
-            raise ValueError(f"{where}: must be a mapping")
-        for field in ("mesh", "source"):
-            if field not in obj:
-                raise ValueError(f"{where}: '{field}' is missing")
-        try:
-            source = Source.from_dict(obj["source"])
-            dist, _ = parse_mesh_uri(obj["mesh"])
-            _check_dist(dist, source, obj["mesh"])
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
-        entries.append({"name": name, "mesh": obj["mesh"], "source": source})
-    return entries
+        object_set = load_object_set(manifest)
+    except ObjectSetError as exc:
+        raise ValueError(str(exc)) from None
+    return [{"name": entry_name(e), "mesh": e.mesh,
+             "source": Source(e.source.package, e.source.version, e.source.archive,
+                              e.source.license)}
+            for e in object_set.entries if e.mesh.startswith(SCHEME)]
 
 
 def main(argv: list[str] | None = None, *, download: Download | None = None) -> int:

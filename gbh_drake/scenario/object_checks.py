@@ -81,7 +81,7 @@ def check_object(scenario) -> None:
 def _check_set_object(scenario) -> None:
     """``object.set`` is a manifest that loads, ``object.name`` one of its objects, whose mesh
     is found and loads; ``rest: natural`` needs its declared rest."""
-    from gbh_drake.objects import MeshImportError, load_mesh_object
+    from gbh_drake.objects import MeshImportError
     from gbh_drake.objects.sets import ObjectSetError, load_object_set
 
     obj = scenario.object
@@ -109,15 +109,15 @@ def _check_set_object(scenario) -> None:
         raise FieldError(("object", "random_pose", "rest"),
                          f"natural: {obj.name} of {path} has no natural rest (give the entry "
                          "rest: {as_given: true, reason: ...} or rpy_deg); use rest: stable")
+    from gbh_drake.modeling.object_asset import load_object_asset
+
     try:
-        loaded = load_mesh_object(found.mesh_path, scale=entry.scale,
-                                  density=entry.density or None, mass=entry.mass or None)
+        asset = load_object_asset(obj, scenario.directory)
     except MeshImportError as e:
         raise FieldError(("object", "set"), f"{path}: {obj.name}: {e}") from None
-    mass = float(loaded.mass_properties.mass)
-    if mass > MASS_RANGE[1]:
-        raise FieldError(("object", "set"), f"{path}: {obj.name} weighs {mass:.3g} kg, above the "
-                                            f"Franka's payload ({MASS_RANGE[1]:g} kg)")
+    if asset.mass > MASS_RANGE[1]:
+        raise FieldError(("object", "set"), f"{path}: {obj.name} weighs {asset.mass:.3g} kg, "
+                                            f"above the Franka's payload ({MASS_RANGE[1]:g} kg)")
 
 
 def _builtin_rest(name: str):

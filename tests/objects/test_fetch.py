@@ -189,8 +189,11 @@ def test_manifest_entry_point(tmp_path, capsys):
     src = {"package": "toypkg", "version": "1.0", "archive": "wheel", "license": "MIT",
            "license_note": "ignored here"}
     manifest = write_manifest(tmp_path / "set.yaml", [
-        {"name": "a", "mesh": "pypi://toypkg/toypkg/assets/objects/ring.obj", "source": src},
-        {"name": "b", "mesh": "pypi://toypkg/toypkg/assets/objects/mug/mug.obj", "source": src}])
+        {"name": "a", "mesh": "pypi://toypkg/toypkg/assets/objects/ring.obj", "source": src,
+         "mass": 0.1},
+        {"name": "b", "mesh": "pypi://toypkg/toypkg/assets/objects/mug/mug.obj", "source": src,
+         "mass": 0.1},
+        {"builtin": "teapot"}])  # nothing to fetch for a built-in object
     assert [e["name"] for e in read_manifest_entries(manifest)] == ["a", "b"]
     assert main([str(manifest), "--cache-dir", str(tmp_path / "c")], download=download) == 0
     assert download.calls == 1
@@ -198,10 +201,14 @@ def test_manifest_entry_point(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(("objects", "message"), [
-    ([], "'objects' must be a non-empty list"),
-    ([{"name": "a", "source": {"package": "p", "version": "1"}}], r"objects\[0\] \(a\): 'mesh'"),
-    ([{"name": "a", "mesh": "pypi://p/x.obj", "source": {"package": "p"}}], "source.version"),
-    ([{"name": "a", "mesh": "p/x.obj", "source": {"package": "p", "version": "1"}}], "pypi://"),
+    ([], r"objects \(line \d+\): list at least one object"),
+    ([{"name": "a", "mass": 0.1, "source": {"package": "p", "version": "1", "license": "MIT"}}],
+     r"objects\[0\] \(a\)\.mesh \(line \d+\): give the mesh file"),
+    ([{"name": "a", "mass": 0.1, "mesh": "pypi://p/x.obj", "source": {"package": "p"}}],
+     r"objects\[0\] \(a\)\.source\.version"),
+    ([{"name": "a", "mass": 0.1, "mesh": "pypi://p", "source": {"package": "p", "version": "1",
+                                                                 "license": "MIT"}}],
+     r"objects\[0\] \(a\)\.mesh.*pypi://DISTRIBUTION/PATH"),
 ])
 def test_bad_manifests_exit_2_naming_file_and_field(tmp_path, capsys, objects, message):
     manifest = write_manifest(tmp_path / "bad.yaml", objects)

@@ -37,7 +37,7 @@ MUG = """  - name: my_mug
     rest: {rpy_deg: [90, 0, 0], reason: upright on its base}
     tags: [cup]
     hangable_parts:
-      - {name: handle, center: [62.0e-3, 47.5e-3, 0], axis: [0, 0, 1], kind: closed,
+      - {name: handle, center: [58.0e-3, 47.5e-3, 0], axis: [0, 0, 1], kind: closed,
          clear_diameter: 0.035}
 """
 
@@ -59,12 +59,14 @@ def test_a_mesh_entry_gives_its_asset_with_the_ground_truth_moved_into_O(meshes)
     asset = load_object_asset(ObjectConfig(set=str(path), name="my_mug"), meshes)
     assert asset.name == "my_mug" and asset.mass == pytest.approx(0.32)
     (part,) = asset.hangable_parts
-    # The file is y-up: placed with its z up (orientation keep), the part moves with the mesh.
-    lo = asset.mesh.bounds[0]
-    assert lo[2] == pytest.approx(0.0, abs=1e-9)
-    closest = asset.mesh.nearest.on_surface([part.center_O])[1][0]
-    assert closest == pytest.approx(0.5 * 0.011, abs=1.5e-3)  # on the handle's circle of centres
-    assert asset.natural_rest.rpy_deg == (90.0, 0.0, 0.0)
+    # Turned into its natural rest (the file is y-up), then placed: frame O is the rest, the
+    # ground truth moved with the mesh (the handle's hole halfway up, its axis along y).
+    extent = asset.mesh.bounds[1] - asset.mesh.bounds[0]
+    assert asset.mesh.bounds[0][2] == pytest.approx(0.0, abs=1e-9)
+    assert extent[2] == pytest.approx(0.095, abs=1e-3)
+    assert part.center_O[2] == pytest.approx(0.0475, abs=1e-3)
+    assert abs(part.axis_O[1]) == pytest.approx(1.0, abs=1e-6)
+    assert asset.natural_rest.rpy_deg == (0.0, 0.0, 0.0)  # as modelled, like a built-in's
     builtin = load_object_asset(ObjectConfig(set=str(path), name="teapot"), meshes)
     assert builtin.name == "teapot" and builtin.hangable_parts
 
