@@ -69,7 +69,7 @@ from gbh_drake.scenario import (
     validate_scenario,
 )
 from gbh_drake.scenario.loader import apply_overrides
-from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers
+from gbh_drake.yamlfiles.layers import LayerError, Layers, file_layer, load_layers
 from gbh_drake.yamlfiles.yaml_text import (
     YamlTextError,
     compose,
@@ -308,11 +308,7 @@ def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") ->
     its line. An empty or comment-only file, or one that is only ``---``, is the defaults (which
     list no objects: refused at ``objects``)."""
     path = Path(filename)
-    origin = str(path)
-    try:
-        text = read_text(path, "experiment")
-    except YamlTextError as e:
-        raise ExperimentError(origin, "", e.line, e.problem, e.column) from None
+    origin, text = file_layer(path, "experiment", ExperimentError)
     layers = [(origin, text)] + [(f"{path} (--set {t!r})", t)
                                  for t in ([overrides] if isinstance(overrides, str) else overrides)
                                  if t.strip()]

@@ -25,8 +25,7 @@ from gbh_drake.core.params import PRESETS
 from gbh_drake.core.ranges import FieldError, format_path
 from gbh_drake.scenario.checks import check_scenario
 from gbh_drake.scenario.schema import ObjectConfig, Scenario
-from gbh_drake.yamlfiles.layers import LayerError, Layers, load_layers, override_layers, written
-from gbh_drake.yamlfiles.yaml_text import YamlTextError, read_text
+from gbh_drake.yamlfiles.layers import LayerError, Layers, file_layer, load_layers, override_layers, written
 
 
 class ScenarioError(LayerError):
@@ -43,11 +42,7 @@ def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[st
     """Loads and checks a scenario file; ``overrides`` (YAML text, or several applied in order)
     go on top of it. Raises :class:`ScenarioError` (see the module docstring)."""
     path = Path(filename)
-    origin = str(path)
-    try:
-        text = read_text(path)
-    except YamlTextError as e:
-        raise ScenarioError(origin, "", e.line, e.problem, e.column) from None
+    origin, text = file_layer(path, "scenario", ScenarioError)
     return _load_layers([(origin, text), *override_layers(origin, overrides)], Scenario(),
                         origin, str(path.resolve()))
 

@@ -15,6 +15,7 @@ Errors read ``<origin>: <field> (line N): <problem>`` (:func:`error_text`), and 
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import TypeVar
 
 import yaml
@@ -30,6 +31,7 @@ from gbh_drake.yamlfiles.yaml_text import (
     line_of,
     locate_load_error,
     node_at,
+    read_text,
 )
 
 T = TypeVar("T")
@@ -105,6 +107,16 @@ def written(root: yaml.Node | None, path: tuple, *, nonempty: bool = False) -> b
     if node is None or node.tag == "tag:yaml.org,2002:null":
         return False
     return not (nonempty and isinstance(node, yaml.ScalarNode) and node.value == "")
+
+
+def file_layer(path, what: str, error: type[LayerError]) -> tuple[str, str]:
+    """(origin, text) of the file at ``path`` as a layer (``what`` names the kind of file);
+    ``error`` names the file when it cannot be read as UTF-8 YAML text."""
+    origin = str(path)
+    try:
+        return origin, read_text(Path(path), what)
+    except YamlTextError as e:
+        raise error(origin, "", e.line, e.problem, e.column) from None
 
 
 def load_layers(schema: type[T], layers: list[tuple[str, str]], start: T, *,

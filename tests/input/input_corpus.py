@@ -141,7 +141,7 @@ CASES: list[Case] = [
     _c("object_list", "object: [mug_classic]\n", "object", 1,
        "expected a mapping of ObjectConfig fields"),
     _c("object_string", "object: mug_classic\n", "object", 1,
-       "expected a mapping of ObjectConfig fields (name, mesh"),
+       "expected a mapping of ObjectConfig fields (name, set, mesh"),
     _c("scale_list", "object:\n  scale: [1, 2]\n", "object.scale", 2,
        "expected a number, got a list"),
     _c("scan_target_string", "scan_target: '123'\n", "scan_target", 1,
