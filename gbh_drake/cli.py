@@ -46,7 +46,9 @@ def _scenario_arg(parser: argparse.ArgumentParser) -> None:
                         help="scenario YAML file (default: the packaged scenarios/default.yaml)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
                         help="YAML text applied over the file, e.g. --set 'seed: 3' (may be "
-                             "repeated: applied in order)")
+                             "repeated: applied in order). A relative path in it (output_dir, "
+                             "object.mesh) is relative to the current folder; one in the file, "
+                             "to the file's folder")
 
 
 def _input_error(error: BaseException) -> str | None:

@@ -19,6 +19,7 @@ from pydrake.geometry import Meshcat
 from gbh_drake.core.resting import rest_in_words
 from gbh_drake.outputs import RunOutputs, plain
 from gbh_drake.scenario import Scenario, dump_resolved
+from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.trial import TrialRecord, TrialRun, record_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
@@ -96,6 +97,7 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
     not writable, on a full disk or in use by another run raises
     :class:`~gbh_drake.outputs.OutputError`); the outputs appear all together at the end, and a
     run that fails or is interrupted leaves none (:class:`~gbh_drake.outputs.RunOutputs`)."""
+    require_scenario(scenario, "run")
     # Check and lock the output folder before anything is built.
     with RunOutputs(scenario.output_path()) as outputs:
         # Build the trial diagram, simulate it, record it (with its Meshcat replay).

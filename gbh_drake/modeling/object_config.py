@@ -10,7 +10,17 @@ from dataclasses import dataclass, field
 
 from pydrake.common.schema import Transform
 
-from gbh_drake.core.ranges import FieldError, Items, NonNeg, OneOf, Pos, Range, ranged, sibling
+from gbh_drake.core.ranges import (
+    FieldError,
+    FilePath,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    ranged,
+    sibling,
+)
 
 #: How a random start pose rests (``RandomRestingPose.rest``; the experiment's ``protocols``):
 #:
@@ -63,13 +73,15 @@ class ObjectConfig:
     name: str = "mug_classic"
     """A named object: of the built-in set (``gbh objects list``), or of the object set
     ``set``; ignored when ``mesh`` is set."""
-    set: str = ""
-    """An object set's manifest (a path relative to the scenario file;
+    set: str = ranged("", FilePath("object set manifest"))
+    """An object set's manifest (a path relative to the scenario file, given in an override:
+    to the current folder;
     :mod:`gbh_drake.objects.sets`): ``name`` is one of its objects, with its mesh, mass,
     natural rest and ground truth."""
-    mesh: str = ""
-    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file; ``scale``
-    turns its units into metres. It is placed resting on the table whatever its origin."""
+    mesh: str = ranged("", FilePath("mesh file"))
+    """Path to any mesh file (obj/stl/ply/glb/gltf/off), relative to the scenario file (given
+    in an override: to the current folder); ``scale`` turns its units into metres. It is placed
+    resting on the table whatever its origin."""
     scale: float = ranged(1.0, Pos(1000.0, note="e.g. 0.001 for a file in millimetres"))
     """Uniform scale applied to ``mesh`` (e.g. 0.001 for a file in millimetres)."""
     orientation: str = ranged("keep", OneOf(("keep", "nearest_stable", "most_probable")))
