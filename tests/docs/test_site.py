@@ -27,7 +27,9 @@ def test_the_site_builds_strictly(tmp_path):
     home = (tmp_path / "site" / "index.html").read_text()
     assert "Two commands" in home and 'href="getting_started/"' in home  # the README, links made relative
     reference = (tmp_path / "site" / "scenario_fields" / "index.html").read_text()
-    assert "gbh_drake.scenario.schema.Scenario" in reference and "plant_config.time_step" in reference
+    assert "gbh_drake.scenario.schema.Scenario" in reference and "RandomRestingPose" in reference
+    errors = (tmp_path / "site" / "errors" / "index.html").read_text()
+    assert "plant_config.time_step" in errors  # the generated limits table
     speed = (tmp_path / "site" / "speed" / "index.html").read_text()
     assert 'href="../#figures"' in speed  # ../README.md#figures on GitHub, the home page here
     api = (tmp_path / "site" / "api" / "systems" / "index.html").read_text()
