@@ -262,6 +262,21 @@ class GbhParams:
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = ranged(10, Int(1, 100))
     """*paper*: number of best grasps returned for execution."""
+    distinct_distance: float = ranged(0.005, NonNeg(0.05, "m", "0 with distinct_angle_deg 0: "
+                                                             "no de-duplication"))
+    """Ours (beyond the paper), metres: the ranked list holds distinct grasps. A grasp whose
+    origin lies closer than this to that of a better ranked grasp of the same kind, turned by
+    less than ``distinct_angle_deg`` from it, is a copy and takes no place in the top k
+    (:func:`~gbh_drake.core.scoring.rank_grasps`). The turned approaches land on the
+    neighbouring contacts (20 and 40 deg turns, contacts every 360 / n_rays_per_plane =
+    10 deg): without this, a closed handle's top ten were two poses, five exact copies each.
+    5 mm: two TSDF voxels, below what the scan resolves; distinct poses of one structure lie
+    at least 10 deg and 14 mm apart (the loop's 8 cm turned by one contact). The paper ranks
+    without it (preset ``paper``: 0)."""
+    distinct_angle_deg: float = ranged(5.0, Range(0.0, 90.0, unit="deg"))
+    """Ours, degrees: the angle below which two grasps of the same kind, with origins closer
+    than ``distinct_distance``, are one (half the 10 deg between neighbouring contacts, so
+    no two distinct contacts' grasps merge)."""
     min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
@@ -294,11 +309,13 @@ class GbhParams:
 
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
-#: approach per contact point, the design note's contact angle, unseen space taken as free).
+#: approach per contact point, the design note's contact angle, unseen space taken as free, the
+#: top ten ranked without de-duplication).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
-              "contact_angle_deg": 30.0, "unknown_is_occupied": False},
+              "contact_angle_deg": 30.0, "unknown_is_occupied": False,
+              "distinct_distance": 0.0, "distinct_angle_deg": 0.0},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))

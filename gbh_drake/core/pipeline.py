@@ -20,6 +20,7 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import (
     active_free_space,
     detect_hangable_structures,
+    detect_with_report,
     unknown_floor,
 )
 from gbh_drake.core.lazy import lazy_module
@@ -170,9 +171,10 @@ def plan_grasps(
     (vertices in W, metres; ``seed``: the surface sampler's). Grasps are X_WG of the open
     gripper; ``result.ranked`` holds the collision-free top-k (open, closing and closed;
     scoring.rank_grasps). Raises GbhInputError for unusable input; nothing hangable gives empty
-    lists. ``result.timings`` has the seconds of each stage. ``free_space``: what the cameras
-    saw free (a scan's ``ScanResult.free_space``); with ``params.unknown_is_occupied`` unseen
-    space is possibly occupied (through-hole rays, closing sweep)."""
+    lists (``result.hangability`` says what the detector saw and refused). ``result.timings``
+    has the seconds of each stage. ``free_space``: what the cameras saw free (a scan's
+    ``ScanResult.free_space``); with ``params.unknown_is_occupied`` unseen space is possibly
+    occupied (through-hole rays, closing sweep)."""
     params = GbhParams() if params is None else params
     _check_arguments("plan_grasps", params, seed, free_space)
     require("plan_grasps", "gripper", gripper, HookGripperGeometry,
@@ -180,7 +182,7 @@ def plan_grasps(
     clock = _StageClock()
     obj = prepare_object(mesh, params, seed, free_space)
     clock.lap("sampling")
-    structures = detect_hangable_structures(obj, params, seed)
+    structures, report = detect_with_report(obj, params, seed)
     clock.lap("hangability")
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     clock.lap("synthesis")
@@ -188,7 +190,7 @@ def plan_grasps(
     clock.lap("collision")
     ranked = score(candidates, params)
     clock.lap("scoring")
-    return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu)
+    return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu, report)
 
 
 def _check_arguments(function: str, params, seed, free_space) -> None:

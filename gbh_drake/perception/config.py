@@ -202,6 +202,11 @@ class ScanConfig:
     noise_grazing_deg: float = ranged(70.0, Range(0.0, 90.0, lo_open=True, unit="deg"))
     """Pixels seen at more than this angle from the surface normal start dropping out (deg);
     all are dropped at 90."""
+    depth_unit: float = ranged(0.0, Range(0.0, 0.01, unit="m", note="0: the renderer's floats"))
+    """The sensor's depth unit (m): it delivers each depth in whole units, as a 16-bit depth
+    image holds them (Primesense and RealSense: 0.001, millimetres; 0.0001 keeps tenths), after
+    the noise. 0 (default): the renderer's float depths. With it, the views ``gbh run
+    --save-views`` writes as 16-bit PNG are the very depths the scan fused."""
 
     # --- Renderer ---
     renderer_name: str = "default"
@@ -221,3 +226,7 @@ class ScanConfig:
         if self.first_look_scale > min(self.width, self.height) // 8:
             raise FieldError(at + ("first_look_scale",), "leaves first-look images smaller than "
                              f"8 pixels (width {self.width}, height {self.height})")
+        if self.depth_unit and self.depth_max / self.depth_unit > 65534:
+            raise FieldError(at + ("depth_unit",), f"{self.depth_unit:g} m: depth_max "
+                             f"{self.depth_max:g} m is more than 65534 units, more than a 16-bit "
+                             "image holds")

@@ -53,11 +53,11 @@ DAMAGED = "damaged experiment folder: {rows}: line 2: "
 CASES = [
     # ---- a key the report cannot place: exit 2 --------------------------------------------
     Case("protocol_list", _row(protocol=["stable"]), 2,
-         [DAMAGED + "protocol: expected a protocol's name, got ['stable']"]),
+         [DAMAGED + "protocol is ['stable'], not a string"]),
     Case("protocol_mapping", _row(protocol={"name": "stable"}), 2,
-         [DAMAGED + "protocol: expected a protocol's name, got {'name': 'stable'}"]),
+         [DAMAGED + "protocol is {'name': 'stable'}, not a string"]),
     Case("protocol_number", _row(protocol=3), 2,
-         [DAMAGED + "protocol: expected a protocol's name, got 3"]),
+         [DAMAGED + "protocol is 3, not a string"]),
     Case("trials_billion", _row(), 2,
          ["damaged experiment folder: {folder}/experiment.yaml: trials: 1 objects x "
           "1000000000 trials x 1 methods x 1 protocols are 1000000000 trials; at most 10000"],

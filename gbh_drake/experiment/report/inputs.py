@@ -93,8 +93,6 @@ def read_input(folder: Path, *, warn: Warn = None) -> ReportInput:
     store = RowStore(folder)
     rows = store.load(warn=warn)
     lines = _line_numbers(store.path, len(rows))
-    for row, line in zip(rows, lines, strict=True):
-        _check_protocol(row, store.path, line)
     unique = {row_key(r): (r, n) for r, n in zip(rows, lines, strict=True)}  # the last row
     saved = folder / EXPERIMENT_FILE
     if saved.is_file():  # written by the runner (yaml_dump_typed of the Experiment: no tags)
@@ -134,14 +132,6 @@ def _line_numbers(path: Path, n: int) -> list[int]:
         lines = []
     numbers = [i + 1 for i, line in enumerate(lines) if line.strip()]
     return numbers if len(numbers) == n else list(range(1, n + 1))
-
-
-def _check_protocol(row: dict, path: Path, line: int) -> None:
-    """A row's ``protocol`` is part of its trial's key: a name, or none (``stable``)."""
-    value = row.get("protocol")
-    if value is not None and not isinstance(value, str):
-        raise FolderError(f"{path}: line {line}: protocol: expected a protocol's name, got "
-                          f"{value!r}; the file is damaged: fix or remove that line")
 
 
 def read_saved_experiment(path: Path) -> dict:
