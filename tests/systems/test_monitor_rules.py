@@ -215,3 +215,21 @@ def test_without_the_objects_mesh_the_fingers_decide_and_say_so():
     assert cup.held_by == HeldBy.CAGE  # the finger rule's mistake, kept only without a mesh
     open_hand = trial([0.06], cage_hand=np.array([0.03, 0.03, 0, 0, 0, 0]), enclosure=None)
     assert open_hand.held_by == HeldBy.PINCH and "the loop did not close" in open_hand.reason
+
+
+@pytest.mark.parametrize(("config", "p_OV", "message"), [
+    ({}, np.zeros((4, 3)), "CageMonitor(): config: expected a MonitorConfig (a scenario's "
+                           "monitor) or None, got {} (a dict)"),
+    (None, np.zeros(3), "CageMonitor(): p_OV: expected an (n, 3) array of finite vertices (m, in "
+                        "the body frame), got array([0., 0., 0.]) (a ndarray)"),
+    (None, np.full((2, 3), np.nan), "CageMonitor(): p_OV: expected an (n, 3) array of finite "
+                                    "vertices (m, in the body frame), got array([[nan, nan, nan], "
+                                    "[nan, nan, nan]]) (a ndarray)"),
+])
+def test_the_monitor_names_an_argument_of_the_wrong_type(config, p_OV, message):
+    """(Before the plant is read: an empty dict was taken for no config, silently.)"""
+    from gbh_drake.systems import CageMonitor
+
+    with pytest.raises(TypeError) as info:
+        CageMonitor(None, "mug_classic", p_OV, config)
+    assert str(info.value) == message
