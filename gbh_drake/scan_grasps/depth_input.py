@@ -66,6 +66,7 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
         make_free_space,
         scan_depth_images,
     )
+    from gbh_drake.perception.self_filter import without_pixels
     from gbh_drake.perception.table import fit_table_plane
     from gbh_drake.scan_grasps.table import table_plane
 
@@ -85,14 +86,14 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
                                                                 first.X_BCs],
                                  config, target, reference=reference,
                                  distance=config.first_look_distance, table=table,
-                                 sensor_error=first.depth_error)
+                                 sensor_error=first.depth_error, robot_masks=first.robot_masks)
     notes = []
     if views.mesh is not None:
         mesh = load_raw_mesh(views.mesh, views.path)
         if table is None:
+            seen = without_pixels(main.depths, main.robot_masks)  # not the robot's pixels
             table = look.table if look is not None else fit_table_plane(view_points(
-                main.depths, intrinsics, X_BCs, CropBox.workspace(target, config)).p_WQ,
-                config)[0]
+                seen, intrinsics, X_BCs, CropBox.workspace(target, config)).p_WQ, config)[0]
         free = make_free_space(main.depths, intrinsics, X_BCs, config, config.distance,
                                sensor_error=main.depth_error)
         box = CropBox.workspace(target, config, float(table.point_W(target)[2]))
@@ -103,7 +104,8 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
     else:
         scan = scan_depth_images(main.depths, intrinsics, X_BCs, config, target,
                                  first_look=look, table=table, reference=reference,
-                                 sensor_error=main.depth_error, pixel_masks=main.masks)
+                                 sensor_error=main.depth_error, pixel_masks=main.masks,
+                                 robot_masks=main.robot_masks)
     if look is not None:
         add_first_look(scan, look)
     source = "given" if given is not None else scan.table.source if scan.table else "assumed"

@@ -146,7 +146,7 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     folder.mkdir(parents=True, exist_ok=True)
     n_views = len(scan.X_WCs)
     main = _view_set(scan.free_space.views[:n_views], scan.intrinsics, scan.X_WCs, X_BW,
-                     depth_error(config, scan.view_distance))
+                     depth_error(config, scan.view_distance), scan.robot_masks)
     scale = config.depth_unit or views_io.WRITE_DEPTH_SCALE
     entry: dict = {"version": views_io.VIEWS_VERSION, "depth_scale": scale,
                    "depth_range": [float(config.depth_min), float(config.depth_max)],
@@ -156,7 +156,8 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     if look is not None:
         v = look.views[0]
         first = _view_set(look.views, CameraIntrinsics(v.width, v.height, v.fx, v.fy, v.cx, v.cy),
-                          scan.first_look_X_WCs, X_BW, look.depth_error)
+                          scan.first_look_X_WCs, X_BW, look.depth_error,
+                          scan.first_look_robot_masks)
         entry["first_look"] = _written(folder, "first_look", first, config.depth_max, scale)
     X = X_BW
     if scan.target_W is not None:
@@ -181,27 +182,32 @@ def write_views(folder: Path, scan, config, X_BW: np.ndarray, *, gbh=None, seed:
     return path
 
 
-def _view_set(depth_views, intrinsics, X_WCs, X_BW: np.ndarray, error: float
-              ) -> views_io.ViewSet:
+def _view_set(depth_views, intrinsics, X_WCs, X_BW: np.ndarray, error: float,
+              robot_masks=None) -> views_io.ViewSet:
     """A :class:`~gbh_drake.scan_grasps.views.ViewSet` in B of a scan's free-space views
     (their depths as measured: NaN where nothing was, ``depth_max`` where nothing was hit in
-    range), the cameras at X_WC."""
+    range), the cameras at X_WC, with the scan's ``robot_masks`` (the self filter's pixels)."""
     return views_io.ViewSet(intrinsics, [v.depth for v in depth_views],
                             [X_BW @ X_WC.GetAsMatrix4() for X_WC in X_WCs], None, float(error),
-                            [])
+                            [], robot_masks=robot_masks)
 
 
 def _written(folder: Path, stem: str, views: views_io.ViewSet, depth_max: float,
              scale: float) -> dict:
-    """Writes the images of ``views`` as ``<stem>_NNN.png`` (``scale`` m per unit); returns
-    their YAML."""
+    """Writes the images of ``views`` as ``<stem>_NNN.png`` (``scale`` m per unit) and its
+    robot masks as ``<stem>_robot_NNN.png``; returns their YAML."""
     names = []
     for i, depth in enumerate(views.depths):
         name = f"{stem}_{i:03d}.png"
         views_io.write_png(folder / name, views_io.encode_depth(depth, scale,
                                                                  depth_max=depth_max))
         names.append(name)
-    return views_io.group_entry(views, names)
+    robot_names = None
+    if views.robot_masks is not None:
+        robot_names = [f"{stem}_robot_{i:03d}.png" for i in range(len(views.robot_masks))]
+        for name, mask in zip(robot_names, views.robot_masks, strict=True):
+            views_io.write_png(folder / name, np.asarray(mask, dtype=bool))
+    return views_io.group_entry(views, names, robot_mask_names=robot_names)
 
 
 def _gbh_in(params, X_BW: np.ndarray) -> dict:

@@ -12,6 +12,11 @@ length in metres; the format is documented in ``docs/grasps.md`` (section "Depth
     views:
     - {depth: depth_000.png, X_BC: [[...], [...], [...], [0, 0, 0, 1]], mask: mask_000.png}
 
+A view's ``mask`` (optional): its nonzero pixels are the only ones that may be the object's; its
+``robot_mask`` (optional): its nonzero pixels see the robot itself (the robot's model rendered at
+its measured joints: a self filter), no measurement of the table or the object, still of free
+space. Each is given for every view of a group or for none.
+
 Optional: ``no_hit_value`` (a raw value meaning "nothing within range": the ray is free up to
 ``depth_range[1]``), ``first_look`` (views that find the table and the object and add free
 space but are not fused, with their own ``intrinsics`` and ``depth_error``), ``target`` and
@@ -45,7 +50,7 @@ VIEWS_VERSION = 1
 TOP_KEYS = ("version", "intrinsics", "depth_scale", "depth_range", "depth_error", "no_hit_value",
             "views", "first_look", "target", "object_point", "table", "mesh", "scan", "gbh", "seed")
 GROUP_KEYS = ("intrinsics", "depth_error", "views")
-VIEW_KEYS = ("depth", "X_BC", "mask")
+VIEW_KEYS = ("depth", "X_BC", "mask", "robot_mask")
 #: A rotation's columns may be this far from orthonormal (a pose printed with 6 digits).
 ROTATION_TOLERANCE = 1e-5
 #: The depth scale ``write_views`` uses (m per unit: 0.1 mm steps up to 6.55 m).
@@ -69,6 +74,9 @@ class ViewSet:
     depth_error: float
     """m: how far a measured depth may lie from the surface it hit."""
     files: list[str]
+    robot_masks: list[np.ndarray] | None = None
+    """(height, width) bool per image: the pixels that see the robot itself (no measurement of
+    the table or the object, still of free space); None: none."""
 
 
 @dataclass
@@ -284,7 +292,8 @@ class _Reader:
         items = data["views"]
         if not isinstance(items, list) or not items:
             raise self.fail(_join(where, "views"), "must be a list of at least one view")
-        depths, poses, masks, files = [], [], [], []
+        depths, poses, files = [], [], []
+        masks: dict[str, list[np.ndarray | None]] = {"mask": [], "robot_mask": []}
         for i, item in enumerate(items):
             at = f"{_join(where, 'views')}[{i}]"
             item = self.mapping(item, at, VIEW_KEYS, required=("depth", "X_BC"))
@@ -299,22 +308,28 @@ class _Reader:
             depths.append(depth)
             poses.append(self.pose(item["X_BC"], f"{at}.X_BC"))
             files.append(str(file))
-            if item.get("mask") is not None:
-                mask_file = self.path.parent / str(item["mask"])
-                mask = read_image(mask_file, f"{at}.mask")
-                if mask.shape[:2] != (height, width):
-                    raise GraspsInputError(mask_file, f"{at}.mask", f"{mask.shape[1]}x"
-                                           f"{mask.shape[0]} pixels; the depth image is "
-                                           f"{width}x{height}")
-                masks.append(mask.reshape(height, width, -1).any(axis=2))
-            else:
-                masks.append(None)
-        if any(m is not None for m in masks) and any(m is None for m in masks):
-            missing = next(i for i, m in enumerate(masks) if m is None)
-            raise self.fail(f"{_join(where, 'views')}[{missing}].mask",
-                            "missing: give a mask for every view or for none")
+            for key, found in masks.items():
+                found.append(self.mask(item.get(key), f"{at}.{key}", width, height))
+        for key, found in masks.items():
+            if any(m is not None for m in found) and any(m is None for m in found):
+                missing = next(i for i, m in enumerate(found) if m is None)
+                raise self.fail(f"{_join(where, 'views')}[{missing}].{key}",
+                                "missing: give a mask for every view or for none")
+        given = {key: found if found[0] is not None else None for key, found in masks.items()}
         return ViewSet(CameraIntrinsics(width, height, fx, fy, cx, cy), depths, poses,
-                       masks if masks[0] is not None else None, error, files)
+                       given["mask"], error, files, robot_masks=given["robot_mask"])
+
+    def mask(self, name, at: str, width: int, height: int) -> np.ndarray | None:
+        """The (height, width) bool mask read from the file ``name`` (its nonzero pixels), or
+        None without one."""
+        if name is None:
+            return None
+        mask_file = self.path.parent / str(name)
+        mask = read_image(mask_file, at)
+        if mask.shape[:2] != (height, width):
+            raise GraspsInputError(mask_file, at, f"{mask.shape[1]}x{mask.shape[0]} pixels; "
+                                                     f"the depth image is {width}x{height}")
+        return mask.reshape(height, width, -1).any(axis=2)
 
 
 def _join(where: str, key: str) -> str:
@@ -397,13 +412,15 @@ def write_png(path: Path, raw: np.ndarray) -> None:
     Image.fromarray(array).save(path, format="PNG")
 
 
-def group_entry(views: ViewSet, names: Sequence[str], mask_names: Sequence[str] | None = None
-                ) -> dict:
-    """The YAML of a :class:`ViewSet` whose images are (to be) written as ``names``."""
+def group_entry(views: ViewSet, names: Sequence[str], mask_names: Sequence[str] | None = None,
+                robot_mask_names: Sequence[str] | None = None) -> dict:
+    """The YAML of a :class:`ViewSet` whose images are (to be) written as ``names`` (its masks
+    as ``mask_names``, its robot masks as ``robot_mask_names``)."""
     k = views.intrinsics
     return {"intrinsics": {"width": k.width, "height": k.height, "fx": k.fx, "fy": k.fy,
                            "cx": k.cx - 0.5, "cy": k.cy - 0.5},
             "depth_error": float(views.depth_error),
             "views": [{"depth": name, "X_BC": np.asarray(X, dtype=float).tolist(),
-                       **({"mask": mask_names[i]} if mask_names else {})}
+                       **({"mask": mask_names[i]} if mask_names else {}),
+                       **({"robot_mask": robot_mask_names[i]} if robot_mask_names else {})}
                       for i, (name, X) in enumerate(zip(names, views.X_BCs, strict=True))]}

@@ -2,7 +2,8 @@
 
 A cloud in millimetres, an empty or all-NaN depth image, a camera pose that is not a rotation or
 holds a NaN, intrinsics that do not fit the image, depth images of the wrong size, a depth scale
-that puts every pixel out of range, an 8-bit depth PNG, an unknown key."""
+that puts every pixel out of range, an 8-bit depth PNG, an unknown key, masks (of the object's
+or the robot's pixels) of the wrong size or for some views only."""
 
 import copy
 
@@ -119,6 +120,24 @@ def test_an_unknown_key_and_a_missing_one(tmp_path):
     data = _views(tmp_path)
     del data["views"][0]["X_BC"]
     _refused(tmp_path, data, "views[0].X_BC", "missing")
+
+
+@pytest.mark.parametrize("key", ["mask", "robot_mask"])
+def test_masks_of_the_wrong_size_or_for_some_views_only(tmp_path, key):
+    data = _views(tmp_path)
+    write_png(tmp_path / "m.png", np.ones((HEIGHT, WIDTH), dtype=bool))
+    write_png(tmp_path / "small.png", np.ones((12, 16), dtype=bool))
+    data["views"][0][key] = "m.png"
+    _refused(tmp_path, data, f"views[1].{key}", "give a mask for every view or for none")
+    data["views"][1][key] = "small.png"
+    _refused(tmp_path, data, f"views[1].{key}", "16x12 pixels; the depth image is 32x24",
+             file="small.png")
+    data["views"][1][key] = "m.png"
+    _write(tmp_path, data)
+    views = read_views(tmp_path).views
+    masks = views.masks if key == "mask" else views.robot_masks
+    assert len(masks) == 2 and all(m.all() for m in masks)
+    assert (views.robot_masks if key == "mask" else views.masks) is None
 
 
 def test_a_quaternion_pose_reads_as_the_matrix(tmp_path):

@@ -31,35 +31,54 @@ def test_the_sample_views_hook_the_handle(sample):
     assert sample.grasps[0].terms["alpha_deg"] < 20.0  # from above
 
 
-def test_masks_keep_the_object_and_nothing_else(tmp_path, sample):
-    """Each view with a mask of the object's pixels (here: the pixels whose points lie within
-    2 cm of the scan's mesh): the same object, the same best grasp."""
+def _with_masks(folder, key: str, chosen) -> None:
+    """The sample views copied into ``folder``, each with a mask ``key`` of the pixels whose
+    points p_B (n, 3) ``chosen`` (p_B) marks."""
     import shutil
 
     import yaml
-    from scipy.spatial import cKDTree
 
     from gbh_drake.perception.depth import points_C
     from gbh_drake.scan_grasps.views import read_views, write_png
 
-    views = read_views(SAMPLE)
+    v = read_views(SAMPLE).views
     data = yaml.safe_load((SAMPLE / "views.yaml").read_text())
-    tree = cKDTree(sample.scan.mesh_W.vertices)
-    v = views.views
-    k = v.intrinsics
     for i, (depth, X) in enumerate(zip(v.depths, v.X_BCs, strict=True)):
-        p_C = points_C(np.where(np.isfinite(depth), depth, 0.0), k).reshape(3, -1).T
-        near = tree.query(p_C @ X[:3, :3].T + X[:3, 3], distance_upper_bound=0.02)[0] < 0.02
-        write_png(tmp_path / f"mask_{i}.png", near.reshape(depth.shape))
-        data["views"][i]["mask"] = f"mask_{i}.png"
+        p_C = points_C(np.where(np.isfinite(depth), depth, 0.0), v.intrinsics).reshape(3, -1).T
+        write_png(folder / f"{key}_{i}.png", chosen(p_C @ X[:3, :3].T + X[:3, 3]).reshape(
+            depth.shape))
+        data["views"][i][key] = f"{key}_{i}.png"
     for name in {*(x["depth"] for x in data["views"]), *(x["depth"] for x in
                                                          data["first_look"]["views"])}:
-        shutil.copy(SAMPLE / name, tmp_path / name)
-    (tmp_path / "views.yaml").write_text(yaml.safe_dump(data))
+        shutil.copy(SAMPLE / name, folder / name)
+    (folder / "views.yaml").write_text(yaml.safe_dump(data))
+
+
+def test_masks_keep_the_object_and_nothing_else(tmp_path, sample):
+    """Each view with a mask of the object's pixels (here: the pixels whose points lie within
+    2 cm of the scan's mesh): the same object, the same best grasp."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(sample.scan.mesh_W.vertices)
+    _with_masks(tmp_path, "mask",
+                lambda p_B: tree.query(p_B, distance_upper_bound=0.02)[0] < 0.02)
     masked = gbh_drake.grasps(tmp_path)
     assert len(masked.scan.mesh_W.faces) == pytest.approx(len(sample.scan.mesh_W.faces), rel=0.02)
     np.testing.assert_allclose(masked.grasps[0].X_BG[:3, 3], sample.grasps[0].X_BG[:3, 3],
                                atol=0.005)
+
+
+def test_robot_masks_are_no_measurement_of_the_object_but_of_free_space(tmp_path, sample):
+    """Each view with a ``robot_mask`` (the self filter's pixels: here, as if the robot's hand
+    hung over the mug, the pixels that see anything above 5 cm): nothing above is fused (the
+    mug is 9.8 cm tall), and those pixels' depths still give the free space."""
+    _with_masks(tmp_path, "robot_mask", lambda p_B: p_B[:, 2] > 0.05)
+    filtered = gbh_drake.grasps(tmp_path)
+    assert sample.scan.mesh_W.vertices[:, 2].max() > 0.09
+    assert filtered.scan.mesh_W.vertices[:, 2].max() < 0.05 + 0.0025  # a voxel
+    views = filtered.scan.free_space.views[:10]  # the views' own (the first look's follow)
+    np.testing.assert_array_equal(np.stack([w.depth for w in views]),
+                                  np.stack([w.depth for w in sample.scan.free_space.views[:10]]))
 
 
 def test_a_point_cloud_is_fused_and_says_so(tmp_path, sample):
