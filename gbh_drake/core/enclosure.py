@@ -45,8 +45,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.csgraph import connected_components
 
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 
@@ -195,6 +193,9 @@ def _linked(n_vertices: int, edges: np.ndarray, cut: np.ndarray, below: np.ndarr
     below it (on x_G < 0)."""
     if not cut.any():
         return False
+    from scipy import sparse
+    from scipy.sparse.csgraph import connected_components
+
     keep = edges[~cut]
     graph = sparse.coo_matrix((np.ones(len(keep)), (keep[:, 0], keep[:, 1])),
                               shape=(n_vertices, n_vertices))
@@ -261,6 +262,9 @@ def _thickness(face_edges: np.ndarray, straddle: np.ndarray, crossing: np.ndarra
     crossing edges joined through the faces they share are one section each."""
     if not in_disc.any():
         return float("inf")
+    from scipy import sparse
+    from scipy.sparse.csgraph import connected_components
+
     index = np.full(len(straddle), -1)
     index[crossing] = np.arange(len(crossing))
     cut_faces = face_edges[straddle[face_edges].sum(axis=1) == 2]

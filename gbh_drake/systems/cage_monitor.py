@@ -42,7 +42,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-import trimesh
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import ContactResults, MultibodyPlant
@@ -51,6 +50,7 @@ from pydrake.systems.framework import LeafSystem
 from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.core.enclosure import LoopEnclosure, loop_enclosure, mesh_edges
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.lazy import lazy_module
 from gbh_drake.messages import (
     GraspSearch,
     HeldBy,
@@ -63,6 +63,8 @@ from gbh_drake.messages import (
 from gbh_drake.modeling.names import GRIPPER, TABLE
 from gbh_drake.scenario.schema import MonitorConfig
 from gbh_drake.systems.stage import CopiedShallowly
+
+trimesh = lazy_module("trimesh")
 
 #: A lifted object that is back on the table is dropped once no gripper body has touched it
 #: for this long (s): a basket still hanging on the bar loses contact for a step now and then.
