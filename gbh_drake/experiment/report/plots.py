@@ -27,7 +27,8 @@ CAUSE_COLOURS = {
     "out of reach": "#1f77b4", "candidate set missed": "#9ecae1", "no structure": "#ff7f0e",
     "table clearance": "#2ca02c", "collision N_c": "#98df8a", "closing sweep": "#bcbd22",
     "no grasp found": "#8c564b", "IK": "#d62728", "planner": "#ff9896",
-    "lift too low": "#9467bd", "slipped during carry": "#c5b0d5", "scan cut/partial": "#17becf",
+    "lift too low": "#9467bd", "touched down": "#e377c2", "slipped during carry": "#c5b0d5",
+    "scan cut/partial": "#17becf",
     "error": "#7f7f7f", UNKNOWN_CAUSE: "#000000",
 }
 
