@@ -32,6 +32,7 @@ from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import HangingStructure
+from gbh_drake.core.sliding import rim_slide
 
 csgraph = lazy_module("scipy.sparse.csgraph")
 sparse = lazy_module("scipy.sparse")
@@ -40,6 +41,9 @@ trimesh = lazy_module("trimesh")
 
 #: Each refinement level searches a cone this many times narrower than the previous one.
 _REFINE_SHRINK = 4.0
+#: A dip of the rim's distance from the CoM of at most this many sample spacings does not stop
+#: the material sliding along it (the scan's surface noise; :func:`~gbh_drake.core.sliding.rim_slide`).
+RIM_TOLERANCE_SPACINGS = 0.5
 #: Refinement levels after the coarse sphere search.
 _REFINE_LEVELS = 2
 #: The through-hole rays are checked in the free space this far (in sample spacings) beyond
@@ -88,7 +92,8 @@ def detect_hangable_structures(
             through &= observed_through(obj, free, c, v, params.ground_normal, floor,
                                         params.through_proof_length)
     structures = [
-        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
+        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i], obj.com,
+                   RIM_TOLERANCE_SPACINGS * obj.spacing)
         for i in np.flatnonzero(through)
     ]
     structures.sort(key=lambda s: (-s.m, -s.clearance))
@@ -396,19 +401,25 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
 
 def _structure(
     c: np.ndarray, v: np.ndarray, t: np.ndarray, dirs: np.ndarray, clearance: float,
-    contact: np.ndarray,
+    contact: np.ndarray, com: np.ndarray, rim_tolerance: float,
 ) -> HangingStructure:
-    """A HangingStructure from the chosen plane's hit distances t (K,) and directions (K, 3)."""
+    """A HangingStructure from the chosen plane's hit distances t (K,) and directions (K, 3),
+    with how far each hit point's material slides from the CoM ``com`` along the rim
+    (:func:`~gbh_drake.core.sliding.rim_slide`, dips of ``rim_tolerance`` m ignored)."""
     hit = np.isfinite(t)
     miss_mean = dirs[~hit].mean(axis=0) if (~hit).any() else np.zeros(3)
+    H = c + t[hit, None] * dirs[hit]
+    hit_index = np.flatnonzero(hit)
     return HangingStructure(
         c=c.copy(),
         v=unit(v),
-        H=c + t[hit, None] * dirs[hit],
+        H=H,
         m=float(hit.mean()),
         a=unit(miss_mean),
         clearance=float(clearance),
         contact_point=contact.copy(),
         n_rays=len(t),
         miss_directions=dirs[~hit],
+        hit_index=hit_index,
+        hang_drop=rim_slide(H, hit_index, len(t), com, rim_tolerance),
     )

@@ -238,6 +238,17 @@ class GbhParams:
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = ranged(10, Int(1, 100))
     """*paper*: number of best grasps returned for execution."""
+    hang_slide_scale: float = ranged(0.02, NonNeg(1.0, "m", "0: the paper's score"))
+    """Ours, metres: a grasp's score is multiplied by S_hang = exp(-(d / this)^2), d being how
+    much deeper the object hangs once the material the grasp cages slides along the
+    structure's rim to where it comes to rest (:mod:`gbh_drake.core.sliding`: the material
+    slides while that takes it farther from the CoM). A hook's curve, a handle's outermost
+    point or a triangle's corner hold it where it is (d = 0); the middle of a straight wire or
+    bar does not (the paper's contact rule finds exactly that point: the normal there points to
+    the CoM), and from a hanger's triangle side the object slides 7-10 cm to the corner. The
+    paper's score has no such term: a tilted triangle side snapped top-down (``snap_tilt_max_deg``)
+    scored 1.0, above the hanger's hook. docs/thresholds.md has the sweep. 0: the paper's
+    score."""
     min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
@@ -270,11 +281,13 @@ class GbhParams:
 
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
-#: approach per contact point, the design note's contact angle, unseen space taken as free).
+#: approach per contact point, the design note's contact angle, unseen space taken as free,
+#: the paper's score without the hang's slide).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
-              "contact_angle_deg": 30.0, "unknown_is_occupied": False},
+              "contact_angle_deg": 30.0, "unknown_is_occupied": False,
+              "hang_slide_scale": 0.0},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))

@@ -42,6 +42,12 @@ The score terms:
   Sign choice (design.md Sec. 4): for vertical grasps u is R n2 (= +y_G), as in the paper. For
   parallel grasps u is the approach +z_G = -R n1, not the paper's R n1: with n1 pointing to the
   wrist, the paper's sign would reward holding the material on the open side.
+
+* S_hang (ours; ``hang_slide_scale`` > 0): exp(-(d / hang_slide_scale)^2), d = the grasp's
+  ``hang_drop``: how much deeper the object hangs once the caged material slides along the rim
+  to where it rests (:mod:`gbh_drake.core.sliding`). The paper scores where the gripper is,
+  not where the object will hang from: a straight wire's middle (where the paper's contact
+  rule puts h) lets the material slide to the wire's end. S_total = m S_beta S_alpha S_hang.
 """
 
 from __future__ import annotations
@@ -83,9 +89,14 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
     beta = np.where(closed, np.nan, beta)
     s_alpha = np.exp(-(alpha**2) / params.gamma_alpha)
     s_beta = np.where(closed, 1.0, np.exp(-(np.nan_to_num(beta) ** 2) / params.gamma_beta))
-    score = m * s_beta * s_alpha
-    for g, al, be, sa, sb, s in zip(candidates, alpha, beta, s_alpha, s_beta, score, strict=True):
-        g.alpha, g.beta, g.s_alpha, g.s_beta, g.score = (float(x) for x in (al, be, sa, sb, s))
+    drop = np.array([g.hang_drop for g in candidates], dtype=float)
+    s_hang = np.exp(-((drop / params.hang_slide_scale) ** 2)) if params.hang_slide_scale > 0 \
+        else np.ones(len(candidates))
+    score = m * s_beta * s_alpha * s_hang
+    for g, al, be, sa, sb, sh, s in zip(candidates, alpha, beta, s_alpha, s_beta, s_hang, score,
+                                        strict=True):
+        g.alpha, g.beta, g.s_alpha, g.s_beta, g.s_hang, g.score = \
+            (float(x) for x in (al, be, sa, sb, sh, s))
 
 
 def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
