@@ -8,7 +8,10 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
 3. hanging position c of a cluster: on each member's segment to h_c, only the first free interval
    (up to the first surface hit, and at most ``max_hanging_distance`` from the contact point: the
    gripper's reach), the point farthest from the surface; the cluster keeps its
-   member with the largest such clearance. Positions inside another one's free ball coincide;
+   member with the largest such clearance (the paper's one position per cluster) or, beyond the
+   paper, up to ``positions_per_cluster`` of them by non-maximum suppression (a cluster that
+   spans a cup's wall and its handle keeps both). Positions inside another one's free ball
+   coincide;
 4. hanging direction v: the normal u of the plane through c whose K rays hit the mesh most often
    (coarse Fibonacci sphere, then cones of shrinking size around the best). Ties (e.g. a ring
    seen from slightly tilted planes: all rays still hit) go to the plane with the smallest mean
@@ -144,9 +147,13 @@ def hanging_positions(
 
     ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels. For
     each member, the free part of its segment to the CoM (up to the first hit, at most
-    ``max_hanging_distance`` long) is sampled; the cluster's position is
-    the sample farthest from the surface. Positions with clearance < ``min_clearance`` are
-    dropped and coincident ones (within another's free ball) merged, keeping the larger ball.
+    ``max_hanging_distance`` long) is sampled and its sample farthest from the surface is the
+    member's position. A cluster keeps its best position (the paper's one per cluster) or, with
+    ``positions_per_cluster`` > 1, up to that many by non-maximum suppression: largest
+    clearance first, each kept position removing the others inside its free ball, so a
+    cluster that spans a cup's inside and its handle keeps both. Positions with clearance <
+    ``min_clearance`` are dropped and coincident ones (within another's free ball) merged,
+    keeping the larger ball.
     """
     empty = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
     if len(idx) == 0:
@@ -163,11 +170,18 @@ def hanging_positions(
     dist = obj.approx_distance(samples.reshape(-1, 3)).reshape(len(p), -1)
     k = dist.argmax(axis=1)
     member_c = samples[np.arange(len(p)), k]
-    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the winners below
+    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the chosen below
     # Best member per cluster: sort by (label, -clearance) and take each label's first row.
     order = np.lexsort((-member_clear, labels))
     first = order[np.r_[True, np.diff(labels[order]) != 0]]
-    member_clear[first] = obj.distance(member_c[first])
+    if params.positions_per_cluster > 1:
+        member_clear = obj.distance(member_c)
+        first = np.concatenate([
+            members[_merge_coincident(member_c[members], member_clear[members],
+                                      params.dedup_radius_factor)[:params.positions_per_cluster]]
+            for members in (np.flatnonzero(labels == lab) for lab in np.unique(labels))])
+    else:
+        member_clear[first] = obj.distance(member_c[first])
     first = first[member_clear[first] >= params.min_clearance]
     keep = _merge_coincident(member_c[first], member_clear[first], params.dedup_radius_factor)
     sel = first[keep]

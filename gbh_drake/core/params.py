@@ -76,6 +76,14 @@ class GbhParams:
     cannot be used; without the cap, a bucket's bail hands its c to the bucket's cavity."""
     min_clearance: float = ranged(0.002, NonNeg(0.1, "m"))
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
+    positions_per_cluster: int = ranged(4, Int(1, 1000))
+    """Ours: a cluster keeps up to this many hanging positions, chosen by non-maximum
+    suppression over its members' positions (largest clearance first; each removes those
+    inside its free ball, ``dedup_radius_factor``), each with its exact clearance. 1: the
+    paper's one position per cluster, its member of largest *approximate* clearance: single
+    linkage joins a handle's contacts to the body's next to it, and the cluster's one position
+    then lies inside the cup or in a corner where nothing fits, and the handle is lost (a mug
+    and a teapot of the external set, issue 42). docs/thresholds.md has the sweep."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
@@ -282,12 +290,12 @@ class GbhParams:
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free,
-#: the paper's score without the hang's slide).
+#: the paper's score without the hang's slide, one hanging position per cluster).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "hang_slide_scale": 0.0},
+              "hang_slide_scale": 0.0, "positions_per_cluster": 1},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))
