@@ -179,6 +179,17 @@ class GbhParams:
     object set: it rejects the pot's grasp whose hand sweeps 1 mm into the rim between samples
     4.2 mm apart (found with 20k samples), and keeps the headphones' top-down grasps, whose 24 mm
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
+    rod_clearance: float = ranged(0.0025, Range(-1.0, 0.05, unit="m",
+                                                 note="negative: no such check"))
+    """Ours, metres: the rods and the bar, at the grasp pose and swept while closing, must stay
+    this far from the object's surface, tested so that nothing thinner than the sample spacing
+    slips through (:func:`~gbh_drake.core.collision.count_rod_contacts`: the samples near the
+    rods, then the exact distance to the surface where they are near). N_c < p_c allows 9
+    samples inside the gripper: an 8 mm rod crossing a 3-5 mm wire or grazing a thin handle arm
+    meets only 2-5 of 5000 samples 2-5 mm apart, and the executed hand is off the plan by the
+    IK's tolerance (1 mm and 0.01 rad at the palm: measured 2.1-2.4 mm at the rods' corners
+    over 35 ranked grasps, docs/thresholds.md). docs/thresholds.md has the sweep. Negative:
+    the paper's N_c alone."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
     unknown_is_occupied: bool = True
@@ -290,12 +301,13 @@ class GbhParams:
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free,
-#: the paper's score without the hang's slide, one hanging position per cluster).
+#: the paper's score without the hang's slide, one hanging position per cluster, N_c without
+#: the rods' clearance).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "hang_slide_scale": 0.0, "positions_per_cluster": 1},
+              "hang_slide_scale": 0.0, "positions_per_cluster": 1, "rod_clearance": -1.0},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))
@@ -334,6 +346,17 @@ class AntipodalParams:
     0: only the grasp pose and the closing are checked (as GbH's N_c)."""
     p_c: int = ranged(10, Int(1, 50_000))
     """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
+    rod_clearance: float = ranged(0.0025, Range(-1.0, 0.05, unit="m",
+                                                 note="negative: no such check"))
+    """Ours, metres: the rods and the bar, at the grasp pose and swept while closing, must stay
+    this far from the object's surface, tested so that nothing thinner than the sample spacing
+    slips through (:func:`~gbh_drake.core.collision.count_rod_contacts`: the samples near the
+    rods, then the exact distance to the surface where they are near). N_c < p_c allows 9
+    samples inside the gripper: an 8 mm rod crossing a 3-5 mm wire or grazing a thin handle arm
+    meets only 2-5 of 5000 samples 2-5 mm apart, and the executed hand is off the plan by the
+    IK's tolerance (1 mm and 0.01 rad at the palm: measured 2.1-2.4 mm at the rods' corners
+    over 35 ranked grasps, docs/thresholds.md). docs/thresholds.md has the sweep. Negative:
+    the paper's N_c alone."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """m: every box of the solid model is grown by this for the point count."""
     ground_normal: list[float] = ranged(lambda: [0.0, 0.0, 1.0], Items(3, what="components"))

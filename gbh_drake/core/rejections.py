@@ -8,7 +8,9 @@ previous ones left (the counts add up to the candidates that fail):
 2. ``closing sweep``: at least p_sweep points (or unseen space) in the volume the closing
    fingers and bar sweep (ours);
 3. ``table clearance``: some point of the gripper (open, closing or closed) less than
-   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative).
+   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative);
+4. ``rod clearance``: the rods or the bar (open or closing) nearer than ``rod_clearance`` to the
+   object's surface (ours; skipped when it is negative).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate
 
 #: The rules, in the order they apply.
-RULES = ("collision N_c", "closing sweep", "table clearance")
+RULES = ("collision N_c", "closing sweep", "table clearance", "rod clearance")
 
 
 @dataclass
@@ -56,7 +58,7 @@ class Rejections:
 
 
 _WORDS = {"collision N_c": "N_c", "closing sweep": "the closing sweep",
-          "table clearance": "the table clearance"}
+          "table clearance": "the table clearance", "rod clearance": "the rods' clearance"}
 
 
 def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rejections:
@@ -83,12 +85,16 @@ def removed_by(candidates: list[GraspCandidate], params: GbhParams
     n_c = np.array([g.n_collisions for g in candidates], dtype=float)
     n_s = np.array([g.n_sweep_collisions for g in candidates], dtype=float)
     height = np.array([g.ground_distance for g in candidates], dtype=float)
+    rods = np.array([g.rod_contacts for g in candidates], dtype=float)
     fails = [~((n_c >= 0) & (n_c < params.p_c)),
              ~((n_s >= 0) & (n_s < params.p_sweep)),
              np.zeros(len(candidates), bool) if params.ground_clearance < 0
-             else ~(height >= params.ground_clearance)]
+             else ~(height >= params.ground_clearance),
+             # unchecked (-1): ranked below top_k clear ones (pipeline._rod_contacts)
+             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0]
     shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
-                  np.where(np.isnan(height), np.inf, params.ground_clearance - height)]
+                  np.where(np.isnan(height), np.inf, params.ground_clearance - height),
+                  np.where(rods >= 0, rods, np.inf)]
     rule = np.full(len(candidates), -1)
     shortfall = np.zeros(len(candidates))
     for k in range(len(RULES)):
@@ -105,6 +111,10 @@ def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
             f"{d_mm:.1f} mm above the table"
         return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
+    if rule == "rod clearance":
+        return (f"closest: a {best.kind} grasp whose rods come nearer than "
+                f"{params.rod_clearance * 1e3:.1f} mm to the surface at {best.rod_contacts} "
+                "witnesses")
     if rule == "closing sweep":
         return (f"closest: a {best.kind} grasp with {best.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")

@@ -115,6 +115,11 @@ class GraspCandidate:
     """m: height of the lowest point of the gripper's solid model above the supporting surface,
     over the grasp pose (open), the closing sweep and the closed pose (negative: below it); nan
     if not computed."""
+    rod_contacts: int = -1
+    """Ours: witnesses that the object's surface comes nearer than ``GbhParams.rod_clearance``
+    to the rods and the bar (open and closing; :func:`~gbh_drake.core.collision.count_rod_contacts`);
+    0: clear; -1 if not checked (the check is off, an earlier rule refused the grasp, or
+    ``top_k`` better-scored grasps were clear: it cannot be ranked)."""
     alpha: float = float("nan")
     """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
     beta: float = float("nan")

@@ -21,7 +21,10 @@ a grasp they reject never takes one of the ten places.
   instead of a cage. p_sweep = 1 by default: none;
 * ground distance >= ground_clearance (ours, skipped when ground_clearance < 0): the solid model,
   open, sweeping and closed, stays that far above the supporting surface; the planner pads the
-  table by the same number near the grasp.
+  table by the same number near the grasp;
+* no rod contact (ours, skipped when rod_clearance < 0): the rods and the bar, open and closing,
+  stay ``rod_clearance`` from the object's surface, however thin the material
+  (:func:`~gbh_drake.core.collision.count_rod_contacts`).
 
 The score terms:
 
@@ -101,12 +104,16 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
 
 def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
     """Whether ``g`` passes every collision check (module docstring): N_c < p_c (paper),
-    N_sweep < p_sweep and, unless ground_clearance < 0, ground distance >= ground_clearance.
-    Uncounted candidates (-1, nan) do not pass."""
+    N_sweep < p_sweep, unless ground_clearance < 0, ground distance >= ground_clearance, and,
+    unless rod_clearance < 0, no rod contact found. Uncounted candidates (-1, nan) do not pass
+    the counts and the table; the rods' clearance is checked lazily (only for grasps that may
+    be ranked, best score first, ``pipeline.count_collisions``), so an unchecked grasp (-1) is
+    not refused by it (the ranking is the same as if every grasp were checked)."""
     return (0 <= g.n_collisions < params.p_c
             and 0 <= g.n_sweep_collisions < params.p_sweep
             and (params.ground_clearance < 0
-                 or bool(g.ground_distance >= params.ground_clearance)))
+                 or bool(g.ground_distance >= params.ground_clearance))
+            and (params.rod_clearance < 0 or g.rod_contacts <= 0))
 
 
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
