@@ -255,8 +255,11 @@ class GbhParams:
     """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""
     gamma_beta: float = ranged(2.0, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
-    top_k: int = ranged(10, Int(1, 100))
-    """*paper*: number of best grasps returned for execution."""
+    top_k: int = ranged(40, Int(1, 100))
+    """Number of best grasps returned for execution: the paper's 10 (its preset), ours 40, of
+    which the planner tries the best ``pick.max_grasps`` (10) the arm reaches
+    (``pick.reach_check``): the paper's ten may all lie out of reach (a pot on its side, every
+    one of them on the far handle: scores 1e-6 to 1e-16) while the near handle's rank lower."""
     hang_slide_scale: float = ranged(0.02, NonNeg(1.0, "m", "0: the paper's score"))
     """Ours, metres: a grasp's score is multiplied by S_hang = exp(-(d / this)^2), d being how
     much deeper the object hangs once the material the grasp cages slides along the
@@ -302,12 +305,13 @@ class GbhParams:
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free,
 #: the paper's score without the hang's slide, one hanging position per cluster, N_c without
-#: the rods' clearance).
+#: the rods' clearance, the ten best grasps).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "hang_slide_scale": 0.0, "positions_per_cluster": 1, "rod_clearance": -1.0},
+              "hang_slide_scale": 0.0, "positions_per_cluster": 1, "rod_clearance": -1.0,
+              "top_k": 10},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))

@@ -4,13 +4,14 @@ apply, and how near the closest candidate came to passing the last rule that rem
 The rules are those of :func:`gbh_drake.core.scoring.collision_free`, applied in turn to what the
 previous ones left (the counts add up to the candidates that fail):
 
-1. ``collision N_c``: at least p_c object points inside the open gripper at X_WG (the paper's);
+1. ``collision N_c``: at least p_c object points inside the open gripper at X_WG (the paper's),
+   or (ours, unless ``rod_clearance`` is negative) the rods or the bar, open or closing, nearer
+   than ``rod_clearance`` to the object's surface: a collision with the object either way
+   (checked last, for the grasps the other rules left: ``pipeline.count_collisions``);
 2. ``closing sweep``: at least p_sweep points (or unseen space) in the volume the closing
    fingers and bar sweep (ours);
 3. ``table clearance``: some point of the gripper (open, closing or closed) less than
-   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative);
-4. ``rod clearance``: the rods or the bar (open or closing) nearer than ``rod_clearance`` to the
-   object's surface (ours; skipped when it is negative).
+   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate
 
 #: The rules, in the order they apply.
-RULES = ("collision N_c", "closing sweep", "table clearance", "rod clearance")
+RULES = ("collision N_c", "closing sweep", "table clearance")
 
 
 @dataclass
@@ -58,7 +59,7 @@ class Rejections:
 
 
 _WORDS = {"collision N_c": "N_c", "closing sweep": "the closing sweep",
-          "table clearance": "the table clearance", "rod clearance": "the rods' clearance"}
+          "table clearance": "the table clearance"}
 
 
 def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rejections:
@@ -86,15 +87,17 @@ def removed_by(candidates: list[GraspCandidate], params: GbhParams
     n_s = np.array([g.n_sweep_collisions for g in candidates], dtype=float)
     height = np.array([g.ground_distance for g in candidates], dtype=float)
     rods = np.array([g.rod_contacts for g in candidates], dtype=float)
-    fails = [~((n_c >= 0) & (n_c < params.p_c)),
+    # The rods' clearance: unchecked (-1) when an earlier rule refused the grasp or top_k
+    # better ones were clear (pipeline.count_collisions): not refused by it.
+    rods_near = np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0
+    counted = (n_c >= 0) & (n_c < params.p_c)
+    fails = [~counted | rods_near,
              ~((n_s >= 0) & (n_s < params.p_sweep)),
              np.zeros(len(candidates), bool) if params.ground_clearance < 0
-             else ~(height >= params.ground_clearance),
-             # unchecked (-1): ranked below top_k clear ones (pipeline._rod_contacts)
-             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0]
-    shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
-                  np.where(np.isnan(height), np.inf, params.ground_clearance - height),
-                  np.where(rods >= 0, rods, np.inf)]
+             else ~(height >= params.ground_clearance)]
+    shortfalls = [np.where(counted, rods, np.where(n_c >= 0, n_c, np.inf)),
+                  np.where(n_s >= 0, n_s, np.inf),
+                  np.where(np.isnan(height), np.inf, params.ground_clearance - height)]
     rule = np.full(len(candidates), -1)
     shortfall = np.zeros(len(candidates))
     for k in range(len(RULES)):
@@ -111,10 +114,10 @@ def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
             f"{d_mm:.1f} mm above the table"
         return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
-    if rule == "rod clearance":
-        return (f"closest: a {best.kind} grasp whose rods come nearer than "
-                f"{params.rod_clearance * 1e3:.1f} mm to the surface at {best.rod_contacts} "
-                "witnesses")
+    if rule == "collision N_c" and 0 <= best.n_collisions < params.p_c:
+        return (f"closest: a {best.kind} grasp whose rods or bar come nearer than "
+                f"{params.rod_clearance * 1e3:.1f} mm to the surface ({best.rod_contacts} "
+                "triangles or samples)")
     if rule == "closing sweep":
         return (f"closest: a {best.kind} grasp with {best.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")

@@ -62,6 +62,8 @@ CARRY_IK_RESTARTS = 2
 CARRY_RISES = (0.03, 0.06, 0.10)
 #: Joint-space spacing (rad, max-norm) of the configurations whose hook height is checked.
 CARRY_CHECK_STEP = 0.02
+#: IK restarts for the grasp pose (from the measured arm; the reach check's too).
+GRASP_IK_RESTARTS = 3
 #: IK tolerances (m, rad) of the grasp and closed poses solved again when the close collides
 #: (:func:`plan_pick`): a tenth of the usual ones.
 TIGHT_IK = (1e-4, 1e-3)
@@ -163,6 +165,18 @@ class PickSetup:
     gripper: HookGripperGeometry = HOOK_GRIPPER
 
 
+def reach_refusal(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int,
+                  q_start: np.ndarray, bar: float = 0.0) -> Refusal | None:
+    """The cheap reach check of the plan choice (:func:`~gbh_drake.planning.choice.choose`'s
+    ``reach``): None when the arm reaches the open gripper at ``X_WG`` from ``q_start`` (the
+    IK :func:`plan_pick` solves first, the same call), else the refusal it would give."""
+    hand = HandPose(setup.gripper.q_open, bar)
+    if setup.near.ik(RigidTransform(np.asarray(X_WG)), q_start, hand,
+                     restarts=GRASP_IK_RESTARTS) is None:
+        return Refusal(rank, kind, "ik", "grasp")
+    return None
+
+
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
               bar: float = 0.0, min_lift: float = 0.0, *, tight: bool = False
               ) -> PickPlan | Refusal:
@@ -204,7 +218,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3, precise=tight)
+    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=GRASP_IK_RESTARTS, precise=tight)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
     q["closed"] = ik(X_closed, q["grasp"], closed_hand, precise=tight)

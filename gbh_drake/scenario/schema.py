@@ -159,7 +159,14 @@ class PickConfig:
     planner_iterations: int = ranged(3000, Int(1, 100_000))
     """RRT-Connect iterations before a transfer is given up."""
     max_grasps: int = ranged(10, Int(1, 100))
-    """At most this many ranked grasps are tried, in order, before 'no reachable grasp'."""
+    """At most this many ranked grasps are tried, in order, before 'no reachable grasp' (with
+    ``reach_check``, of those the arm reaches)."""
+    reach_check: bool = True
+    """Beyond the paper: before a grasp is planned, the IK of its grasp pose from the measured
+    arm (the planner's first step) decides whether the arm reaches it; one it does not is
+    refused without counting toward ``max_grasps``, so the best ``max_grasps`` *reachable* of
+    the ranked grasps are planned (GbH ranks ``gbh.top_k``: 40, the paper's preset 10). False:
+    the first ``max_grasps``, reachable or not (the paper's ten)."""
     set_down: bool | None = None
     """After the cage test, lower the object onto the table at ``place_position``, open and
     retreat (omitted or true); false: the trial ends once the cage test is over, the object

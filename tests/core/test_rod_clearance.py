@@ -101,4 +101,5 @@ def test_the_pipeline_refuses_the_grasp_the_paper_keeps():
         assert g.n_collisions < params.p_c and g.n_sweep_collisions < params.p_sweep
         assert collision_free(g, params) is kept
         if not kept:
-            assert count_rejections([g], params).removed["rod clearance"] == 1
+            r = count_rejections([g], params)  # a collision with the object: the rods'
+            assert r.removed["collision N_c"] == 1 and "rods or bar come nearer" in r.closest

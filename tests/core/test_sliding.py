@@ -69,7 +69,7 @@ def test_a_straight_wire_does_not_outrank_a_stable_hang():
     ours = plan_grasps(mesh, GbhParams(), seed=0)
     assert ours.ranked
     assert ours.ranked[0].hang_drop < 0.005, ours.ranked[0].hang_drop
-    assert max(g.hang_drop for g in ours.ranked) < 0.02
+    assert max(g.hang_drop for g in ours.ranked[:10]) < 0.02
     assert any(g.hang_drop > 0.05 for g in ours.candidates)  # there, and ranked lower
     unscored = plan_grasps(mesh, GbhParams(hang_slide_scale=0.0), seed=0)
     assert unscored.ranked[0].hang_drop > 0.05  # the regression: a shoulder's middle first
