@@ -121,6 +121,11 @@ class PickConfig:
     grasp) is at least this far (m) above the table."""
     min_lift: float = ranged(0.10, Pos(1.0, "m"))
     """The gripper rises at least this much (m)."""
+    slide_lift: bool = True
+    """Beyond the paper: the lift allows for the hooked material sliding through the closed
+    loop along material thin enough to pass it (a wire hanger's side, a long handle's bar) to
+    where the object hangs deepest (:func:`~gbh_drake.core.hanging_pose.rest_on_loop`); false:
+    it hangs from where the material first meets the loop."""
     max_lift: float = ranged(0.40, Pos(1.0, "m"))
     """The gripper rises at most this much (m); lower when the arm cannot reach higher."""
     place_position: list[float] = ranged(lambda: [0.40, 0.30], Items(2, what="coordinates (x, y in m)"))
