@@ -41,7 +41,6 @@ Markdown tables (``<out>/README.md``).
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import os
 import pickle
@@ -86,8 +85,39 @@ def _scan_task(args):
     return key, {"vertices": np.asarray(scan.mesh_W.vertices), "faces": np.asarray(
         scan.mesh_W.faces), "empty": bool(scan.empty), "ground": scan.table.as_ground()
         if scan.table is not None else None, "parts": parts, "seed": trial.seeds.sampling,
-        "gbh": scenario.gbh, "free_space": getattr(scan, "free_space", None),
+        "gbh": scenario.gbh, "gbh_overrides": gbh_overrides(scenario.gbh),
+        "free_space": getattr(scan, "free_space", None),
         "look_free_space": getattr(scan, "first_look_free_space", None)}
+
+
+def gbh_overrides(params) -> dict:
+    """The fields of a trial's GbhParams that differ from the defaults (the experiment's method
+    overrides, e.g. ``d2``): what a later run applies to *its* defaults, so that a cache of
+    scans outlives a change of the code's defaults or new fields."""
+    import dataclasses
+
+    from gbh_drake.core.params import GbhParams
+
+    default = GbhParams()
+    return {f.name: getattr(params, f.name) for f in dataclasses.fields(GbhParams)
+            if getattr(params, f.name) != getattr(default, f.name)}
+
+
+def trial_params(record: dict):
+    """The GbhParams a scan's trial runs with today: today's defaults with the trial's
+    overrides (``gbh_overrides``); a cache written before those were kept: the stored
+    parameters' fields over today's defaults (new fields at their defaults)."""
+    import copy as copy_
+    import dataclasses
+
+    from gbh_drake.core.params import GbhParams
+
+    if "gbh_overrides" in record:
+        return dataclasses.replace(GbhParams(), **copy_.deepcopy(record["gbh_overrides"]))
+    stored = vars(record["gbh"])
+    return dataclasses.replace(GbhParams(), **{f.name: copy_.deepcopy(stored[f.name])
+                                               for f in dataclasses.fields(GbhParams)
+                                               if f.name in stored})
 
 
 #: The pseudo-parameter that picks the free space GbH gets (``scan`` or ``all``, see _gbh_task).
@@ -114,7 +144,7 @@ def _gbh_task(args):
     from gbh_drake.core.pipeline import plan_grasps
     from gbh_drake.core.results import GbhInputError
 
-    params = copy.deepcopy(record["gbh"])  # the trial's own, as the trial's GbH systems use it
+    params = trial_params(record)  # the trial's own, as the trial's GbH systems use it
     options = {**_BASE, name: value}
     # Not a GbH parameter: which views' free space the core gets, the fused views' ("scan") or
     # also the first look's two side views ("all").
@@ -253,13 +283,16 @@ def main(argv=None) -> int:
             if (i + 1) % 20 == 0:
                 print(f"scanned {i + 1}/{len(todo)} ({time.perf_counter() - start:.0f} s)",
                       file=sys.stderr)
-    cache.write_bytes(pickle.dumps(scans))
+    if todo:
+        cache.write_bytes(pickle.dumps(scans))
+    keys = set(scans)
+    del scans  # each worker reads the cache itself: one copy per process is enough
     sweeps = [_parse_sweep(s) for s in args.sweep]
     base = {k: v if k == FREE_VIEWS else json.loads(v)
             for k, v in (b.split("=", 1) for b in args.base)}
     wanted = {(t.object, t.method, t.trial, name) for name, t in tasks}
     jobs = [(key, name, value) for name, values in sweeps for value in values
-            for key in sorted(k for k in scans if k in wanted)]
+            for key in sorted(k for k in keys if k in wanted)]
     with ProcessPoolExecutor(args.workers, initializer=_load_scans,
                              initargs=(str(cache), base)) as pool:
         rows = []
@@ -274,7 +307,7 @@ def main(argv=None) -> int:
     text = "\n".join(_table(rows, controls))
     (out / "README.md").write_text(text + "\n")
     print(text)
-    print(f"{len(scans)} scans, {len(rows)} GbH runs in {time.perf_counter() - start:.0f} s",
+    print(f"{len(keys)} scans, {len(rows)} GbH runs in {time.perf_counter() - start:.0f} s",
           file=sys.stderr)
     return 0
 
