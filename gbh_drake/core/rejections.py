@@ -4,14 +4,18 @@ apply, and how near the closest candidate came to passing the last rule that rem
 The rules are those of :func:`gbh_drake.core.scoring.collision_free`, applied in turn to what the
 previous ones left (the counts add up to the candidates that fail):
 
-1. ``collision N_c``: at least p_c object points inside the open gripper at X_WG (the paper's),
-   or (ours, unless ``rod_clearance`` is negative) the rods or the bar, open or closing, nearer
-   than ``rod_clearance`` to the object's surface: a collision with the object either way
-   (checked last, for the grasps the other rules left: ``pipeline.count_collisions``);
+1. ``collision N_c``: at least p_c object points inside the open gripper at X_WG (the paper's);
 2. ``closing sweep``: at least p_sweep points (or unseen space) in the volume the closing
    fingers and bar sweep (ours);
 3. ``table clearance``: some point of the gripper (open, closing or closed) less than
-   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative).
+   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative);
+4. ``rod clearance``: the rods or the bar, open or closing, nearer than ``rod_clearance`` to the
+   object's surface (ours; skipped when it is negative; checked last, for the grasps the other
+   rules left and only as far as the ranking needs: ``pipeline.count_collisions``).
+
+:data:`RULES` are the first three, the rules a record's ``rejected_by`` had before the fourth
+(the experiment's cause classes, ``experiment.taxonomy``, are named after them);
+:data:`ALL_RULES` all four, the keys of :attr:`Rejections.removed`.
 """
 
 from __future__ import annotations
@@ -25,6 +29,8 @@ from gbh_drake.core.results import GraspCandidate
 
 #: The rules, in the order they apply.
 RULES = ("collision N_c", "closing sweep", "table clearance")
+#: Every rule, in the order they apply: :data:`RULES` and the rods' clearance.
+ALL_RULES = (*RULES, "rod clearance")
 
 
 @dataclass
@@ -32,7 +38,7 @@ class Rejections:
     """How the collision rules sorted a list of candidates."""
 
     removed: dict[str, int] = field(default_factory=dict)
-    """Candidates each rule removed (keys :data:`RULES`, in their order), of those the
+    """Candidates each rule removed (keys :data:`ALL_RULES`, in their order), of those the
     earlier rules left."""
     passed: int = 0
     """Candidates that passed every rule."""
@@ -59,7 +65,7 @@ class Rejections:
 
 
 _WORDS = {"collision N_c": "N_c", "closing sweep": "the closing sweep",
-          "table clearance": "the table clearance"}
+          "table clearance": "the table clearance", "rod clearance": "the rods' clearance"}
 
 
 def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rejections:
@@ -68,19 +74,19 @@ def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rej
     (module docstring). Uncounted candidates (-1, nan) count as removed by the rule whose
     count is missing."""
     rule, shortfall = removed_by(candidates, params)
-    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(RULES)}
+    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(ALL_RULES)}
     if not (rule >= 0).any():
         return Rejections(removed, len(candidates))
     last = int(rule.max())
     idx = np.flatnonzero(rule == last)
     best = candidates[idx[int(np.argmin(shortfall[idx]))]]
-    return Rejections(removed, int(np.sum(rule < 0)), RULES[last],
-                      _closest(best, RULES[last], params))
+    return Rejections(removed, int(np.sum(rule < 0)), ALL_RULES[last],
+                      _closest(best, ALL_RULES[last], params))
 
 
 def removed_by(candidates: list[GraspCandidate], params: GbhParams
                ) -> tuple[np.ndarray, np.ndarray]:
-    """(rule, shortfall), each (M,): the index in :data:`RULES` of the rule that removed each
+    """(rule, shortfall), each (M,): the index in :data:`ALL_RULES` of the rule that removed each
     candidate (-1: it passed every one), and how far it is from passing that rule (points at
     or over p_c or p_sweep; metres below the table clearance; inf when uncounted)."""
     n_c = np.array([g.n_collisions for g in candidates], dtype=float)
@@ -89,18 +95,17 @@ def removed_by(candidates: list[GraspCandidate], params: GbhParams
     rods = np.array([g.rod_contacts for g in candidates], dtype=float)
     # The rods' clearance: unchecked (-1) when an earlier rule refused the grasp or top_k
     # better ones were clear (pipeline.count_collisions): not refused by it.
-    rods_near = np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0
-    counted = (n_c >= 0) & (n_c < params.p_c)
-    fails = [~counted | rods_near,
+    fails = [~((n_c >= 0) & (n_c < params.p_c)),
              ~((n_s >= 0) & (n_s < params.p_sweep)),
              np.zeros(len(candidates), bool) if params.ground_clearance < 0
-             else ~(height >= params.ground_clearance)]
-    shortfalls = [np.where(counted, rods, np.where(n_c >= 0, n_c, np.inf)),
-                  np.where(n_s >= 0, n_s, np.inf),
-                  np.where(np.isnan(height), np.inf, params.ground_clearance - height)]
+             else ~(height >= params.ground_clearance),
+             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0]
+    shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
+                  np.where(np.isnan(height), np.inf, params.ground_clearance - height),
+                  np.where(rods >= 0, rods, np.inf)]
     rule = np.full(len(candidates), -1)
     shortfall = np.zeros(len(candidates))
-    for k in range(len(RULES)):
+    for k in range(len(ALL_RULES)):
         out = (rule < 0) & fails[k]
         rule[out], shortfall[out] = k, shortfalls[k][out]
     return rule, shortfall
@@ -114,7 +119,7 @@ def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
             f"{d_mm:.1f} mm above the table"
         return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
-    if rule == "collision N_c" and 0 <= best.n_collisions < params.p_c:
+    if rule == "rod clearance":
         return (f"closest: a {best.kind} grasp whose rods or bar come nearer than "
                 f"{params.rod_clearance * 1e3:.1f} mm to the surface ({best.rod_contacts} "
                 "triangles or samples)")

@@ -101,5 +101,7 @@ def test_the_pipeline_refuses_the_grasp_the_paper_keeps():
         assert g.n_collisions < params.p_c and g.n_sweep_collisions < params.p_sweep
         assert collision_free(g, params) is kept
         if not kept:
-            r = count_rejections([g], params)  # a collision with the object: the rods'
-            assert r.removed["collision N_c"] == 1 and "rods or bar come nearer" in r.closest
+            r = count_rejections([g], params)
+            assert r.removed["rod clearance"] == 1 and r.last_rule == "rod clearance"
+            assert "rods or bar come nearer" in r.closest
+            assert "the rods' clearance removed 1" in r.summary()
