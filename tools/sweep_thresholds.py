@@ -34,8 +34,10 @@ space alone, or also that of the first look's two side views (``FreeSpace.with_v
 views, as the trial's GbH gets it; scans stored before hold the fused views alone, and ``all``
 is what the trial does now.
 
-writes ``<out>/scans.pkl`` (the scans, reused by later runs), ``<out>/rows.jsonl`` and prints the
-Markdown tables (``<out>/README.md``).
+writes ``<out>/scans.pkl`` (the scans, reused by later runs; ``--scans PATH``: a cache several
+sweeps share) with its keys beside it (``scans.keys.json``: the main process reads those, not
+the scans, when they are newer than the cache), ``<out>/rows.jsonl`` and prints the Markdown
+tables (``<out>/README.md``).
 """
 
 from __future__ import annotations
@@ -252,6 +254,8 @@ def main(argv=None) -> int:
                         metavar="NAME=VALUE", help="a GbH parameter set under every swept value "
                                                    "(JSON value, e.g. unknown_is_occupied=true)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--scans", help="the scans' cache (default <out>/scans.pkl): several "
+                                         "sweeps may share one")
     parser.add_argument("--methods", default="gbh-10,gbh-1")
     parser.add_argument("--protocols", default="stable",
                         help="the experiment's protocols to scan (comma-separated); the scans "
@@ -272,8 +276,14 @@ def main(argv=None) -> int:
             tasks.append((experiment.name, t))
             if t.is_control:
                 controls.add((experiment.name, t.object))
-    cache = out / "scans.pkl"
-    scans = pickle.loads(cache.read_bytes()) if cache.is_file() else {}
+    cache = Path(args.scans) if args.scans else out / "scans.pkl"
+    listed = cache.with_suffix(".keys.json")  # the cache's keys, so this process need not load it
+    keys_only = cache.is_file() and listed.is_file() \
+        and listed.stat().st_mtime >= cache.stat().st_mtime
+    if keys_only:
+        scans = dict.fromkeys(tuple(k) for k in json.loads(listed.read_text()))
+    else:
+        scans = pickle.loads(cache.read_bytes()) if cache.is_file() else {}
     todo = [((t.object, t.method, t.trial, name), t.scenario_yaml, t.source_path)
             for name, t in tasks if (t.object, t.method, t.trial, name) not in scans]
     start = time.perf_counter()
@@ -284,8 +294,12 @@ def main(argv=None) -> int:
                 print(f"scanned {i + 1}/{len(todo)} ({time.perf_counter() - start:.0f} s)",
                       file=sys.stderr)
     if todo:
+        if keys_only:  # only the keys were read: add the new scans to the cache's own
+            scans = {**pickle.loads(cache.read_bytes()),
+                     **{k: v for k, v in scans.items() if v is not None}}
         cache.write_bytes(pickle.dumps(scans))
     keys = set(scans)
+    listed.write_text(json.dumps(sorted(keys)))
     del scans  # each worker reads the cache itself: one copy per process is enough
     sweeps = [_parse_sweep(s) for s in args.sweep]
     base = {k: v if k == FREE_VIEWS else json.loads(v)
