@@ -14,15 +14,31 @@ frame the mesh is given in (called W in the docstrings).
 # time and needs real types, not strings.
 import copy
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
-from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, checker, ranged, sibling
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    Relation,
+    checker,
+    ranged,
+    sibling,
+)
 from gbh_drake.core.results import GbhInputError
 
 #: Segment samples per cluster GbH may test (max_contacts_per_cluster x n_segment_samples).
 MAX_SEGMENT_SAMPLES = 50_000
+#: A count of object points is bounded by the points sampled.
+_AT_MOST_N_POINTS = Relation("<=", "n_points", "no more object points can be counted than are "
+                                               "sampled: the rule would keep every grasp")
 
 
 @dataclass
@@ -30,13 +46,19 @@ class GbhParams:
     """Parameters of hangability detection, grasp synthesis, collision checking and scoring.
 
     ``preset`` names where the defaults of the fields that go beyond the paper come from:
-    ``""`` (gbh_drake's, below) or ``"paper"`` (the paper's rules alone, :data:`PRESETS`); use
-    :meth:`with_preset` in code, ``gbh: {preset: paper}`` in a scenario (fields written beside
-    it still win)."""
+    ``""`` (gbh_drake's, below) or ``"paper"`` (the paper's rules alone, :data:`PRESETS`).
+    ``GbhParams(preset="paper", d2=0.005)`` in code, ``gbh: {preset: paper, d2: 0.005}`` in a
+    scenario and ``GbhParams(d2=0.005).with_preset("paper")`` give the same parameters: the
+    preset's values, and the fields given beside it win. (``dataclasses.replace(p,
+    preset=...)`` passes every field and so applies no preset's values: use
+    :meth:`with_preset`.)"""
 
-    preset: str = ranged("", OneOf(("", "paper"), "'paper': the paper's rules alone"))
-    """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them
-    (:data:`PRESETS`)."""
+    preset: str = ranged("", OneOf(("", "paper", "robust"),
+                                   "'paper': the paper's rules alone; 'robust': the provisional "
+                                   "rules on, opt-in until swept"))
+    """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them;
+    ``"robust"``: the provisional (unswept) rules on at their provisional values
+    (:data:`PRESETS`, docs/robustness.md)."""
 
     # ---- sampling ---------------------------------------------------------------------------
     n_points: int = ranged(5000, Int(100, 50_000, "sampling and ray casting grow with it"))
@@ -61,7 +83,9 @@ class GbhParams:
     cluster_radius: float = ranged(2.5, Pos(100.0))
     """Contact points closer than this many mean sample spacings are in one cluster
     (single-linkage, i.e. DBSCAN with min_samples = 1). Dimensionless."""
-    min_cluster_size: int = ranged(1, Int(1, 50_000))
+    min_cluster_size: int = ranged(1, Int(1, 50_000), relations=(
+        Relation("<=", "n_points", "a cluster of contact points larger than the surface "
+                                   "samples can never form: nothing would be hangable"),))
     """Clusters with fewer contact points are ignored. 1 keeps isolated candidates: on a thin
     wire (a bucket's bail, a bag's strap) at 5000 points the few candidates on its underside
     lie farther apart than the cluster radius; the through-hole test removes noise."""
@@ -74,16 +98,20 @@ class GbhParams:
     """Metres. c is searched on the segment toward the CoM at most this far from the contact
     point: the gripper's loop is l_f = 8 cm long, so a c farther from the material it hooks
     cannot be used; without the cap, a bucket's bail hands its c to the bucket's cavity."""
-    min_clearance: float = ranged(0.002, NonNeg(0.1, "m"))
+    min_clearance: float = ranged(0.002, NonNeg(0.1, "m"), relations=(
+        Relation("<", "max_hanging_distance", "c lies at most max_hanging_distance from the "
+                 "material it hooks, so its clearance is never more: nothing would be "
+                 "hangable"),))
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
-    positions_per_cluster: int = ranged(4, Int(1, 1000))
+    positions_per_cluster: int = ranged(1, Int(1, 1000))
     """Ours: a cluster keeps up to this many hanging positions, chosen by non-maximum
     suppression over its members' positions (largest clearance first; each removes those
     inside its free ball, ``dedup_radius_factor``), each with its exact clearance. 1: the
     paper's one position per cluster, its member of largest *approximate* clearance: single
     linkage joins a handle's contacts to the body's next to it, and the cluster's one position
     then lies inside the cup or in a corner where nothing fits, and the handle is lost (a mug
-    and a teapot of the external set, issue 42). docs/thresholds.md has the sweep."""
+    and a teapot of the external set, issue 42). Provisional: 1 (the paper's) until swept;
+    preset ``robust``: 4 (docs/robustness.md says which sweep decides it)."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
@@ -153,10 +181,10 @@ class GbhParams:
     this number for the segments near the grasp (descend, close, lift), so a ranked grasp is
     not refused there for touching the table. A negative value turns the check off (e.g. an
     object in free space)."""
-    p_c: int = ranged(10, Int(1, 50_000))
+    p_c: int = ranged(10, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper
     (open, at the grasp pose)."""
-    p_sweep: int = ranged(1, Int(1, 50_000))
+    p_sweep: int = ranged(1, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """Ours: a grasp is kept only if fewer than p_sweep object points lie in the volume the
     gripper sweeps while closing (hand, rods and bar moving from the open to the closed pose,
     the closed pose included) that are not already counted in N_c. Default 1: none, because
@@ -179,8 +207,8 @@ class GbhParams:
     object set: it rejects the pot's grasp whose hand sweeps 1 mm into the rim between samples
     4.2 mm apart (found with 20k samples), and keeps the headphones' top-down grasps, whose 24 mm
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
-    rod_clearance: float = ranged(0.0025, Range(-1.0, 0.05, unit="m",
-                                                 note="negative: no such check"))
+    rod_clearance: float = ranged(-1.0, Range(-1.0, 0.05, unit="m",
+                                               note="negative: no such check"))
     """Ours, metres: the rods and the bar, at the grasp pose and swept while closing, must stay
     this far from the object's surface, tested so that nothing thinner than the sample spacing
     slips through (:func:`~gbh_drake.core.collision.count_rod_contacts`: the samples near the
@@ -188,8 +216,9 @@ class GbhParams:
     samples inside the gripper: an 8 mm rod crossing a 3-5 mm wire or grazing a thin handle arm
     meets only 2-5 of 5000 samples 2-5 mm apart, and the executed hand is off the plan by the
     IK's tolerance (1 mm and 0.01 rad at the palm: measured 2.1-2.4 mm at the rods' corners
-    over 35 ranked grasps, docs/thresholds.md). docs/thresholds.md has the sweep. Negative:
-    the paper's N_c alone."""
+    over 35 ranked grasps, docs/thresholds.md). Negative: the paper's N_c alone. Provisional:
+    -1 (off) until swept; preset ``robust``: 0.0025 (docs/robustness.md says which sweep
+    decides it)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
     unknown_is_occupied: bool = True
@@ -255,12 +284,27 @@ class GbhParams:
     """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""
     gamma_beta: float = ranged(2.0, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
-    top_k: int = ranged(40, Int(1, 100))
-    """Number of best grasps returned for execution: the paper's 10 (its preset), ours 40, of
-    which the planner tries the best ``pick.max_grasps`` (10) the arm reaches
-    (``pick.reach_check``): the paper's ten may all lie out of reach (a pot on its side, every
-    one of them on the far handle: scores 1e-6 to 1e-16) while the near handle's rank lower."""
-    hang_slide_scale: float = ranged(0.02, NonNeg(1.0, "m", "0: the paper's score"))
+    top_k: int = ranged(10, Int(1, 100))
+    """*paper*: number of best grasps returned for execution. Preset ``robust``: 40, of which
+    the planner tries the best ``pick.max_grasps`` (10) the arm reaches (``pick.reach_check``):
+    the paper's ten may all lie out of reach (a pot on its side, every one of them on the far
+    handle: scores 1e-6 to 1e-16) while the near handle's rank lower (docs/robustness.md)."""
+    distinct_distance: float = ranged(0.005, NonNeg(0.05, "m", "0 with distinct_angle_deg 0: "
+                                                             "no de-duplication"))
+    """Ours (beyond the paper), metres: the ranked list holds distinct grasps. A grasp whose
+    origin lies closer than this to that of a better ranked grasp of the same kind, turned by
+    less than ``distinct_angle_deg`` from it, is a copy and takes no place in the top k
+    (:func:`~gbh_drake.core.scoring.rank_grasps`). The turned approaches land on the
+    neighbouring contacts (20 and 40 deg turns, contacts every 360 / n_rays_per_plane =
+    10 deg): without this, a closed handle's top ten were two poses, five exact copies each.
+    5 mm: two TSDF voxels, below what the scan resolves; distinct poses of one structure lie
+    at least 10 deg and 14 mm apart (the loop's 8 cm turned by one contact). The paper ranks
+    without it (preset ``paper``: 0)."""
+    distinct_angle_deg: float = ranged(5.0, Range(0.0, 90.0, unit="deg"))
+    """Ours, degrees: the angle below which two grasps of the same kind, with origins closer
+    than ``distinct_distance``, are one (half the 10 deg between neighbouring contacts, so
+    no two distinct contacts' grasps merge)."""
+    hang_slide_scale: float = ranged(0.0, NonNeg(1.0, "m", "0: the paper's score"))
     """Ours, metres: a grasp's score is multiplied by S_hang = exp(-(d / this)^2), d being how
     much deeper the object hangs once the material the grasp cages slides along the
     structure's rim to where it comes to rest (:mod:`gbh_drake.core.sliding`: the material
@@ -269,8 +313,8 @@ class GbhParams:
     bar does not (the paper's contact rule finds exactly that point: the normal there points to
     the CoM), and from a hanger's triangle side the object slides 7-10 cm to the corner. The
     paper's score has no such term: a tilted triangle side snapped top-down (``snap_tilt_max_deg``)
-    scored 1.0, above the hanger's hook. docs/thresholds.md has the sweep. 0: the paper's
-    score."""
+    scored 1.0, above the hanger's hook. Provisional: 0 (off, the paper's score) until
+    swept; preset ``robust``: 0.02 (docs/robustness.md says which sweep decides it)."""
     min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
@@ -282,7 +326,7 @@ class GbhParams:
     def with_preset(self, name: str) -> "GbhParams":
         """A copy with ``preset = name`` and the preset's values of :data:`PRESETS` fields
         (``""``: gbh_drake's defaults of those fields)."""
-        if name not in PRESETS:
+        if not isinstance(name, str) or name not in PRESETS:
             raise GbhInputError(f"GbhParams.preset: one of {', '.join(map(repr, PRESETS))}, got "
                                 f"{name!r}")
         ours = GbhParams()
@@ -291,9 +335,9 @@ class GbhParams:
         return dataclasses.replace(self, preset=name, **copy.deepcopy(values))
 
     def check_relations(self, at: tuple = ()) -> None:
-        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        """The rules between fields no :class:`Relation` states (``at``: where these parameters
+        are, for the messages)."""
         _check_nonzero(self.ground_normal, at + ("ground_normal",))
-        _check_at_most_n_points(self, at, ("p_c", "p_sweep"))
         work = self.max_contacts_per_cluster * self.n_segment_samples
         if work > MAX_SEGMENT_SAMPLES:
             raise FieldError(at + ("n_segment_samples",), f"{sibling(at, 'max_contacts_per_cluster')} x "
@@ -303,18 +347,45 @@ class GbhParams:
 
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
-#: approach per contact point, the design note's contact angle, unseen space taken as free,
-#: the paper's score without the hang's slide, one hanging position per cluster, N_c without
-#: the rods' clearance, the ten best grasps).
+#: approach per contact point, the design note's contact angle, unseen space taken as free, the
+#: top ten ranked without de-duplication). ``robust``: the provisional rules of issue 42 on at
+#: their provisional values, opt-in until swept over both object sets (docs/robustness.md): the
+#: hang's slide in the score, four hanging positions per cluster, the rods' 2.5 mm clearance,
+#: the best 40 grasps ranked (the planner tries the ten best the arm reaches).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "hang_slide_scale": 0.0, "positions_per_cluster": 1, "rod_clearance": -1.0,
-              "top_k": 10},
+              "distinct_distance": 0.0, "distinct_angle_deg": 0.0},
+    "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
+               "top_k": 40},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))
+
+
+def _init_with_preset(init):
+    """``GbhParams.__init__``: the dataclass's own, then, for a known ``preset``, the preset's
+    values in the fields not given (as ``gbh: {preset: ...}`` in a scenario does)."""
+    fields = {f.name: f for f in dataclasses.fields(GbhParams)}
+    names = list(fields)
+
+    @functools.wraps(init)
+    def __init__(self, *args, **kwargs):  # noqa: N807
+        init(self, *args, **kwargs)
+        if isinstance(self.preset, str) and self.preset in PRESETS:
+            given = set(names[:len(args)]) | set(kwargs)
+            for name in _PRESET_FIELDS:
+                if name not in given:
+                    f = fields[name]
+                    ours = f.default if f.default_factory is dataclasses.MISSING \
+                        else f.default_factory()
+                    setattr(self, name, copy.deepcopy(PRESETS[self.preset].get(name, ours)))
+
+    return __init__
+
+
+GbhParams.__init__ = _init_with_preset(GbhParams.__init__)
 
 
 @dataclass
@@ -333,7 +404,9 @@ class AntipodalParams:
     point upward."""
     contact_depth: float = ranged(0.015, NonNeg(0.08, "m"))
     """m: the contacts' distance behind the rods' tip keypoint p2 (z_G = l_f): the finger pads."""
-    min_contact_depth: float = ranged(0.006, NonNeg(0.08, "m"))
+    min_contact_depth: float = ranged(0.006, NonNeg(0.08, "m"),
+                                      relations=(Relation("<=", "contact_depth", "the hand "
+                                                          "backs off from contact_depth to it"),))
     """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
     contacts are this close to the tips, no closer."""
     opening_margin: float = ranged(0.003, NonNeg(0.04, "m"))
@@ -348,19 +421,8 @@ class AntipodalParams:
     """m: the open gripper descends along +z_G from this far back (the pick's pre-grasp offset,
     ``PickParams.approach_distance``); the material it would pass through counts in N_c.
     0: only the grasp pose and the closing are checked (as GbH's N_c)."""
-    p_c: int = ranged(10, Int(1, 50_000))
+    p_c: int = ranged(10, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
-    rod_clearance: float = ranged(0.0025, Range(-1.0, 0.05, unit="m",
-                                                 note="negative: no such check"))
-    """Ours, metres: the rods and the bar, at the grasp pose and swept while closing, must stay
-    this far from the object's surface, tested so that nothing thinner than the sample spacing
-    slips through (:func:`~gbh_drake.core.collision.count_rod_contacts`: the samples near the
-    rods, then the exact distance to the surface where they are near). N_c < p_c allows 9
-    samples inside the gripper: an 8 mm rod crossing a 3-5 mm wire or grazing a thin handle arm
-    meets only 2-5 of 5000 samples 2-5 mm apart, and the executed hand is off the plan by the
-    IK's tolerance (1 mm and 0.01 rad at the palm: measured 2.1-2.4 mm at the rods' corners
-    over 35 ranked grasps, docs/thresholds.md). docs/thresholds.md has the sweep. Negative:
-    the paper's N_c alone."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """m: every box of the solid model is grown by this for the point count."""
     ground_normal: list[float] = ranged(lambda: [0.0, 0.0, 1.0], Items(3, what="components"))
@@ -383,23 +445,14 @@ class AntipodalParams:
     check = checker(GbhInputError)
 
     def check_relations(self, at: tuple = ()) -> None:
-        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        """The rules between fields no :class:`Relation` states (``at``: where these parameters
+        are, for the messages)."""
         _check_nonzero(self.ground_normal, at + ("ground_normal",))
-        _check_at_most_n_points(self, at, ("p_c",))
-        if self.min_contact_depth > self.contact_depth:
-            raise FieldError(at + ("min_contact_depth",), f"must be <= {sibling(at, 'contact_depth')} "
-                                                          f"({self.contact_depth:g} m)")
 
 
 def _check_nonzero(vector, path: tuple) -> None:
     if not np.linalg.norm(np.asarray(vector, float)) > 0:
         raise FieldError(path, f"must not be zero, got {list(vector)}")
-
-
-def _check_at_most_n_points(params, at: tuple, names: tuple[str, ...]) -> None:
-    for name in names:
-        if getattr(params, name) > params.n_points:
-            raise FieldError(at + (name,), f"must be <= {sibling(at, 'n_points')} ({params.n_points})")
 
 
 @dataclass
@@ -418,7 +471,9 @@ class ScoopParams:
     rod_gap: float = ranged(0.0015, NonNeg(0.02, "m"))
     """m: the straight rod goes down this far inside the hole's edge (between its face and the
     material's inner surface), where it keeps the material from sliding away from the wedge."""
-    hover: float = ranged(0.0005, NonNeg(0.01, "m"))
+    hover: float = ranged(0.0005, NonNeg(0.01, "m"), relations=(
+        Relation("<", "press_depth", "the press, at most press_depth below the grasp pose, "
+                                     "would never reach the table"),))
     """m: the rods' tips stop this far above the table at the grasp pose; the press goes on down."""
     press_force: float = ranged(2.0, Pos(50.0, "N"))
     """N: at the grasp pose the arm goes on down until the table pushes the hand up this hard

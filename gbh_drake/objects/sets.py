@@ -37,14 +37,13 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake.core.ranges import FieldError, check_fields
-from gbh_drake.modeling.object_config import (
+from gbh_drake.objects.manifest import (
     ObjectSetManifest,
     SetEntry,
     SetPart,
     SetRest,
 )
-from gbh_drake.yamlfiles.layers import LayerError, load_layers
-from gbh_drake.yamlfiles.yaml_text import YamlTextError, read_text
+from gbh_drake.yamlfiles.layers import LayerError, file_layer, load_layers
 
 #: The scheme of a mesh inside a PyPI distribution: ``pypi://DISTRIBUTION/PATH``.
 PYPI = "pypi://"
@@ -117,11 +116,7 @@ def load_object_set(path: str | Path) -> ObjectSet:
     """Reads and checks the manifest at ``path`` (see the module docstring); raises
     :class:`ObjectSetError` naming the manifest, the entry, the field and its line."""
     path = Path(path)
-    origin = str(path)
-    try:
-        text = read_text(path, "object set")
-    except YamlTextError as e:
-        raise ObjectSetError(origin, "", e.line, e.problem, e.column) from None
+    origin, text = file_layer(path, "object set", ObjectSetError)
     manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
                                   what="object set", error=ObjectSetError)
     try:

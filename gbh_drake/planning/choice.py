@@ -16,9 +16,9 @@ The :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine calls it at 
 **The cut by reach** (beyond the paper): with ``reach``, a cheap check (the IK of the grasp
 pose from the measured arm, the first step of planning it) runs first, and a grasp the arm
 cannot reach is refused without counting toward ``max_grasps``: of a tier's ranked grasps (GbH
-offers ``GbhParams.top_k``, 40), the best ``max_grasps`` the arm reaches are planned. Without
-it, the first ``max_grasps`` are (the paper's ten: a pot on its side with all ten on the far
-handle is never hooked by the near one).
+offers ``GbhParams.top_k``: 10, preset ``robust`` 40), the best ``max_grasps`` the arm reaches
+are planned. Without it, the first ``max_grasps`` are (the paper's ten: a pot on its side with
+all ten on the far handle is never hooked by the near one).
 """
 
 from __future__ import annotations

@@ -3,6 +3,8 @@
 Perception and grasps:
 
 * :class:`Scanner`: depth views fused by TSDF into the object's mesh (``mesh_W``);
+* :class:`DepthImageScanner`: the same scan from camera streams (depth images and camera poses
+  on input ports, real or simulated);
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
   paper's three stages (hanging structures, hook grasps, the ranked top 10);
 * :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
@@ -21,6 +23,7 @@ Python values travel on ``Value[object]`` ports, which Drake's ``Connect()`` doe
 """
 
 from gbh_drake.systems.scanner import Scanner, no_scan  # noqa: I001  (dependency order)
+from gbh_drake.systems.depth_image_scanner import DepthImageScanner
 from gbh_drake.systems.stage import AbstractStage
 from gbh_drake.systems.hangability_detector import Hangability, HangabilityDetector
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
@@ -39,6 +42,7 @@ __all__ = [
     "AbstractStage",
     "AntipodalGraspSampler",
     "CageMonitor",
+    "DepthImageScanner",
     "GraspScorer",
     "GraspSearch",
     "GraspSearchReport",

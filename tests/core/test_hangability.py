@@ -167,9 +167,10 @@ def test_a_cluster_keeps_every_handle_position():
     def on_handle(g) -> bool:
         return np.linalg.norm(g.structure.c - centre) <= 0.5 * part.clear_diameter + 0.02
 
-    one = plan_grasps(mesh, GbhParams(positions_per_cluster=1), seed=0)
-    several = plan_grasps(mesh, GbhParams(), seed=0)
+    one = plan_grasps(mesh, GbhParams(), seed=0)  # the default: the paper's one
+    several = plan_grasps(mesh, GbhParams(positions_per_cluster=4), seed=0)
     assert not any(on_handle(g) for g in one.ranked)
     assert len(several.structures) > len(one.structures)
     assert several.ranked and on_handle(several.ranked[0])
     assert GbhParams().with_preset("paper").positions_per_cluster == 1
+    assert GbhParams(preset="robust").positions_per_cluster == 4

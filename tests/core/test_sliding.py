@@ -66,12 +66,12 @@ def test_a_straight_wire_does_not_outrank_a_stable_hang():
     grasp of the ten the planner tries lets the material slide more than 2 cm; the paper's
     preset scores as the paper does."""
     mesh = _hanger(20.0)
-    ours = plan_grasps(mesh, GbhParams(), seed=0)
+    ours = plan_grasps(mesh, GbhParams(hang_slide_scale=0.02), seed=0)  # preset robust's
     assert ours.ranked
     assert ours.ranked[0].hang_drop < 0.005, ours.ranked[0].hang_drop
     assert max(g.hang_drop for g in ours.ranked[:10]) < 0.02
     assert any(g.hang_drop > 0.05 for g in ours.candidates)  # there, and ranked lower
-    unscored = plan_grasps(mesh, GbhParams(hang_slide_scale=0.0), seed=0)
+    unscored = plan_grasps(mesh, GbhParams(), seed=0)  # the default until swept: off
     assert unscored.ranked[0].hang_drop > 0.05  # the regression: a shoulder's middle first
     paper = plan_grasps(mesh, GbhParams().with_preset("paper"), seed=0)
     assert all(g.s_hang == 1.0 for g in paper.candidates)
@@ -82,7 +82,7 @@ def test_a_handle_keeps_its_ranking():
     the handle's outermost point (the farthest from the CoM), the same for every grasp the
     planner tries, so S_hang scales them alike and the ranked list is the paper's."""
     mesh = make_object("mug_classic").mesh
-    ours = plan_grasps(mesh, GbhParams(), seed=0)
-    unscored = plan_grasps(mesh, GbhParams(hang_slide_scale=0.0), seed=0)
+    ours = plan_grasps(mesh, GbhParams(hang_slide_scale=0.02), seed=0)
+    unscored = plan_grasps(mesh, GbhParams(), seed=0)
     assert [g.X_WG.tobytes() for g in ours.ranked] == [g.X_WG.tobytes() for g in unscored.ranked]
     assert all(0.005 < g.hang_drop < 0.02 for g in ours.ranked)

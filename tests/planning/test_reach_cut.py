@@ -40,8 +40,8 @@ def test_a_pot_on_its_side_is_hooked_by_a_grasp_below_the_paper_ten():
     def is_plan(result):
         return isinstance(result, PickPlan)
 
-    paper = plan_grasps(mesh, GbhParams(top_k=10), seed=0).ranked
-    ours = plan_grasps(mesh, GbhParams(), seed=0).ranked
+    paper = plan_grasps(mesh, GbhParams(), seed=0).ranked  # top_k 10
+    ours = plan_grasps(mesh, GbhParams(top_k=40), seed=0).ranked  # preset robust's
     assert len(paper) == 10 and len(ours) == 40
     assert all(reach(Tier.GRASPS, i, g) is not None for i, g in enumerate(paper))
     plain = choose([Offer(Tier.GRASPS, lambda: paper)], plan_grasp=plan, is_plan=is_plan,
