@@ -30,7 +30,7 @@ from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError, GbhResult, GraspCandidate, HangingStructure
-from gbh_drake.core.scoring import rank_grasps, score_grasps
+from gbh_drake.core.scoring import is_copy, rank_grasps, score_grasps
 
 trimesh = lazy_module("trimesh")
 
@@ -115,7 +115,8 @@ def _rod_contacts(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndar
                   gripper: HookGripperGeometry) -> np.ndarray:
     """(M,) ``rod_contacts`` of the candidates that pass the other rules (``passing``), checked
     best score first (:func:`~gbh_drake.core.scoring.score_grasps`, the ranking's order) until
-    ``top_k`` are clear: the rest cannot enter the ranked list and stay unchecked (-1; the
+    ``top_k`` distinct ones are clear (:func:`~gbh_drake.core.scoring.is_copy`: a copy takes
+    no place in the ranking): the rest cannot enter the ranked list and stay unchecked (-1; the
     rejection counts take them as passed)."""
     rods = np.full(len(X), -1)
     todo = np.flatnonzero(passing)
@@ -125,15 +126,18 @@ def _rod_contacts(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndar
     todo = todo[np.argsort([-candidates[i].score for i in todo], kind="stable")]
     triangles = SurfaceTriangles.of(obj.mesh.vertices, obj.mesh.faces,
                                     COVERING_SPACINGS * obj.spacing)
-    clear = 0
+    ranked: list[GraspCandidate] = []  # the clear ones the ranking keeps (distinct), so far
     for start in range(0, len(todo), _ROD_CHUNK):
         chunk = todo[start:start + _ROD_CHUNK]
         for kind in dict.fromkeys(kinds[i] for i in chunk):
             sel = chunk[[kinds[i] == kind for i in chunk]]
             rods[sel] = count_rod_contacts(obj.points, obj.spacing, triangles, X[sel], kind,
                                            params.rod_clearance, gripper)
-        clear += int(np.sum(rods[chunk] == 0))
-        if clear >= params.top_k:
+        for i in chunk[rods[chunk] == 0]:  # in score order, as rank_grasps takes them
+            if len(ranked) < params.top_k and not any(is_copy(candidates[i], kept, params)
+                                                      for kept in ranked):
+                ranked.append(candidates[i])
+        if len(ranked) >= params.top_k:
             break
     return rods
 

@@ -105,3 +105,14 @@ def test_the_pipeline_refuses_the_grasp_the_paper_keeps():
             assert r.removed["rod clearance"] == 1 and r.last_rule == "rod clearance"
             assert "rods or bar come nearer" in r.closest
             assert "the rods' clearance removed 1" in r.summary()
+
+
+def test_the_lazy_check_ranks_as_checking_more_would():
+    """The rods' clearance is checked best score first until ``top_k`` *distinct* grasps are
+    clear (a copy takes no place in the ranking): the ten ranked are the first ten of a
+    ranking that checked until a hundred were clear, and every one of them was checked."""
+    mesh = make_object("mug_classic").mesh
+    lazy = plan_grasps(mesh, GbhParams(rod_clearance=0.0025), seed=0).ranked
+    more = plan_grasps(mesh, GbhParams(rod_clearance=0.0025, top_k=100), seed=0).ranked
+    assert len(lazy) == 10 and all(g.rod_contacts == 0 for g in lazy)
+    assert [g.X_WG.tobytes() for g in lazy] == [g.X_WG.tobytes() for g in more[:10]]
