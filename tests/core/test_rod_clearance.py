@@ -45,7 +45,7 @@ def _scene(offset: float):
     grasp's straight rod (open pose) at mid-height, normal to the gripper's plane (along x_G),
     its surface ``offset`` m beyond the rod's face (negative: through the rod)."""
     pan = make_object("frying_pan").mesh
-    result = plan_grasps(pan, GbhParams(ground_clearance=-1.0), seed=0)
+    result = plan_grasps(pan, GbhParams(ground_clearance=-1.0, rod_clearance=0.0025), seed=0)
     grasp = next(g for g in result.ranked if g.kind == VERTICAL)  # its rods clear by 2.5 mm
     X = grasp.X_WG
     g = HOOK_GRIPPER
