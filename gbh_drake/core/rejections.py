@@ -15,7 +15,8 @@ previous ones left (the counts add up to the candidates that fail):
 
 :data:`RULES` are the first three, the rules a record's ``rejected_by`` had before the fourth
 (the experiment's cause classes, ``experiment.taxonomy``, are named after them);
-:data:`ALL_RULES` all four, the keys of :attr:`Rejections.removed`.
+:data:`ALL_RULES` all four, the keys of :attr:`Rejections.removed` when the fourth is checked
+(``rod_clearance`` >= 0; else the first three).
 """
 
 from __future__ import annotations
@@ -38,8 +39,8 @@ class Rejections:
     """How the collision rules sorted a list of candidates."""
 
     removed: dict[str, int] = field(default_factory=dict)
-    """Candidates each rule removed (keys :data:`ALL_RULES`, in their order), of those the
-    earlier rules left."""
+    """Candidates each rule removed (keys :data:`ALL_RULES`, or :data:`RULES` with the rods'
+    clearance off, in their order), of those the earlier rules left."""
     passed: int = 0
     """Candidates that passed every rule."""
     last_rule: str = ""
@@ -72,9 +73,11 @@ def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rej
     """Sorts counted ``candidates`` (N_c, N_sweep and ground distance set, as by
     :func:`gbh_drake.core.pipeline.count_collisions`) by the rule that removed each
     (module docstring). Uncounted candidates (-1, nan) count as removed by the rule whose
-    count is missing."""
+    count is missing. :attr:`Rejections.removed` has the rods' clearance only when it is
+    checked (``rod_clearance`` >= 0): off, the keys are :data:`RULES`, as before it."""
     rule, shortfall = removed_by(candidates, params)
-    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(ALL_RULES)}
+    rules = ALL_RULES if params.rod_clearance >= 0 else RULES
+    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(rules)}
     if not (rule >= 0).any():
         return Rejections(removed, len(candidates))
     last = int(rule.max())
