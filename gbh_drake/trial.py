@@ -140,6 +140,9 @@ class TrialRecord:
     lift_needed: float = float("nan")
     """How far it should have risen for the object, hanging from where its material comes to
     rest on the loop, to clear the table by ``pick.lift_clearance`` (nan: not estimated)."""
+    lift_slide: float = float("nan")
+    """How far (m) the hooked material may slide through the closed loop (the lift bounds the
+    object hanging from anywhere it reaches; ``pick.slide_lift``); nan without a hook plan."""
     carry_dip: float = float("nan")
     """How far (m) the hook point went below its lifted height along the carry."""
     plan_notes: list[str] = field(default_factory=list)
@@ -444,6 +447,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         refusal_texts=[r.text() for r in status.refusals],
         lift=plan.lift if plan else float("nan"),
         lift_needed=float(getattr(plan, "lift_needed", float("nan"))) if plan else float("nan"),
+        lift_slide=float(getattr(plan, "slide", float("nan"))) if plan else float("nan"),
         carry_dip=float(getattr(plan, "carry_dip", float("nan"))) if plan else float("nan"),
         plan_notes=list(getattr(plan, "notes", [])) if plan else [],
         place=plan.place_W.tolist() if plan else [],

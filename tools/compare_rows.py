@@ -1,7 +1,7 @@
 """Every trial whose result changed between two experiment runs (same seeds, same poses).
 
     python tools/compare_rows.py BEFORE/trials.jsonl AFTER/trials.jsonl [--out changes.md]
-        [--protocol stable]
+        [--protocol stable] [--pair gbh-10=gbh-10r ...]
 
 A trial is (object, method, trial index) of one protocol (``--protocol``, default ``stable``;
 rows without one are ``stable``); its result is the outcome and, for a success, whether a cage
@@ -10,6 +10,11 @@ line per changed trial with both reasons, gained successes first, and where it c
 ``upstream`` when the two runs chose different grasps (the settled pose, the scan or GbH
 differed), ``physics`` when they executed the same grasp and the simulation of the pick
 differed.
+
+``--pair OLD=NEW`` (repeatable) compares method OLD's trials of BEFORE with method NEW's of
+AFTER (one file may be both: ``gbh-10`` and ``gbh-10r`` of one run of
+``scenarios/experiment_robust.yaml`` are the same trials with the provisional rules off and on,
+docs/robustness.md); the method is then shown as ``OLD=NEW``.
 """
 
 from __future__ import annotations
@@ -57,6 +62,19 @@ def where(before: dict, after: dict) -> str:
     return "physics" if executed and choice(before) == choice(after) else "upstream"
 
 
+def paired(before: dict[tuple, dict], after: dict[tuple, dict], pairs: list[tuple[str, str]]
+           ) -> tuple[dict[tuple, dict], dict[tuple, dict]]:
+    """``before`` and ``after`` (rows by (object, method, trial)) restricted to the methods of
+    ``pairs`` ((old, new): old's rows of ``before``, new's of ``after``), both renamed
+    ``old=new`` so that :func:`compare` pairs them."""
+    b, a = {}, {}
+    for old, new in pairs:
+        name = f"{old}={new}"
+        b.update({(o, name, t): r for (o, m, t), r in before.items() if m == old})
+        a.update({(o, name, t): r for (o, m, t), r in after.items() if m == new})
+    return b, a
+
+
 def compare(before: dict[tuple, dict], after: dict[tuple, dict]) -> list[str]:
     methods = list(dict.fromkeys(k[1] for k in before))
     lines = ["| method | trials | successes before | after | gained | lost | cage/pinch after |",
@@ -98,7 +116,13 @@ def main(argv=None) -> int:
     parser.add_argument("after", type=Path)
     parser.add_argument("--out", type=Path)
     parser.add_argument("--protocol", default="stable")
+    parser.add_argument("--pair", action="append", default=[], metavar="OLD=NEW",
+                        help="compare method OLD of before with method NEW of after")
     args = parser.parse_args(argv)
+    pairs = [tuple(p.split("=", 1)) for p in args.pair]
+    if any(len(p) != 2 or not all(p) for p in pairs):
+        print("compare_rows: --pair: OLD=NEW, two method names", file=sys.stderr)
+        return 2
     from gbh_drake.experiment.rows import FolderError
 
     try:
@@ -106,6 +130,8 @@ def main(argv=None) -> int:
     except FolderError as e:
         print(f"compare_rows: {e}", file=sys.stderr)
         return 2
+    if pairs:
+        before, after = paired(before, after, pairs)
     text = "\n".join(compare(before, after)) + "\n"
     if args.out:
         args.out.write_text(text)

@@ -243,6 +243,20 @@ def synthesize_grasps(
         turns = np.repeat(np.asarray(params.approach_rotations_deg, dtype=float), len(s.H))
         for kind, X, hs in batches:
             turn = np.resize(turns, len(X))
-            out.extend(GraspCandidate(X[j], kind, i, s, hs[j], turn_deg=float(turn[j]))
+            drop = caged_hang_drop(s, hs)
+            out.extend(GraspCandidate(X[j], kind, i, s, hs[j], turn_deg=float(turn[j]),
+                                      hang_drop=float(drop[j]))
                        for j in range(len(X)))
     return out
+
+
+def caged_hang_drop(structure: HangingStructure, h: np.ndarray) -> np.ndarray:
+    """(n,) metres: the structure's ``hang_drop`` at the hit point nearest each caged point
+    ``h`` (n, 3) (a turned grasp cages the material a turn along the rim); zeros when the
+    structure has none."""
+    drop = np.asarray(structure.hang_drop, dtype=float)
+    h = np.asarray(h, dtype=float).reshape(-1, 3)
+    if len(drop) != len(structure.H) or len(drop) == 0:
+        return np.zeros(len(h))
+    nearest = np.argmin(np.linalg.norm(h[:, None] - structure.H[None], axis=2), axis=1)
+    return drop[nearest]

@@ -8,7 +8,10 @@ Stages, each vectorised over all candidates (rays are batched into one Embree ca
 3. hanging position c of a cluster: on each member's segment to h_c, only the first free interval
    (up to the first surface hit, and at most ``max_hanging_distance`` from the contact point: the
    gripper's reach), the point farthest from the surface; the cluster keeps its
-   member with the largest such clearance. Positions inside another one's free ball coincide;
+   member with the largest such clearance (the paper's one position per cluster) or, beyond the
+   paper, up to ``positions_per_cluster`` of them by non-maximum suppression (a cluster that
+   spans a cup's wall and its handle keeps both). Positions inside another one's free ball
+   coincide;
 4. hanging direction v: the normal u of the plane through c whose K rays hit the mesh most often
    (coarse Fibonacci sphere, then cones of shrinking size around the best). Ties (e.g. a ring
    seen from slightly tilted planes: all rays still hit) go to the plane with the smallest mean
@@ -32,6 +35,7 @@ from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import HangabilityReport, HangingStructure, RefusedPosition
+from gbh_drake.core.sliding import rim_slide
 
 csgraph = lazy_module("scipy.sparse.csgraph")
 sparse = lazy_module("scipy.sparse")
@@ -40,6 +44,9 @@ trimesh = lazy_module("trimesh")
 
 #: Each refinement level searches a cone this many times narrower than the previous one.
 _REFINE_SHRINK = 4.0
+#: A dip of the rim's distance from the CoM of at most this many sample spacings does not stop
+#: the material sliding along it (the scan's surface noise; :func:`~gbh_drake.core.sliding.rim_slide`).
+RIM_TOLERANCE_SPACINGS = 0.5
 #: Refinement levels after the coarse sphere search.
 _REFINE_LEVELS = 2
 #: The through-hole rays are checked in the free space this far (in sample spacings) beyond
@@ -77,7 +84,7 @@ def detect_with_report(
     c_all, clear_all, contact_all = cluster_positions(obj, idx[sel], labels[sel], params)
     keep, small = select_positions(c_all, clear_all, params)
     c, clearance, contact = c_all[keep], clear_all[keep], contact_all[keep]
-    report.clusters, report.positions = len(c_all), len(keep)
+    report.clusters, report.positions = len(np.unique(labels[sel])), len(keep)
     report.merged = len(c_all) - len(small) - len(keep)
     report.refused += [RefusedPosition(c_all[i], float(clear_all[i]), "too small")
                        for i in small]
@@ -111,7 +118,8 @@ def detect_with_report(
         report.refused += [RefusedPosition(c[i], float(clearance[i]), rule, v[i], float(m[i]))
                            for i in np.flatnonzero(refused)]
     structures = [
-        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
+        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i], obj.com,
+                   RIM_TOLERANCE_SPACINGS * obj.spacing)
         for i in np.flatnonzero(through)
     ]
     structures.sort(key=lambda s: (-s.m, -s.clearance))
@@ -175,7 +183,7 @@ def hanging_positions(
     """Hanging positions (P, 3), their clearances (P,) and contact points (P, 3), metres.
 
     ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels:
-    each cluster's position (:func:`cluster_positions`); positions with clearance <
+    each cluster's positions (:func:`cluster_positions`); positions with clearance <
     ``min_clearance`` are dropped and coincident ones (within another's free ball) merged,
     keeping the larger ball.
     """
@@ -197,12 +205,16 @@ def select_positions(c: np.ndarray, clearance: np.ndarray, params: GbhParams
 def cluster_positions(
     obj: ObjectModel, idx: np.ndarray, labels: np.ndarray, params: GbhParams
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One hanging position per cluster (P, 3), its exact clearance (P,) and contact point
-    (P, 3), metres, in the order of the clusters' labels.
+    """The hanging positions of the clusters (P, 3), their exact clearances (P,) and contact
+    points (P, 3), metres, in the order of the clusters' labels.
 
     For each member, the free part of its segment to the CoM (up to the first hit, at most
-    ``max_hanging_distance`` long) is sampled; the cluster's position is the sample farthest
-    from the surface, of the member with the largest such clearance."""
+    ``max_hanging_distance`` long) is sampled and its sample farthest from the surface is the
+    member's position. A cluster keeps the position of its member with the largest such
+    (approximate) clearance, the paper's one per cluster, or, with ``positions_per_cluster``
+    > 1, up to that many by non-maximum suppression over its members' exact clearances:
+    largest first, each kept position removing the others inside its free ball, so a cluster
+    that spans a cup's inside and its handle keeps both."""
     empty = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
     if len(idx) == 0:
         return empty
@@ -218,11 +230,18 @@ def cluster_positions(
     dist = obj.approx_distance(samples.reshape(-1, 3)).reshape(len(p), -1)
     k = dist.argmax(axis=1)
     member_c = samples[np.arange(len(p)), k]
-    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the winners below
+    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the chosen below
     # Best member per cluster: sort by (label, -clearance) and take each label's first row.
     order = np.lexsort((-member_clear, labels))
     first = order[np.r_[True, np.diff(labels[order]) != 0]]
-    member_clear[first] = obj.distance(member_c[first])
+    if params.positions_per_cluster > 1:
+        member_clear = obj.distance(member_c)
+        first = np.concatenate([
+            members[_merge_coincident(member_c[members], member_clear[members],
+                                      params.dedup_radius_factor)[:params.positions_per_cluster]]
+            for members in (np.flatnonzero(labels == lab) for lab in np.unique(labels))])
+    else:
+        member_clear[first] = obj.distance(member_c[first])
     return member_c[first], member_clear[first], p[first]
 
 
@@ -453,19 +472,25 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
 
 def _structure(
     c: np.ndarray, v: np.ndarray, t: np.ndarray, dirs: np.ndarray, clearance: float,
-    contact: np.ndarray,
+    contact: np.ndarray, com: np.ndarray, rim_tolerance: float,
 ) -> HangingStructure:
-    """A HangingStructure from the chosen plane's hit distances t (K,) and directions (K, 3)."""
+    """A HangingStructure from the chosen plane's hit distances t (K,) and directions (K, 3),
+    with how far each hit point's material slides from the CoM ``com`` along the rim
+    (:func:`~gbh_drake.core.sliding.rim_slide`, dips of ``rim_tolerance`` m ignored)."""
     hit = np.isfinite(t)
     miss_mean = dirs[~hit].mean(axis=0) if (~hit).any() else np.zeros(3)
+    H = c + t[hit, None] * dirs[hit]
+    hit_index = np.flatnonzero(hit)
     return HangingStructure(
         c=c.copy(),
         v=unit(v),
-        H=c + t[hit, None] * dirs[hit],
+        H=H,
         m=float(hit.mean()),
         a=unit(miss_mean),
         clearance=float(clearance),
         contact_point=contact.copy(),
         n_rays=len(t),
         miss_directions=dirs[~hit],
+        hit_index=hit_index,
+        hang_drop=rim_slide(H, hit_index, len(t), com, rim_tolerance),
     )

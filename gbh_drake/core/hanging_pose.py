@@ -3,18 +3,26 @@
 A hooked object swings until its centre of mass is straight below the point it hangs from. Its
 lowest point then drops by more than its resting extent below the hook: a teapot hooked by its
 handle tips nose-down. These estimates use what the robot knows (the scanned points and their
-centroid), not the object's true mesh.
+centroid), not the object's true mesh. Hooked material thin enough to pass the closed loop (a
+wire, a long handle's bar) slides through it to where the object hangs deepest
+(:mod:`gbh_drake.core.sliding`): :func:`rest_on_loop` bounds the hang over every point it can
+reach.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from gbh_drake.core.collision import closed_loop_interior_G
 from gbh_drake.core.geometry import unit
-from gbh_drake.core.gripper import HOOK_GRIPPER
+from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
+from gbh_drake.core.lazy import lazy_module
+from gbh_drake.core.sliding import LoopOpening, MaterialGraph, slide_region
+
+spatial = lazy_module("scipy.spatial")
 
 
 def hanging_rotation(com_W: np.ndarray, hook_W: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -107,11 +115,21 @@ class LoopRest:
     lowest_any_turn: float
     """A bound on that lowest point for any way the object turns about ``contact_W`` (the
     farthest scanned point from it straight below it)."""
+    slide: float = 0.0
+    """How far (m) the material resting on the loop may slide through it (``material`` given:
+    :func:`~gbh_drake.core.sliding.slide_region`): ``lowest`` and ``lowest_any_turn`` are then
+    the worst over every point of the scan it can slide to, each hanging from the contact."""
+    hang_W: np.ndarray | None = None
+    """The scan point (W, m, where it was scanned) the object hangs deepest from (the worst
+    hang point, ``lowest_any_turn``'s); None without sliding."""
+    slide_points: int = 0
+    """How many (thinned) scan points the material can slide to, the caged ones included."""
 
 
 def rest_on_loop(points_W: np.ndarray, com_W: np.ndarray, X_WG: np.ndarray, kind: str,
                  up=(0.0, 0.0, 1.0), *, hook_W: np.ndarray | None = None,
-                 slab: float = CAGED_SLAB) -> LoopRest:
+                 slab: float = CAGED_SLAB, material: MaterialGraph | None = None,
+                 gripper: HookGripperGeometry = HOOK_GRIPPER) -> LoopRest:
     """How the object of scan points ``points_W`` (n, 3) and centre of mass ``com_W`` comes to
     rest on the closed loop of a grasp of ``kind`` at ``X_WG`` (4, 4: the open gripper's grasp
     pose; the loop is where it is once closed, :func:`~gbh_drake.core.collision.closed_loop_interior_G`).
@@ -120,7 +138,13 @@ def rest_on_loop(points_W: np.ndarray, com_W: np.ndarray, X_WG: np.ndarray, kind
     of the loop's plane inside its inner faces) sinks along -``up`` relative to the gripper
     until the first of it meets an inner face: for a top-down hook the bar's upper face. The
     object then hangs from that contact with its CoM below it. Without caged material, or with
-    the loop lying flat, it hangs from ``hook_W`` (default: the middle of the bar)."""
+    the loop lying flat, it hangs from ``hook_W`` (default: the middle of the bar).
+
+    With ``material`` (:func:`~gbh_drake.core.sliding.material_graph` of the same points), the
+    caged material may slide through the closed loop along material thin enough to pass it
+    (a wire, a long handle's bar, :func:`~gbh_drake.core.sliding.slide_region`): the object
+    may then hang from any point it reaches, each brought to the contact, and both lowest
+    points are the worst over them (:attr:`LoopRest.slide`)."""
     up = unit(np.asarray(up, dtype=float))
     X = np.asarray(X_WG, dtype=float)
     R, t = X[:3, :3], X[:3, 3]
@@ -163,5 +187,58 @@ def rest_on_loop(points_W: np.ndarray, com_W: np.ndarray, X_WG: np.ndarray, kind
         return LoopRest(contact, drop, support, int(inside.sum()), 0.0, 0.0)
     lowest = hanging_lowest_height(moved, com - drop * up, contact, up)
     reach = float(np.linalg.norm(moved - contact, axis=1).max())
-    return LoopRest(np.asarray(contact, dtype=float), drop, support, int(inside.sum()),
+    rest = LoopRest(np.asarray(contact, dtype=float), drop, support, int(inside.sum()),
                     lowest, float(contact @ up) - reach)
+    if material is None or not inside.any():
+        return rest
+    return _slid(rest, p, com, np.flatnonzero(inside), material, up, kind, gripper)
+
+
+#: At most this many of the points the material can slide to are hung from (evenly strided;
+#: the farthest from the caged material always).
+MAX_HANG_POINTS = 400
+
+
+def loop_opening(kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER) -> LoopOpening:
+    """The closed loop's inner opening (:class:`~gbh_drake.core.sliding.LoopOpening`) of a
+    grasp of ``kind``: :func:`~gbh_drake.core.collision.closed_loop_interior_G`'s box."""
+    h = np.asarray(closed_loop_interior_G(kind, gripper).half_extents, dtype=float)
+    return LoopOpening(width=2.0 * h[1], length=2.0 * h[2], thickness=2.0 * h[0])
+
+
+def _slid(rest: LoopRest, p: np.ndarray, com: np.ndarray, caged: np.ndarray,
+          material: MaterialGraph, up: np.ndarray, kind: str,
+          gripper: HookGripperGeometry) -> LoopRest:
+    """``rest`` bounded over every point the caged material ``p[caged]`` can slide to: the
+    object hung from each of them brought to ``rest.contact_W`` (CoM below it, and any turn),
+    the worst kept. The lowest points are those of the scan's convex hull."""
+    region = slide_region(material, caged, loop_opening(kind, gripper))
+    hang = material.points[region.reachable]
+    start = p[caged].mean(axis=0)
+    slide = float(np.linalg.norm(hang - start, axis=1).max()) if len(hang) else 0.0
+    if len(hang) > MAX_HANG_POINTS:
+        far = int(np.argmax(np.linalg.norm(hang - start, axis=1)))
+        keep = np.unique(np.r_[np.linspace(0, len(hang) - 1, MAX_HANG_POINTS).astype(int), far])
+        hang = hang[keep]
+    hull = _hull_points(p)
+    contact_up = float(rest.contact_W @ up)
+    # Any turn: the farthest hull point from the hang point, straight below the contact.
+    reach = np.linalg.norm(hull[None] - hang[:, None], axis=2).max(axis=1)  # (H,)
+    any_turn = contact_up - reach
+    # The CoM below the hang point: each hang point brought to the contact.
+    lowest = np.array([hanging_lowest_height(hull - q + rest.contact_W, com - q + rest.contact_W,
+                                             rest.contact_W, up) for q in hang])
+    worst = int(np.argmin(any_turn))
+    return dataclasses.replace(
+        rest, lowest=float(min(rest.lowest, lowest.min())),
+        lowest_any_turn=float(min(rest.lowest_any_turn, any_turn.min())), slide=slide,
+        hang_W=hang[worst].copy(), slide_points=int(region.reachable.sum()))
+
+
+def _hull_points(p: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of ``p`` (n, 3) (where a linear function, such as a
+    height after any rigid motion, has its minimum), or ``p`` when it has no hull."""
+    try:
+        return p[spatial.ConvexHull(p).vertices]
+    except Exception:  # degenerate (flat, too few points): all of them
+        return p

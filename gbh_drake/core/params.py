@@ -53,9 +53,12 @@ class GbhParams:
     preset=...)`` passes every field and so applies no preset's values: use
     :meth:`with_preset`.)"""
 
-    preset: str = ranged("", OneOf(("", "paper"), "'paper': the paper's rules alone"))
-    """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them
-    (:data:`PRESETS`)."""
+    preset: str = ranged("", OneOf(("", "paper", "robust"),
+                                   "'paper': the paper's rules alone; 'robust': the provisional "
+                                   "rules on, opt-in until swept"))
+    """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them;
+    ``"robust"``: the provisional (unswept) rules on at their provisional values
+    (:data:`PRESETS`, docs/robustness.md)."""
 
     # ---- sampling ---------------------------------------------------------------------------
     n_points: int = ranged(5000, Int(100, 50_000, "sampling and ray casting grow with it"))
@@ -100,6 +103,15 @@ class GbhParams:
                  "material it hooks, so its clearance is never more: nothing would be "
                  "hangable"),))
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
+    positions_per_cluster: int = ranged(1, Int(1, 1000))
+    """Ours: a cluster keeps up to this many hanging positions, chosen by non-maximum
+    suppression over its members' positions (largest clearance first; each removes those
+    inside its free ball, ``dedup_radius_factor``), each with its exact clearance. 1: the
+    paper's one position per cluster, its member of largest *approximate* clearance: single
+    linkage joins a handle's contacts to the body's next to it, and the cluster's one position
+    then lies inside the cup or in a corner where nothing fits, and the handle is lost (a mug
+    and a teapot of the external set, issue 42). Provisional: 1 (the paper's) until swept;
+    preset ``robust``: 4 (docs/robustness.md says which sweep decides it)."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
@@ -195,6 +207,18 @@ class GbhParams:
     object set: it rejects the pot's grasp whose hand sweeps 1 mm into the rim between samples
     4.2 mm apart (found with 20k samples), and keeps the headphones' top-down grasps, whose 24 mm
     band is caged with 1 mm to spare on each side of the 26 mm loop (0.5 would reject them)."""
+    rod_clearance: float = ranged(-1.0, Range(-1.0, 0.05, unit="m",
+                                               note="negative: no such check"))
+    """Ours, metres: the rods and the bar, at the grasp pose and swept while closing, must stay
+    this far from the object's surface, tested so that nothing thinner than the sample spacing
+    slips through (:func:`~gbh_drake.core.collision.count_rod_contacts`: the samples near the
+    rods, then the exact distance to the surface where they are near). N_c < p_c allows 9
+    samples inside the gripper: an 8 mm rod crossing a 3-5 mm wire or grazing a thin handle arm
+    meets only 2-5 of 5000 samples 2-5 mm apart, and the executed hand is off the plan by the
+    IK's tolerance (1 mm and 0.01 rad at the palm: measured 2.1-2.4 mm at the rods' corners
+    over 35 ranked grasps, docs/thresholds.md). Negative: the paper's N_c alone. Provisional:
+    -1 (off) until swept; preset ``robust``: 0.0025 (docs/robustness.md says which sweep
+    decides it)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
     unknown_is_occupied: bool = True
@@ -261,7 +285,10 @@ class GbhParams:
     gamma_beta: float = ranged(2.0, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = ranged(10, Int(1, 100))
-    """*paper*: number of best grasps returned for execution."""
+    """*paper*: number of best grasps returned for execution. Preset ``robust``: 40, of which
+    the planner tries the best ``pick.max_grasps`` (10) the arm reaches (``pick.reach_check``):
+    the paper's ten may all lie out of reach (a pot on its side, every one of them on the far
+    handle: scores 1e-6 to 1e-16) while the near handle's rank lower (docs/robustness.md)."""
     distinct_distance: float = ranged(0.005, NonNeg(0.05, "m", "0 with distinct_angle_deg 0: "
                                                              "no de-duplication"))
     """Ours (beyond the paper), metres: the ranked list holds distinct grasps. A grasp whose
@@ -277,6 +304,17 @@ class GbhParams:
     """Ours, degrees: the angle below which two grasps of the same kind, with origins closer
     than ``distinct_distance``, are one (half the 10 deg between neighbouring contacts, so
     no two distinct contacts' grasps merge)."""
+    hang_slide_scale: float = ranged(0.0, NonNeg(1.0, "m", "0: the paper's score"))
+    """Ours, metres: a grasp's score is multiplied by S_hang = exp(-(d / this)^2), d being how
+    much deeper the object hangs once the material the grasp cages slides along the
+    structure's rim to where it comes to rest (:mod:`gbh_drake.core.sliding`: the material
+    slides while that takes it farther from the CoM). A hook's curve, a handle's outermost
+    point or a triangle's corner hold it where it is (d = 0); the middle of a straight wire or
+    bar does not (the paper's contact rule finds exactly that point: the normal there points to
+    the CoM), and from a hanger's triangle side the object slides 7-10 cm to the corner. The
+    paper's score has no such term: a tilted triangle side snapped top-down (``snap_tilt_max_deg``)
+    scored 1.0, above the hanger's hook. Provisional: 0 (off, the paper's score) until
+    swept; preset ``robust``: 0.02 (docs/robustness.md says which sweep decides it)."""
     min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
@@ -310,12 +348,17 @@ class GbhParams:
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free, the
-#: top ten ranked without de-duplication).
+#: top ten ranked without de-duplication). ``robust``: the provisional rules of issue 42 on at
+#: their provisional values, opt-in until swept over both object sets (docs/robustness.md): the
+#: hang's slide in the score, four hanging positions per cluster, the rods' 2.5 mm clearance,
+#: the best 40 grasps ranked (the planner tries the ten best the arm reaches).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
               "distinct_distance": 0.0, "distinct_angle_deg": 0.0},
+    "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
+               "top_k": 40},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))

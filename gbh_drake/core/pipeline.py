@@ -9,7 +9,10 @@ import numpy as np
 
 from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.core.collision import (
+    COVERING_SPACINGS,
+    SurfaceTriangles,
     count_open_and_sweep,
+    count_rod_contacts,
     count_unknown_in_sweep,
     ground_distance,
     sweep_grid_G,
@@ -27,7 +30,7 @@ from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GbhInputError, GbhResult, GraspCandidate, HangingStructure
-from gbh_drake.core.scoring import rank_grasps, score_grasps
+from gbh_drake.core.scoring import is_copy, rank_grasps, score_grasps
 
 trimesh = lazy_module("trimesh")
 
@@ -60,7 +63,9 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
                      gripper: HookGripperGeometry = HOOK_GRIPPER) -> None:
     """Sets ``n_collisions`` (N_c: object points inside the open gripper), ``n_sweep_collisions``
     (points the closing motion meets) and ``ground_distance`` (how far above the supporting
-    surface the gripper stays, open, closing and closed) of every candidate.
+    surface the gripper stays, open, closing and closed) of every candidate, and, with
+    ``params.rod_clearance`` >= 0, ``rod_contacts`` of those that pass those rules (the rods and
+    the bar too near the surface, ``collision.count_rod_contacts``).
 
     With the object's free space (``obj.free_space``) and ``params.unknown_is_occupied``, the
     unknown points of the closing sweep (``collision.count_unknown_in_sweep``: a grid of the
@@ -90,8 +95,51 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
         n_s += unknown
     if params.sampling_votes > 1:
         _vote(obj, X, kinds, n_c, n_s, unknown, params, gripper)
-    for g, n, s, d in zip(candidates, n_c, n_s, height, strict=True):
+    rods = np.full(len(X), -1)
+    if params.rod_clearance >= 0:
+        passing = (n_c < params.p_c) & (n_s < params.p_sweep)
+        if params.ground_clearance >= 0:
+            passing &= height >= params.ground_clearance
+        rods = _rod_contacts(obj, candidates, X, kinds, passing, params, gripper)
+    for g, n, s, d, r in zip(candidates, n_c, n_s, height, rods, strict=True):
         g.n_collisions, g.n_sweep_collisions, g.ground_distance = int(n), int(s), float(d)
+        g.rod_contacts = int(r)
+
+
+#: Candidates whose rods' clearance is checked at a time, best score first.
+_ROD_CHUNK = 32
+
+
+def _rod_contacts(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarray,
+                  kinds: list[str], passing: np.ndarray, params: GbhParams,
+                  gripper: HookGripperGeometry) -> np.ndarray:
+    """(M,) ``rod_contacts`` of the candidates that pass the other rules (``passing``), checked
+    best score first (:func:`~gbh_drake.core.scoring.score_grasps`, the ranking's order) until
+    ``top_k`` distinct ones are clear (:func:`~gbh_drake.core.scoring.is_copy`: a copy takes
+    no place in the ranking): the rest cannot enter the ranked list and stay unchecked (-1; the
+    rejection counts take them as passed)."""
+    rods = np.full(len(X), -1)
+    todo = np.flatnonzero(passing)
+    if len(todo) == 0:
+        return rods
+    score_grasps(candidates, params)
+    todo = todo[np.argsort([-candidates[i].score for i in todo], kind="stable")]
+    triangles = SurfaceTriangles.of(obj.mesh.vertices, obj.mesh.faces,
+                                    COVERING_SPACINGS * obj.spacing)
+    ranked: list[GraspCandidate] = []  # the clear ones the ranking keeps (distinct), so far
+    for start in range(0, len(todo), _ROD_CHUNK):
+        chunk = todo[start:start + _ROD_CHUNK]
+        for kind in dict.fromkeys(kinds[i] for i in chunk):
+            sel = chunk[[kinds[i] == kind for i in chunk]]
+            rods[sel] = count_rod_contacts(obj.points, obj.spacing, triangles, X[sel], kind,
+                                           params.rod_clearance, gripper)
+        for i in chunk[rods[chunk] == 0]:  # in score order, as rank_grasps takes them
+            if len(ranked) < params.top_k and not any(is_copy(candidates[i], kept, params)
+                                                      for kept in ranked):
+                ranked.append(candidates[i])
+        if len(ranked) >= params.top_k:
+            break
+    return rods
 
 
 def _vote(obj: ObjectModel, X: np.ndarray, kinds: list[str], n_c: np.ndarray, n_s: np.ndarray,

@@ -8,7 +8,15 @@ previous ones left (the counts add up to the candidates that fail):
 2. ``closing sweep``: at least p_sweep points (or unseen space) in the volume the closing
    fingers and bar sweep (ours);
 3. ``table clearance``: some point of the gripper (open, closing or closed) less than
-   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative).
+   ``ground_clearance`` above the supporting surface (ours; skipped when it is negative);
+4. ``rod clearance``: the rods or the bar, open or closing, nearer than ``rod_clearance`` to the
+   object's surface (ours; skipped when it is negative; checked last, for the grasps the other
+   rules left and only as far as the ranking needs: ``pipeline.count_collisions``).
+
+:data:`RULES` are the first three, the rules a record's ``rejected_by`` had before the fourth
+(the experiment's cause classes, ``experiment.taxonomy``, are named after them);
+:data:`ALL_RULES` all four, the keys of :attr:`Rejections.removed` when the fourth is checked
+(``rod_clearance`` >= 0; else the first three).
 """
 
 from __future__ import annotations
@@ -22,6 +30,8 @@ from gbh_drake.core.results import GraspCandidate
 
 #: The rules, in the order they apply.
 RULES = ("collision N_c", "closing sweep", "table clearance")
+#: Every rule, in the order they apply: :data:`RULES` and the rods' clearance.
+ALL_RULES = (*RULES, "rod clearance")
 
 
 @dataclass
@@ -29,8 +39,8 @@ class Rejections:
     """How the collision rules sorted a list of candidates."""
 
     removed: dict[str, int] = field(default_factory=dict)
-    """Candidates each rule removed (keys :data:`RULES`, in their order), of those the
-    earlier rules left."""
+    """Candidates each rule removed (keys :data:`ALL_RULES`, or :data:`RULES` with the rods'
+    clearance off, in their order), of those the earlier rules left."""
     passed: int = 0
     """Candidates that passed every rule."""
     last_rule: str = ""
@@ -56,23 +66,25 @@ class Rejections:
 
 
 _WORDS = {"collision N_c": "N_c", "closing sweep": "the closing sweep",
-          "table clearance": "the table clearance"}
+          "table clearance": "the table clearance", "rod clearance": "the rods' clearance"}
 
 
 def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rejections:
     """Sorts counted ``candidates`` (N_c, N_sweep and ground distance set, as by
     :func:`gbh_drake.core.pipeline.count_collisions`) by the rule that removed each
     (module docstring). Uncounted candidates (-1, nan) count as removed by the rule whose
-    count is missing."""
+    count is missing. :attr:`Rejections.removed` has the rods' clearance only when it is
+    checked (``rod_clearance`` >= 0): off, the keys are :data:`RULES`, as before it."""
     rule, shortfall = removed_by(candidates, params)
-    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(RULES)}
+    rules = ALL_RULES if params.rod_clearance >= 0 else RULES
+    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(rules)}
     if not (rule >= 0).any():
         return Rejections(removed, len(candidates))
     last = int(rule.max())
     idx = np.flatnonzero(rule == last)
     best = candidates[idx[int(np.argmin(shortfall[idx]))]]
-    return Rejections(removed, int(np.sum(rule < 0)), RULES[last],
-                      _closest(best, RULES[last], params))
+    return Rejections(removed, int(np.sum(rule < 0)), ALL_RULES[last],
+                      _closest(best, ALL_RULES[last], params))
 
 
 def no_grasp_message(n_candidates: int, n_structures: int, rejections: Rejections) -> str:
@@ -84,21 +96,26 @@ def no_grasp_message(n_candidates: int, n_structures: int, rejections: Rejection
 
 def removed_by(candidates: list[GraspCandidate], params: GbhParams
                ) -> tuple[np.ndarray, np.ndarray]:
-    """(rule, shortfall), each (M,): the index in :data:`RULES` of the rule that removed each
+    """(rule, shortfall), each (M,): the index in :data:`ALL_RULES` of the rule that removed each
     candidate (-1: it passed every one), and how far it is from passing that rule (points at
     or over p_c or p_sweep; metres below the table clearance; inf when uncounted)."""
     n_c = np.array([g.n_collisions for g in candidates], dtype=float)
     n_s = np.array([g.n_sweep_collisions for g in candidates], dtype=float)
     height = np.array([g.ground_distance for g in candidates], dtype=float)
+    rods = np.array([g.rod_contacts for g in candidates], dtype=float)
+    # The rods' clearance: unchecked (-1) when an earlier rule refused the grasp or top_k
+    # better ones were clear (pipeline.count_collisions): not refused by it.
     fails = [~((n_c >= 0) & (n_c < params.p_c)),
              ~((n_s >= 0) & (n_s < params.p_sweep)),
              np.zeros(len(candidates), bool) if params.ground_clearance < 0
-             else ~(height >= params.ground_clearance)]
+             else ~(height >= params.ground_clearance),
+             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0]
     shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
-                  np.where(np.isnan(height), np.inf, params.ground_clearance - height)]
+                  np.where(np.isnan(height), np.inf, params.ground_clearance - height),
+                  np.where(rods >= 0, rods, np.inf)]
     rule = np.full(len(candidates), -1)
     shortfall = np.zeros(len(candidates))
-    for k in range(len(RULES)):
+    for k in range(len(ALL_RULES)):
         out = (rule < 0) & fails[k]
         rule[out], shortfall[out] = k, shortfalls[k][out]
     return rule, shortfall
@@ -112,6 +129,10 @@ def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
             f"{d_mm:.1f} mm above the table"
         return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
+    if rule == "rod clearance":
+        return (f"closest: a {best.kind} grasp whose rods or bar come nearer than "
+                f"{params.rod_clearance * 1e3:.1f} mm to the surface ({best.rod_contacts} "
+                "triangles or samples)")
     if rule == "closing sweep":
         return (f"closest: a {best.kind} grasp with {best.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")

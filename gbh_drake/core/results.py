@@ -76,6 +76,13 @@ class HangingStructure:
     miss_directions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     """(n_rays - K, 3) unit directions of the rays from c that miss (for drawing; a is their
     normalised mean)."""
+    hit_index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    """(K,) the index of each hit point's ray among the plane's ``n_rays`` (adjacent rays are
+    adjacent along the rim); empty when not known."""
+    hang_drop: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    """(K,) metres: how much deeper the object hangs when the material at each hit point, once
+    hooked, slides along the rim to where it comes to rest (:func:`~gbh_drake.core.sliding.rim_slide`;
+    0 at a stable hang point); empty when not known (counted as 0)."""
 
 
 @dataclass(eq=False)
@@ -108,6 +115,11 @@ class GraspCandidate:
     """m: height of the lowest point of the gripper's solid model above the supporting surface,
     over the grasp pose (open), the closing sweep and the closed pose (negative: below it); nan
     if not computed."""
+    rod_contacts: int = -1
+    """Ours: witnesses that the object's surface comes nearer than ``GbhParams.rod_clearance``
+    to the rods and the bar (open and closing; :func:`~gbh_drake.core.collision.count_rod_contacts`);
+    0: clear; -1 if not checked (the check is off, an earlier rule refused the grasp, or
+    ``top_k`` better-scored grasps were clear: it cannot be ranked)."""
     alpha: float = float("nan")
     """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
     beta: float = float("nan")
@@ -116,8 +128,14 @@ class GraspCandidate:
     """S_alpha = exp(-alpha^2 / gamma_alpha)."""
     s_beta: float = float("nan")
     """S_beta = 1 if m_i = 1 else exp(-beta^2 / gamma_beta)."""
+    hang_drop: float = 0.0
+    """m (ours): how much deeper the object hangs once the material this grasp cages slides
+    along the structure's rim to where it comes to rest (the structure's ``hang_drop`` at the
+    hit point nearest ``h``; :mod:`gbh_drake.core.sliding`)."""
+    s_hang: float = 1.0
+    """S_hang = exp(-(hang_drop / hang_slide_scale)^2) (ours; 1 with the paper's score)."""
     score: float = float("nan")
-    """S_total = m_i * S_beta * S_alpha."""
+    """S_total = m_i * S_beta * S_alpha (* S_hang, ours)."""
 
 
 @dataclass(eq=False)
@@ -161,7 +179,8 @@ class HangabilityReport:
     """The smallest angle (deg) between a sample's normal and its direction to the CoM (how
     near the closest sample came, when none is a candidate)."""
     clusters: int = 0
-    """Clusters of contact candidates (each gives at most one hanging position)."""
+    """Clusters of contact candidates (each gives at most ``positions_per_cluster`` hanging
+    positions: one by default)."""
     merged: int = 0
     """Hanging positions merged into a coincident one with more clearance."""
     positions: int = 0

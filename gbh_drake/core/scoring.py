@@ -24,7 +24,10 @@ contacts) takes no place (the ``paper`` preset ranks as the paper does, copies i
   instead of a cage. p_sweep = 1 by default: none;
 * ground distance >= ground_clearance (ours, skipped when ground_clearance < 0): the solid model,
   open, sweeping and closed, stays that far above the supporting surface; the planner pads the
-  table by the same number near the grasp.
+  table by the same number near the grasp;
+* no rod contact (ours, skipped when rod_clearance < 0): the rods and the bar, open and closing,
+  stay ``rod_clearance`` from the object's surface, however thin the material
+  (:func:`~gbh_drake.core.collision.count_rod_contacts`).
 
 The score terms:
 
@@ -45,6 +48,12 @@ The score terms:
   Sign choice (design.md Sec. 4): for vertical grasps u is R n2 (= +y_G), as in the paper. For
   parallel grasps u is the approach +z_G = -R n1, not the paper's R n1: with n1 pointing to the
   wrist, the paper's sign would reward holding the material on the open side.
+
+* S_hang (ours; ``hang_slide_scale`` > 0): exp(-(d / hang_slide_scale)^2), d = the grasp's
+  ``hang_drop``: how much deeper the object hangs once the caged material slides along the rim
+  to where it rests (:mod:`gbh_drake.core.sliding`). The paper scores where the gripper is,
+  not where the object will hang from: a straight wire's middle (where the paper's contact
+  rule puts h) lets the material slide to the wire's end. S_total = m S_beta S_alpha S_hang.
 """
 
 from __future__ import annotations
@@ -86,19 +95,28 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
     beta = np.where(closed, np.nan, beta)
     s_alpha = np.exp(-(alpha**2) / params.gamma_alpha)
     s_beta = np.where(closed, 1.0, np.exp(-(np.nan_to_num(beta) ** 2) / params.gamma_beta))
-    score = m * s_beta * s_alpha
-    for g, al, be, sa, sb, s in zip(candidates, alpha, beta, s_alpha, s_beta, score, strict=True):
-        g.alpha, g.beta, g.s_alpha, g.s_beta, g.score = (float(x) for x in (al, be, sa, sb, s))
+    drop = np.array([g.hang_drop for g in candidates], dtype=float)
+    s_hang = np.exp(-((drop / params.hang_slide_scale) ** 2)) if params.hang_slide_scale > 0 \
+        else np.ones(len(candidates))
+    score = m * s_beta * s_alpha * s_hang
+    for g, al, be, sa, sb, sh, s in zip(candidates, alpha, beta, s_alpha, s_beta, s_hang, score,
+                                        strict=True):
+        g.alpha, g.beta, g.s_alpha, g.s_beta, g.s_hang, g.score = \
+            (float(x) for x in (al, be, sa, sb, sh, s))
 
 
 def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
     """Whether ``g`` passes every collision check (module docstring): N_c < p_c (paper),
-    N_sweep < p_sweep and, unless ground_clearance < 0, ground distance >= ground_clearance.
-    Uncounted candidates (-1, nan) do not pass."""
+    N_sweep < p_sweep, unless ground_clearance < 0, ground distance >= ground_clearance, and,
+    unless rod_clearance < 0, no rod contact found. Uncounted candidates (-1, nan) do not pass
+    the counts and the table; the rods' clearance is checked lazily (only for grasps that may
+    be ranked, best score first, ``pipeline.count_collisions``), so an unchecked grasp (-1) is
+    not refused by it (the ranking is the same as if every grasp were checked)."""
     return (0 <= g.n_collisions < params.p_c
             and 0 <= g.n_sweep_collisions < params.p_sweep
             and (params.ground_clearance < 0
-                 or bool(g.ground_distance >= params.ground_clearance)))
+                 or bool(g.ground_distance >= params.ground_clearance))
+            and (params.rod_clearance < 0 or g.rod_contacts <= 0))
 
 
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:

@@ -11,11 +11,18 @@ time of each evaluation and of each grasp planned is measured.
 The :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine calls it at PLAN::
 
     choice = choose([Offer(Tier.GRASPS, lambda: ranked), Offer(Tier.FALLBACK, lambda: pinches)],
-                    plan_grasp=..., plan_regrasp=..., max_grasps=10)
+                    plan_grasp=..., plan_regrasp=..., max_grasps=10, reach=...)
 
 After lifts that came away empty (beyond the paper: a method with retries), which tiers the
 next PLAN may try is :func:`tiers_after_empty_lifts`: every tier while the retries last, then
 the tiers after the one whose grasp came away empty last, until none is left.
+
+**The cut by reach** (beyond the paper): with ``reach``, a cheap check (the IK of the grasp
+pose from the measured arm, the first step of planning it) runs first, and a grasp the arm
+cannot reach is refused without counting toward ``max_grasps``: of a tier's ranked grasps (GbH
+offers ``GbhParams.top_k``: 10, preset ``robust`` 40), the best ``max_grasps`` the arm reaches
+are planned. Without it, the first ``max_grasps`` are (the paper's ten: a pot on its side with
+all ten on the far handle is never hooked by the near one).
 """
 
 from __future__ import annotations
@@ -54,6 +61,7 @@ class Choice:
     refusals: list = field(default_factory=list)
     n_offered: int = 0
     skipped: int = 0
+    unreached: int = 0
     offer_seconds: float = 0.0
     grasp_seconds: list[float] = field(default_factory=list)
     regrasp_note: str = ""
@@ -62,14 +70,17 @@ class Choice:
 def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Callable | None = None,
            is_plan: Callable[[object], bool], max_grasps: int, max_pinches: int = 0,
            regrasp_allowed: bool = True, skip: Callable[[object], bool] = lambda grasp: False,
-           check: Callable[[Tier, Sequence], None] = lambda tier, grasps: None) -> Choice:
+           check: Callable[[Tier, Sequence], None] = lambda tier, grasps: None,
+           reach: Callable[[Tier, int, object], object | None] | None = None) -> Choice:
     """The first plannable grasp of ``offers``, tier by tier (see the module docstring).
 
     ``plan_grasp(tier, rank, grasp)`` and ``plan_regrasp(rank, X_WG, pose)`` return a plan
-    (``is_plan`` true) or a refusal; only the first ``max_grasps`` grasps of a tier are tried,
-    and of a regrasp ``max_pinches`` pinches per resting pose of each kind; ``regrasp_allowed``
-    false passes over a regrasp tier (the object was regrasped often enough); ``check(tier,
-    grasps)`` may refuse an offer that cannot be executed (raise)."""
+    (``is_plan`` true) or a refusal; only the first ``max_grasps`` grasps of a tier are tried
+    (skipped ones count), and of a regrasp ``max_pinches`` pinches per resting pose of each
+    kind; ``regrasp_allowed`` false passes over a regrasp tier (the object was regrasped often
+    enough); ``check(tier, grasps)`` may refuse an offer that cannot be executed (raise);
+    ``reach(tier, rank, grasp)``: None when the arm reaches the grasp, else its refusal, kept
+    in order; such a grasp does not count toward ``max_grasps`` (module docstring)."""
     choice = Choice()
     for offer in offers:
         if offer.tier is Tier.REGRASP:
@@ -82,11 +93,23 @@ def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Calla
         choice.offer_seconds += time.perf_counter() - start
         check(offer.tier, grasps)
         choice.n_offered += len(grasps)
-        for rank, grasp in enumerate(grasps[:max_grasps]):
+        counted = 0
+        for rank, grasp in enumerate(grasps if reach is not None else grasps[:max_grasps]):
+            if counted >= max_grasps:
+                break
             if skip(grasp):
                 choice.skipped += 1
+                counted += 1
                 continue
             start = time.perf_counter()
+            if reach is not None:
+                refusal = reach(offer.tier, rank, grasp)
+                if refusal is not None:
+                    choice.grasp_seconds.append(time.perf_counter() - start)
+                    choice.refusals.append(refusal)
+                    choice.unreached += 1
+                    continue
+            counted += 1
             result = plan_grasp(offer.tier, rank, grasp)
             choice.grasp_seconds.append(time.perf_counter() - start)
             if _try(choice, result, is_plan, offer.tier, rank, grasp):

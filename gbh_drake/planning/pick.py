@@ -44,6 +44,7 @@ from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, rest_on
 from gbh_drake.core.params import AntipodalParams
 from gbh_drake.core.pinch import PinchSwing, lowest_any_turn, pinch_swing
 from gbh_drake.core.results import PARALLEL, GraspKind
+from gbh_drake.core.sliding import MaterialGraph, material_graph
 from gbh_drake.core.unseen import farthest_distance
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
@@ -70,6 +71,13 @@ CARRY_IK_RESTARTS = 2
 CARRY_RISES = (0.03, 0.06, 0.10)
 #: Joint-space spacing (rad, max-norm) of the configurations whose hook height is checked.
 CARRY_CHECK_STEP = 0.02
+#: The voxel (in rod widths) the scan's points are thinned to for where hooked material slides:
+#: half a rod, so a wire of a few millimetres stays one line of points.
+SLIDE_VOXEL = 0.5
+#: A slide longer than this (m) is said in the plan's notes.
+SLIDE_NOTE = 0.01
+#: IK restarts for the grasp pose (from the measured arm; the reach check's too).
+GRASP_IK_RESTARTS = 3
 #: IK tolerances (m, rad) of the grasp and closed poses solved again when the close collides
 #: (:func:`plan_pick`): a tenth of the usual ones.
 TIGHT_IK = (1e-4, 1e-3)
@@ -132,6 +140,10 @@ class PickPlan:
     table however the object turns (:func:`unseen_lift`); nan without unseen space."""
     drop: float = 0.0
     """How far (m) the object is predicted to sink onto the loop once lifted."""
+    slide: float = 0.0
+    """How far (m) the hooked material may slide through the closed loop along material thin
+    enough to pass it (``pick.slide_lift``; :attr:`~gbh_drake.core.hanging_pose.LoopRest.slide`):
+    the lift bounds the object hanging from any point it reaches."""
     support: str = ""
     """The loop's side the object is predicted to rest on (``bar``, ...; "": the hook point)."""
     notes: list[str] = field(default_factory=list)
@@ -169,6 +181,26 @@ class PickSetup:
     """(m, 3) centres of the grid cells no camera saw free that connect to the scan
     (:func:`gbh_drake.core.unseen.unseen_cells`): where unseen material may be."""
     gripper: HookGripperGeometry = HOOK_GRIPPER
+    _material: MaterialGraph | None = field(default=None, repr=False)
+
+    def material(self) -> MaterialGraph:
+        """The scan's points as a material graph (:func:`~gbh_drake.core.sliding.material_graph`
+        at :data:`SLIDE_VOXEL`), made once: where hooked material can slide to."""
+        if self._material is None:
+            self._material = material_graph(self.points_W, SLIDE_VOXEL * self.gripper.rod_width)
+        return self._material
+
+
+def reach_refusal(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int,
+                  q_start: np.ndarray, bar: float = 0.0) -> Refusal | None:
+    """The cheap reach check of the plan choice (:func:`~gbh_drake.planning.choice.choose`'s
+    ``reach``): None when the arm reaches the open gripper at ``X_WG`` from ``q_start`` (the
+    IK :func:`plan_pick` solves first, the same call), else the refusal it would give."""
+    hand = HandPose(setup.gripper.q_open, bar)
+    if setup.near.ik(RigidTransform(np.asarray(X_WG)), q_start, hand,
+                     restarts=GRASP_IK_RESTARTS) is None:
+        return Refusal(rank, kind, "ik", "grasp")
+    return None
 
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
@@ -214,7 +246,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=3, precise=tight)
+    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=GRASP_IK_RESTARTS, precise=tight)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
     q["closed"] = ik(X_closed, q["grasp"], closed_hand, precise=tight)
@@ -232,9 +264,15 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         # one rod width higher than the scan saw it, so it is caged by the loop one rod width
         # lower (the predicted contact is then that much low: the lift errs high).
         X_loop = shifted(X_WG, g.rod_width * approach_W)
+    material = setup.material() if hook and cfg.slide_lift and len(setup.points_W) >= 4 \
+        else None
     rest = rest_on_loop(setup.points_W, setup.com_W, X_loop.GetAsMatrix4(), kind,
-                        hook_W=hook_W) if hook else None
+                        hook_W=hook_W, material=material, gripper=g) if hook else None
     swing = None
+    if rest is not None and rest.slide > SLIDE_NOTE:
+        notes.append(f"the hooked material may slide {rest.slide:.3f} m through the loop "
+                     f"({rest.slide_points} scan points thin enough to pass it): the lift "
+                     f"bounds the object hanging from the deepest of them")
     if rest is not None:
         need_any = cfg.lift_clearance - rest.lowest_any_turn
         need = cfg.lift_clearance - rest.lowest
@@ -355,6 +393,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     keep_straight_rod, carry=carry, carry_low=carry_low, lift_needed=need,
                     lift_unseen=need_unseen if len(setup.unseen_W) else float("nan"),
                     drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
+                    slide=rest.slide if rest else 0.0,
                     notes=notes)
 
 
@@ -363,9 +402,10 @@ def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float,
     """The lift (m) after which the unseen space ``unseen_W`` (m, 3) is ``clearance`` above the
     table (W z = 0), as the scan's points must be: a hooked object (``rest``: how it rests on
     the loop) hangs from its contact and may turn any way about it, so the farthest unseen cell
-    from the contact bounds how low it reaches; a pinched one (``swing``) turns about the pinch
-    axis, each cell at its distance from the axis; held rigidly (neither), the lowest cell
-    rises with the hand. -inf without unseen space."""
+    from the contact bounds how low it reaches (and, where the hooked material may slide, the
+    farthest from the worst hang point brought to the contact, ``rest.hang_W``); a pinched one
+    (``swing``) turns about the pinch axis, each cell at its distance from the axis; held rigidly
+    (neither), the lowest cell rises with the hand. -inf without unseen space."""
     u = np.asarray(unseen_W, dtype=float).reshape(-1, 3)
     if len(u) == 0:
         return float("-inf")
@@ -374,8 +414,10 @@ def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float,
     if rest is None:
         return float(clearance - u[:, 2].min())
     sunk = u - np.array([0.0, 0.0, rest.drop])  # the object sinks onto the loop first
-    lowest = float(rest.contact_W[2]) - farthest_distance(sunk, rest.contact_W)
-    return float(clearance - lowest)
+    reach = farthest_distance(sunk, rest.contact_W)
+    if rest.hang_W is not None:
+        reach = max(reach, farthest_distance(u, rest.hang_W))
+    return float(clearance - (float(rest.contact_W[2]) - reach))
 
 
 def approach_transfer(setup: PickSetup, X_WG: RigidTransform, q_grasp: np.ndarray,

@@ -125,6 +125,12 @@ class PickConfig:
     min_lift: float = ranged(0.10, Pos(1.0, "m"), relations=(
         Relation("<=", "max_lift", "the gripper rises at least min_lift, at most max_lift"),))
     """The gripper rises at least this much (m)."""
+    slide_lift: bool = False
+    """Beyond the paper, opt-in: the lift allows for the hooked material sliding through the
+    closed loop along material thin enough to pass it (a wire hanger's side, a long handle's
+    bar) to where the object hangs deepest (:func:`~gbh_drake.core.hanging_pose.rest_on_loop`);
+    false (the default until both experiments are re-run with it, docs/robustness.md): it hangs
+    from where the material first meets the loop."""
     max_lift: float = ranged(0.40, Pos(1.0, "m"))
     """The gripper rises at most this much (m); lower when the arm cannot reach higher."""
     place_position: list[float] = ranged(lambda: [0.40, 0.30], Items(2, what="coordinates (x, y in m)"))
@@ -163,7 +169,16 @@ class PickConfig:
     planner_iterations: int = ranged(3000, Int(1, 100_000))
     """RRT-Connect iterations before a transfer is given up."""
     max_grasps: int = ranged(10, Int(1, 100))
-    """At most this many ranked grasps are tried, in order, before 'no reachable grasp'."""
+    """At most this many ranked grasps are tried, in order, before 'no reachable grasp' (with
+    ``reach_check``, of those the arm reaches)."""
+    reach_check: bool = True
+    """Beyond the paper: before a grasp is planned, the IK of its grasp pose from the measured
+    arm (the planner's first step) decides whether the arm reaches it; one it does not is
+    refused without counting toward ``max_grasps``, so the best ``max_grasps`` *reachable* of
+    the ranked grasps are planned (GbH ranks ``gbh.top_k``: 10, preset ``robust`` 40). With no
+    more grasps offered than ``max_grasps`` (the defaults: 10 and 10) it refuses exactly what
+    planning would (the same IK call, seeded by the pose), so it changes no verdict; it does
+    when a tier offers more. False: the first ``max_grasps``, reachable or not."""
     set_down: bool | None = None
     """After the cage test, lower the object onto the table at ``place_position``, open and
     retreat (omitted or true); false: the trial ends once the cage test is over, the object

@@ -75,7 +75,14 @@ from gbh_drake.perception.scan import ScanResult
 from gbh_drake.perception.unseen import scan_unseen
 from gbh_drake.planning.choice import Offer, choose, tiers_after_empty_lifts
 from gbh_drake.planning.model import HandPose, PlanningModel, parse_robot
-from gbh_drake.planning.pick import PickPlan, PickSetup, Refusal, plan_pick, release_path
+from gbh_drake.planning.pick import (
+    PickPlan,
+    PickSetup,
+    Refusal,
+    plan_pick,
+    reach_refusal,
+    release_path,
+)
 from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
 from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
 from gbh_drake.scenario.schema import HandConfig, PickConfig
@@ -636,6 +643,10 @@ class PickAndCarry(LeafSystem):
             return plan_pick(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift,
                              pinch_W=_pinch_point(grasp))
 
+        def reach(tier: Tier, rank: int, grasp) -> Refusal | None:
+            bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
+            return reach_refusal(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar)
+
         def plan_regrasp_(rank: int, X_WG, pose) -> RegraspPlan | Refusal:
             return plan_regrasp(get_setup(), X_WG, pose, rank, q_start, s.q_home)
 
@@ -645,7 +656,8 @@ class PickAndCarry(LeafSystem):
             max_grasps=self._config.max_grasps, max_pinches=self._regrasp.max_pinches,
             regrasp_allowed=len(s.status.regrasps) < self._regrasp.max_regrasps,
             skip=lambda grasp: bool(s.status.attempts) and self._tried(s, grasp),
-            check=lambda tier, grasps: _check_grasps(tier.value, grasps))
+            check=lambda tier, grasps: _check_grasps(tier.value, grasps),
+            reach=reach if self._config.reach_check else None)
         st = s.status
         st.n_grasps += choice.n_offered
         st.skipped += choice.skipped

@@ -248,7 +248,7 @@ def test_scores_follow_the_paper_and_the_beta_sign_choice(params):
     assert g[3].alpha == pytest.approx(np.pi)
 
     for x, n in zip(g, (0, 3, 12, 9), strict=True):
-        x.n_collisions, x.n_sweep_collisions, x.ground_distance = n, 0, 1.0
+        x.n_collisions, x.n_sweep_collisions, x.ground_distance, x.rod_contacts = n, 0, 1.0, 0
     ranked = rank_grasps(g, dataclasses.replace(params, top_k=2))
     assert ranked == [g[1], g[0]]  # g[2] collides (12 >= 10), g[3] scores ~0 and is cut by k
 

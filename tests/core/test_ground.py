@@ -66,9 +66,11 @@ def test_upright_mug_keeps_its_top_down_grasps():
 
 
 def test_negative_clearance_turns_the_check_off():
-    result = plan_grasps(_on_table(make_ring()), GbhParams(ground_clearance=-1.0))
+    # (The rods' clearance off: it is checked only for grasps that may be ranked.)
+    off = GbhParams(ground_clearance=-1.0, rod_clearance=-1.0)
+    result = plan_grasps(_on_table(make_ring()), off)
     below = [g for g in result.candidates if g.ground_distance < -0.01
              and g.n_collisions < 10 and g.n_sweep_collisions < 1]
     assert below
-    assert all(collision_free(g, GbhParams(ground_clearance=-1.0)) for g in below)
-    assert not any(collision_free(g, GbhParams()) for g in below)
+    assert all(collision_free(g, off) for g in below)
+    assert not any(collision_free(g, GbhParams(rod_clearance=-1.0)) for g in below)

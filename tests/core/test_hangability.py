@@ -142,3 +142,35 @@ def test_structures_move_with_the_object(mug, params, rotvec, shift):
     np.testing.assert_allclose(s1.c, X[:3, :3] @ s0.c + X[:3, 3], atol=2e-3)
     assert abs(s1.v @ (X[:3, :3] @ s0.v)) > COS_3_DEG
     assert s1.m == s0.m
+
+
+def test_a_cluster_keeps_every_handle_position():
+    """Issue 42: a square-handled mug lying on its side (its most probable rest). Single
+    linkage puts the handle's contact points in one cluster with the body's; its one position
+    (the paper's, the member of largest approximate clearance) lies in the handle's corner,
+    where no grasp fits. Several positions per cluster, by non-maximum suppression, keep one
+    in the handle's hole: hook grasps on the handle are ranked again."""
+    from gbh_drake.core.pipeline import plan_grasps
+    from gbh_drake.objects import make_object
+    from gbh_drake.objects.stability import stable_poses
+
+    spec = make_object("mug_square_handle")
+    pose = stable_poses(spec.mesh).poses[0]
+    mesh = spec.mesh.copy()
+    T = np.eye(4)
+    T[:3, :3] = pose.R
+    mesh.apply_transform(T)
+    mesh.apply_translation([0.5, 0.0, -mesh.bounds[0, 2]])
+    (part,) = spec.hangable_parts
+    centre = pose.R @ part.center_O + [0.5, 0.0, -spec.mesh.copy().apply_transform(T).bounds[0, 2]]
+
+    def on_handle(g) -> bool:
+        return np.linalg.norm(g.structure.c - centre) <= 0.5 * part.clear_diameter + 0.02
+
+    one = plan_grasps(mesh, GbhParams(), seed=0)  # the default: the paper's one
+    several = plan_grasps(mesh, GbhParams(positions_per_cluster=4), seed=0)
+    assert not any(on_handle(g) for g in one.ranked)
+    assert len(several.structures) > len(one.structures)
+    assert several.ranked and on_handle(several.ranked[0])
+    assert GbhParams().with_preset("paper").positions_per_cluster == 1
+    assert GbhParams(preset="robust").positions_per_cluster == 4

@@ -143,3 +143,64 @@ def test_a_sideways_loop_rests_the_material_on_the_lower_rod():
     assert rest.support == "straight_rod"
     straight_inner = (G.q_closed - BAR_HALF)
     assert rest.drop == pytest.approx(straight_inner, abs=1e-9)
+
+
+def _standing_hanger():
+    """The generated wire hanger (3.5 mm wire) standing in the air, hook up, its surface
+    sampled as a scan's points, and a top-down parallel hook of its triangle's straight bottom
+    bar at the middle (the bar crossing the loop's plane 6 cm below the palm)."""
+    import trimesh
+
+    from gbh_drake.core.geometry import poses_from_axes
+    from gbh_drake.objects import make_object
+
+    mesh = make_object("clothes_hanger").mesh.copy()
+    mesh.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
+    mesh.apply_translation([0.5, 0.0, 0.3 - mesh.bounds[0, 2]])
+    points, _ = trimesh.sample.sample_surface_even(mesh, 20000, seed=0)
+    bar_middle = np.array([0.5, 0.0, mesh.bounds[0, 2] + 0.0035])
+    X = poses_from_axes(np.array([[0.0, 1.0, 0.0]]), np.array([[0.0, 0.0, -1.0]]),
+                        np.zeros((1, 3)))[0]
+    X[:3, 3] = bar_middle - X[:3, :3] @ np.array([0.0, 0.0, 0.06])
+    return mesh, points, X
+
+
+def test_a_wire_slides_through_the_loop_to_its_corner_and_the_lift_allows_for_it():
+    """Issue 42: hooked in the middle of its straight bottom bar, the hanger's wire slides
+    through the closed loop to the triangle's corner (16 cm along), and the object hangs from
+    there, 15 cm deeper than from the middle. The bound over every point the wire can slide
+    to (a 3.5 mm wire passes the 26 x 76 mm loop anywhere) says so; without the material
+    graph, the bound is the old one, from the middle."""
+    from gbh_drake.core.sliding import material_graph
+
+    mesh, points, X = _standing_hanger()
+    fixed = rest_on_loop(points, mesh.center_mass, X, PARALLEL)
+    slid = rest_on_loop(points, mesh.center_mass, X, PARALLEL,
+                        material=material_graph(points, 0.004))
+    assert fixed.slide == 0.0 and fixed.hang_W is None
+    assert slid.slide > 0.14  # half the 32 cm bar
+    assert abs(slid.hang_W[0] - 0.5) > 0.14  # at a corner
+    assert slid.lowest_any_turn < fixed.lowest_any_turn - 0.12
+    assert slid.lowest < fixed.lowest - 0.12
+    np.testing.assert_allclose(slid.contact_W, fixed.contact_W)
+
+
+def test_a_mug_handle_slides_to_the_body_and_no_farther():
+    """A mug hooked top-down by its handle: the handle's arm passes the loop and the material
+    may slide along it, but not onto the body (its cross-section is the cup's): the slide is
+    at most the handle's length and the bound moves by centimetres."""
+    import trimesh
+
+    from gbh_drake.core.params import GbhParams
+    from gbh_drake.core.pipeline import plan_grasps
+    from gbh_drake.core.sliding import material_graph
+    from gbh_drake.objects import make_object
+
+    mesh = make_object("mug_classic").mesh
+    points, _ = trimesh.sample.sample_surface_even(mesh, 20000, seed=0)
+    grasp = plan_grasps(mesh, GbhParams(), seed=0).ranked[0]
+    fixed = rest_on_loop(points, mesh.center_mass, grasp.X_WG, grasp.kind)
+    slid = rest_on_loop(points, mesh.center_mass, grasp.X_WG, grasp.kind,
+                        material=material_graph(points, 0.004))
+    assert 0.0 < slid.slide < 0.08
+    assert fixed.lowest_any_turn - 0.04 < slid.lowest_any_turn <= fixed.lowest_any_turn

@@ -56,3 +56,14 @@ def test_rows_are_read_as_the_runner_reads_them(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == (f"compare_rows: {path}: line 2: protocol is ['natural'], not a string; the file "
                    "is damaged: fix or remove that line\n")
+
+
+def test_a_pair_compares_two_methods_of_the_same_trials():
+    """``--pair gbh-10=gbh-10r``: one run's gbh-10 against its gbh-10r, trial by trial; the
+    other methods are left out."""
+    rows = {("mug", "gbh-10", 0): row("not_lifted"), ("mug", "gbh-10r", 0): row("success"),
+            ("mug", "gbh+r", 0): row("success")}
+    before, after = compare_rows.paired(rows, rows, [("gbh-10", "gbh-10r")])
+    assert list(before) == list(after) == [("mug", "gbh-10=gbh-10r", 0)]
+    lines = compare_rows.compare(before, after)
+    assert "| gbh-10=gbh-10r | 1 | 0 | 1 | 1 | 0 | 1/0 |" in lines

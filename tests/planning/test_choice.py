@@ -160,3 +160,37 @@ def test_an_empty_retry_goes_on_to_the_fallback_skipping_what_was_tried():
                     plan_regrasp=plan_regrasp, is_plan=is_plan, max_grasps=10, max_pinches=1)
     assert choice.tier is Tier.FALLBACK and choice.plan == ("plan", "f0")
     assert Tier.GRASPS not in seen  # the hooks are not offered again (a2 would plan)
+
+
+def test_unreachable_grasps_do_not_use_up_the_tries():
+    """The cut by reach: a tier offers 14 grasps, the arm reaches none of the first 12. Without
+    a reach check the first ``max_grasps`` (10) are planned and refused: nothing; with it, the
+    12 are refused by the cheap check (kept in order, not counted) and #13 is planned."""
+    names = [f"g{i}" for i in range(14)]
+    reachable = {"g12", "g13"}
+
+    def reach(tier, rank, grasp):
+        return None if grasp.name in reachable else ("unreached", grasp.name)
+
+    log = []
+    plan_grasp, _ = planner(reachable, log)
+    plain = choose([Offer(Tier.GRASPS, lambda: [Grasp(n) for n in names])],
+                   plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10)
+    assert plain.plan is None and len(log) == 10
+    log.clear()
+    cut = choose([Offer(Tier.GRASPS, lambda: [Grasp(n) for n in names])],
+                 plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10, reach=reach)
+    assert cut.plan == ("plan", "g12") and cut.rank == 12
+    assert [r[1] for r in cut.refusals] == names[:12] and cut.unreached == 12
+    assert log == [(Tier.GRASPS, 12, "g12")]  # only the reachable one was planned
+
+
+def test_the_reach_check_still_stops_after_max_grasps_planned():
+    names = [f"g{i}" for i in range(30)]
+    log = []
+    plan_grasp, _ = planner(set(), log)
+    choice = choose([Offer(Tier.GRASPS, lambda: [Grasp(n) for n in names])],
+                    plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10,
+                    reach=lambda tier, rank, grasp: None if rank % 2 else ("unreached", rank))
+    assert [entry[1] for entry in log] == list(range(1, 20, 2))  # ten planned, odd ranks
+    assert choice.unreached == 10

@@ -26,6 +26,20 @@ def test_the_paper_preset_sets_the_papers_rules(tmp_path):
     assert paper.p_theta == 0.95 and paper.approach_rotations_deg == [0.0]
 
 
+def test_the_robust_preset_turns_the_provisional_rules_on(tmp_path):
+    """Opt-in until swept (docs/robustness.md): the defaults leave the provisional rules off
+    (the paper's score, one position per cluster, no rods' clearance, ten grasps); ``robust``
+    turns them on at their provisional values, and nothing else."""
+    ours, robust = GbhParams(), _load(tmp_path, "gbh: {preset: robust}").gbh
+    assert (ours.hang_slide_scale, ours.positions_per_cluster, ours.rod_clearance,
+            ours.top_k) == (0.0, 1, -1.0, 10)
+    assert (robust.hang_slide_scale, robust.positions_per_cluster, robust.rod_clearance,
+            robust.top_k) == (0.02, 4, 0.0025, 40)
+    changed = {f.name for f in dataclasses.fields(GbhParams)
+               if getattr(robust, f.name) != getattr(ours, f.name)}
+    assert changed == {"preset", *PRESETS["robust"]}
+
+
 def test_fields_written_beside_the_preset_or_later_still_win(tmp_path):
     gbh = _load(tmp_path, "gbh: {preset: paper, snap_tilt_max_deg: 10}", "gbh: {d2: 0.005}").gbh
     assert (gbh.preset, gbh.snap_tilt_max_deg, gbh.d2) == ("paper", 10.0, 0.005)

@@ -154,8 +154,8 @@ def test_numpy_values_and_tuples_are_their_types():
      "GbhParams.ground_normal: expected a list of 3 components, got 1.0 (a float)"),
     (lambda: GbhParams(n_points="5000").check(), "GbhParams.n_points: expected an integer, got "
                                                   "'5000' (a str)"),
-    (lambda: GbhParams().with_preset(["paper"]), "GbhParams.preset: one of '', 'paper', got "
-                                                 "['paper']"),
+    (lambda: GbhParams().with_preset(["paper"]), "GbhParams.preset: one of '', 'paper', "
+                                                 "'robust', got ['paper']"),
     (lambda: AntipodalParams(check_ground="no").check(),
      "AntipodalParams.check_ground: expected true or false, got 'no' (a str)"),
     (lambda: ScanConfig(robot_base_xy=0).validate(),
