@@ -166,6 +166,15 @@ class FreeSpace:
             seen[i] = np.abs(q_W @ n - height) <= tolerance
         return seen
 
+    def known_free(self, points_W: np.ndarray) -> np.ndarray:
+        """(n,) bool: the points (n, 3, m, in W) the GbH core may take as free (the
+        through-hole proof, the unknown space of the closing sweep): here the points a camera
+        saw free (:meth:`observed_free`); a completed scan's free space
+        (:class:`gbh_drake.core.completion.CompletedFreeSpace`) adds the unseen points its
+        completion calls free with confidence. The lift's unseen space asks
+        :meth:`observed_free` alone."""
+        return self.observed_free(points_W)
+
     def observed_free(self, points_W: np.ndarray, margin: float | None = None) -> np.ndarray:
         """(n,) bool: the points (n, 3, m, in W) at least one view saw free: in its image, in
         front of the camera and at least ``margin`` (m; default: the view's own

@@ -256,9 +256,10 @@ def unknown_floor(obj: ObjectModel, free: FreeSpace, params: GbhParams) -> float
 def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
                      ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
                      max_length: float = np.inf) -> np.ndarray:
-    """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in observed-free space
-    (``free.observed_free`` at its margin) from c until they are ``_RAY_BEYOND_BOX_SPACINGS``
-    sample spacings out of the mesh's bounding box, or ``max_length`` (m) from c if that comes
+    """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in known-free space
+    (``free.known_free``: seen free, or completed free with confidence) from c until they are
+    ``_RAY_BEYOND_BOX_SPACINGS`` sample spacings out of the mesh's bounding box, or
+    ``max_length`` (m) from c if that comes
     first (``GbhParams.through_proof_length``), sampled every half spacing. All samples
     must be free: one unseen stretch may be the material the view did not see. Samples lower
     than ``floor`` along ``ground_normal`` (:func:`unknown_floor`) are not asked: the table is
@@ -281,7 +282,7 @@ def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.nda
     n_g = np.asarray(ground_normal, dtype=float)
     used &= samples @ (n_g / np.linalg.norm(n_g)) > floor
     free_mask = np.ones(used.shape, dtype=bool)
-    free_mask[used] = free.observed_free(samples[used])
+    free_mask[used] = free.known_free(samples[used])
     return free_mask.all(axis=1).reshape(2, -1).all(axis=0)
 
 
@@ -295,7 +296,8 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
                           ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
                           length: float = 0.025, max_angle_deg: float = 60.0) -> np.ndarray:
     """Mask (P,): some straight line through c (P, 3) within ``max_angle_deg`` of the hole's
-    axis v (P, 3) runs in observed-free space (``free.observed_free`` at its margin) for
+    axis v (P, 3) runs in known-free space (``free.known_free``: seen free at its margin, or
+    completed free with confidence) for
     ``length`` (m) on both sides of c, every sample (half a sample spacing apart) higher than
     ``floor`` along ``ground_normal`` (:func:`unknown_floor`).
 
@@ -317,7 +319,7 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
     ok = above.all(axis=2)  # (P, L): lines that stay out of the table band
     free_mask = np.zeros(samples.shape[:3], dtype=bool)
     ask = ok[:, :, None] & np.ones(len(s), dtype=bool)
-    free_mask[ask] = free.observed_free(samples[ask])
+    free_mask[ask] = free.known_free(samples[ask])
     return (ok & free_mask.all(axis=2)).any(axis=1)
 
 
@@ -356,7 +358,9 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
       inside the band is not the table;
     * or runs ``max_length`` (m) from c: far enough;
 
-    and every sample before that end must be observed free (:meth:`FreeSpace.observed_free`).
+    and every sample before that end must be known free (:meth:`FreeSpace.known_free`: seen
+    free, or, on a completed scan, free by the completion with confidence; never merely
+    unseen).
     A hole's neighbourhood seen free proves only that much: the cup one view looked into has a
     far wall 4-7 cm out that the view never saw, and a line that ends there leads nowhere
     (docs/thresholds.md)."""
@@ -379,7 +383,7 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
         end = np.where(ends.any(axis=2), ends.argmax(axis=2), len(t))  # (P, L)
         asked = np.arange(len(t))[None, None, :] < end[:, :, None]
         free_mask = np.ones(asked.shape, dtype=bool)
-        free_mask[asked] = free.observed_free(samples[asked])
+        free_mask[asked] = free.known_free(samples[asked])
         side = free_mask.all(axis=2)
         at_floor = (end < len(t)) & below[np.arange(len(c))[:, None],
                                           np.arange(d.shape[1])[None], np.minimum(end, len(t) - 1)]

@@ -45,6 +45,7 @@ from gbh_drake.perception.fusion import integrate, masked_depths, view_points
 from gbh_drake.perception.noise import add_depth_noise
 from gbh_drake.perception.segment import bounding_sphere, box_faces_reached, segment_points
 from gbh_drake.perception.table import TablePlane, fit_table_plane
+from gbh_drake.perception.view_choice import chosen_config
 from gbh_drake.perception.viewpoints import (
     camera_poses,
     first_look_poses,
@@ -77,8 +78,8 @@ class ScanResult:
     """The workspace box (W): nothing outside it was scanned."""
     timing: dict[str, float] = field(default_factory=dict)
     """Wall-clock seconds of the stages, which add up to the whole scan: ``first_look`` (render
-    and segment), ``render`` (the views), ``segment`` (noise, points, table and clusters),
-    ``fuse`` (TSDF, cut, clean-up), ``cap``."""
+    and segment), ``view_choice`` (with ``view_choice: holes``), ``render`` (the views),
+    ``segment`` (noise, points, table and clusters), ``fuse`` (TSDF, cut, clean-up), ``cap``."""
     empty: bool = False
     message: str = ""
     warnings: list[str] = field(default_factory=list)
@@ -180,6 +181,9 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
         else None
     look_s = time.perf_counter() - start
     timing: dict[str, float] = {"first_look": look_s, "render": 0.0}
+    config, choice = chosen_config(look, config)  # one view, chosen (view_choice: holes)
+    if choice is not None:
+        timing["view_choice"] = choice.seconds
     reframes = 0
     while True:
         result, aim, distance = _aimed_scan(query_object, config, p_WT, look, noise_seed, timing)

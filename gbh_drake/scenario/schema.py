@@ -20,7 +20,13 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
-from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams, ScoopParams
+from gbh_drake.core.params import (
+    AntipodalParams,
+    CompletionParams,
+    GbhParams,
+    RegraspParams,
+    ScoopParams,
+)
 from gbh_drake.core.ranges import (
     FieldError,
     Int,
@@ -256,6 +262,9 @@ class Scenario:
     regrasp: RegraspParams = field(default_factory=RegraspParams)
     """The regrasp (methods ``gbh_regrasp``, ``gbh_plus``): how often, which resting poses, how
     many pinches are planned for."""
+    completion: CompletionParams = field(default_factory=CompletionParams)
+    """Shape completion of the scan's unseen side (method ``gbh_completed``, beyond the paper):
+    the completion, its confidence, its grid."""
     pick: PickConfig = field(default_factory=PickConfig)
     """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
     monitor: MonitorConfig = field(default_factory=MonitorConfig)
