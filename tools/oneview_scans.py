@@ -6,8 +6,10 @@ on the scene as it is at that moment:
 
 * ``fixed``: the scan the trial took (the method's one view);
 * ``look``: the first look (its two small side views, what the view choice sees);
-* ``candidates``: one full view from each direction of the candidate layout
-  (``perception.view_choice.candidate_configs``), each scanned as a one-view scan;
+* ``candidates``: {index: scan} of one full view from each direction of the candidate layout
+  (``perception.view_choice.candidate_configs``), each scanned as a one-view scan; with
+  ``--candidates 0``, only the fixed view's (index 0, the trial's scan) and the chosen one's
+  (``perception.view_choice.choose_view``): enough for every variant but the oracle;
 
 with the object's true hangable parts in W and whether it is a control. Written one pickle per
 trial into ``<out>/scans/`` (existing ones are kept: the run resumes). ``tools/sweep_oneview.py``
@@ -70,8 +72,19 @@ def _scan_task(args):
     config, p_WT = scenario.scan, scenario.scan_target
     seed = trial.seeds.noise
     look = first_look(query, config, p_WT, noise_seed=seed)
-    views = [scan_object(query, c, p_WT, noise_seed=seed)
-             for c in candidate_configs(config, candidates)]
+    configs = candidate_configs(config, candidates or None)
+    if candidates:
+        views = {i: scan_object(query, c, p_WT, noise_seed=seed) for i, c in enumerate(configs)}
+    else:  # the fixed view (the trial's scan) and the chosen one
+        from gbh_drake.perception.view_choice import choose_view
+        from gbh_drake.perception.viewpoints import fit_view_distance
+
+        views = {0: scan}
+        if look.found:
+            index = choose_view(look, config, look.centre_W,
+                                fit_view_distance(look.radius, config)[0]).index
+            views[index] = views.get(index) or scan_object(query, configs[index], p_WT,
+                                                           noise_seed=seed)
     X = trial.station.X_WO_initial
     parts = [(np.asarray(X.multiply(p.center_O)), np.asarray(X.rotation().multiply(p.axis_O)),
               float(p.clear_diameter)) for p in trial.station.asset.hangable_parts]
@@ -95,7 +108,8 @@ def main(argv=None) -> int:
     parser.add_argument("--protocols", default="", help="comma-separated (default: the file's)")
     parser.add_argument("--trials", type=int, default=0, help="default: the file's")
     parser.add_argument("--candidates", type=int, default=10,
-                        help="candidate views (the spiral layout of this many)")
+                        help="candidate views (the spiral layout of this many); 0: the "
+                             "fixed and the chosen view alone (the scan config's candidates)")
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args(argv)
 

@@ -95,13 +95,15 @@ def _trial_task(args):
         distance, _ = fit_view_distance(look.radius, config)
         choice = choose_view(look, config, look.centre_W, distance)
         chosen_index, choice_s = choice.index, choice.seconds
-    scans = {"fixed": record["fixed"], "chosen": record["candidates"][chosen_index]}
+    candidates = record["candidates"]
+    if isinstance(candidates, list):  # all candidate views, by index
+        candidates = dict(enumerate(candidates))
+    scans = {"fixed": record["fixed"], "chosen": candidates[chosen_index]}
     name, values = sweep if sweep else ("confidence", [CompletionParams().confidence])
     for variant in variants:
         if variant == "oracle":
-            counts = [_counts(s, record, params, seed) for s in record["candidates"]]
-            best = max(range(len(counts)), key=lambda i: (counts[i]["top_on_part"],
-                                                          -counts[i]["top_false"]))
+            counts = {i: _counts(s, record, params, seed) for i, s in candidates.items()}
+            best = max(counts, key=lambda i: (counts[i]["top_on_part"], -counts[i]["top_false"]))
             rows.append({**base, "variant": variant, "value": None, "view": best,
                          **counts[best]})
             continue
