@@ -21,8 +21,8 @@ Variants (``--variants``, comma-separated):
 * ``chosen_completed``: that view, completed;
 * ``oracle``: the best candidate view for the ground truth (an upper bound, not a method).
 
-``--sweep confidence=0.7,0.8,0.9`` (or ``min_explained=...``) repeats the completed variants
-for each value of that ``CompletionParams`` field. Usage::
+``--sweep confidence=0.7,0.8,0.9`` (or ``min_explained=...``, ``erode=coarse,none``) repeats the
+completed variants for each value of that ``CompletionParams`` field. Usage::
 
     python tools/sweep_oneview.py /tmp/ov1 --variants fixed,completed,chosen,chosen_completed \\
         --sweep confidence=0.8,0.9,0.95
@@ -146,6 +146,13 @@ def table(rows: list[dict], name: str = "value") -> list[str]:
     return lines
 
 
+def _value(text: str):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("scans", nargs="+", help="folders written by oneview_scans.py")
@@ -162,7 +169,7 @@ def main(argv=None) -> int:
     sweep = None
     if args.sweep:
         name, values = args.sweep.split("=", 1)
-        sweep = (name, [float(v) for v in values.split(",")])
+        sweep = (name, [_value(v) for v in values.split(",")])
     paths = sorted(str(p) for folder in args.scans for p in Path(folder, "scans").glob("*.pkl"))
     start = time.perf_counter()
     rows = []

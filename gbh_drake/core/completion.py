@@ -248,6 +248,20 @@ class SymmetryCompletion:
         """(n,) bool: P(occupied) >= :attr:`confidence`."""
         return self.p_occupied(points_W) >= self.confidence
 
+    def on_surface(self, points_W: np.ndarray, tolerance: float = 1e-5) -> np.ndarray:
+        """(n,) bool: the points (n, 3) lie on the completed surface (within ``tolerance`` m
+        of :attr:`mesh`): samples of material no camera saw."""
+        from gbh_drake.core.o3d import open3d
+        o3d = open3d()  # lazy: see gbh_drake.core.o3d
+
+        p = np.asarray(points_W, dtype=np.float32).reshape(-1, 3)
+        if len(self.mesh.faces) == 0 or len(p) == 0:
+            return np.zeros(len(p), dtype=bool)
+        scene = o3d.t.geometry.RaycastingScene()
+        scene.add_triangles(o3d.core.Tensor(np.asarray(self.mesh.vertices, np.float32)),
+                            o3d.core.Tensor(np.asarray(self.mesh.faces, np.uint32)))
+        return scene.compute_distance(o3d.core.Tensor(p)).numpy() <= tolerance
+
 
 def revolved_contour(votes: SymmetryVotes, p_rings: np.ndarray, level: float,
                      max_step: float) -> trimesh.Trimesh:

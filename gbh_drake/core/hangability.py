@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gbh_drake.core.completion import CompletedFreeSpace
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal_basis, unit
 from gbh_drake.core.lazy import lazy_module
@@ -96,11 +97,18 @@ def detect_hangable_structures(
 
 
 def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
-    """Indices of samples whose outward normal points to the CoM within ``contact_angle_deg``."""
+    """Indices of samples whose outward normal points to the CoM within ``contact_angle_deg``.
+    On a completed scan (its free space a :class:`~gbh_drake.core.completion.CompletedFreeSpace`)
+    only samples of material a camera saw: a hanging contact on the completion's guess of the
+    unseen side would hook a loop that may not be there (the completion closes false holes and
+    counts in the collision checks, it makes no structure)."""
     to_com = obj.com - obj.points
     dist = np.linalg.norm(to_com, axis=1)
     cos = np.sum(obj.normals * to_com, axis=1) / np.maximum(dist, 1e-12)
     ok = (cos > np.cos(np.radians(params.contact_angle_deg))) & (dist > obj.spacing)
+    if isinstance(obj.free_space, CompletedFreeSpace) and obj.free_space.completion is not None:
+        idx = np.flatnonzero(ok)
+        ok[idx[obj.free_space.completion.on_surface(obj.points[idx])]] = False
     return np.flatnonzero(ok)
 
 

@@ -427,8 +427,8 @@ class CompletionParams:
     confidence: float = ranged(0.9, Range(0.5, 1.0, lo_open=True, hi_open=True))
     """An unseen point is likely occupied (free) when the posterior probability of its ring
     being occupied (free) is at least this: the completed surface is the contour at this level,
-    and only likely-free unseen space proves a hole. Swept over both object sets
-    (docs/oneview.md)."""
+    and only likely-free unseen space proves a hole. Provisional: not yet swept over both object
+    sets (``tools/sweep_oneview.py ... --sweep confidence=...``, docs/one_view.md)."""
     prior: float = ranged(1.0, Pos(100.0))
     """Beta pseudo-counts on each side of a ring's votes (1: uniform): a ring needs about
     ``prior`` x confidence / (1 - confidence) votes of one kind and none of the other to be
@@ -437,10 +437,18 @@ class CompletionParams:
                                        note="the votes' grid is coarsened to 800 000 cells"))
     """m: the voting grid's cell and the rings' width in r and h: the TSDF voxel of the scan, so
     that a wall of two voxels is two rings."""
+    erode: str = ranged("none", OneOf(("none", "coarse", "all")))
+    """Which views' free space a completed scan takes only where a pixel's neighbours agree
+    (``FreeSpace.eroded``), for the completion's votes and the GbH core: ``none`` (the
+    default: every view as it is); ``coarse``, the views whose pixels are wider than ``cell``
+    at the object (the first look's, 5 mm at 0.8 m: their one ray per pixel can pass beside a
+    thin rim and "see through" the wall under it); ``all``. Opt-in until swept over both
+    object sets (``tools/sweep_oneview.py ... --sweep erode=none,coarse``, docs/one_view.md)."""
     min_explained: float = ranged(0.7, Range(0.0, 1.0))
     """The completion is made only when at least this fraction of the measured cells lie in
     rings where they are the majority (the body of revolution explains at least this much of
     what was seen); else nothing is completed and unseen space stays unknown. Measured on
     one-view scans of the own set: bodies of revolution with a handle or a spout 0.73-0.98, a
     box or a bag 0.09-0.32 (a box seen face-on, ray cast without noise: 0.53-0.60, its face a
-    disk about any axis along its normal); swept over both object sets (docs/oneview.md)."""
+    disk about any axis along its normal). Provisional: not yet swept over both object sets
+    (``tools/sweep_oneview.py ... --sweep min_explained=...``, docs/one_view.md)."""

@@ -2,7 +2,9 @@
 
 :func:`complete_scan` returns the scan with the completed surface added to its mesh and, as its
 free space, a :class:`~gbh_drake.core.completion.CompletedFreeSpace`: the cameras' free space
-and the completion's likely-free space, which the GbH core takes as free (the exit proof). The
+(eroded as ``CompletionParams.erode`` says: by default not at all) and the completion's
+likely-free space, which the GbH core takes as free (the exit proof, the sweep's unknown
+space); no hanging contact is taken on the completed surface (``contact_candidates``). The
 measured points, the cameras, the region and the table are the scan's. The pick is planned on
 the scan as taken (its lift allows for the space no camera saw, not for the completion's guess).
 """
@@ -33,7 +35,7 @@ def complete_scan(scan: ScanResult, params: CompletionParams | None = None,
         return scan
     params = params or CompletionParams()
     start = time.perf_counter()
-    free = scan.free_space
+    free = _free_space(scan, params)
     up = np.asarray(scan.table.normal_W if scan.table is not None else (0.0, 0.0, 1.0), float)
     vertices = np.asarray(scan.mesh_W.vertices, dtype=float)
     # As the lift's unseen space: from the cut above the table, raised by the views' margin
@@ -56,3 +58,16 @@ def complete_scan(scan: ScanResult, params: CompletionParams | None = None,
                                timing=timing, warnings=warnings,
                                X_WCs=list(scan.X_WCs),
                                first_look_X_WCs=list(scan.first_look_X_WCs))
+
+
+def _free_space(scan: ScanResult, params: CompletionParams):
+    """The scan's free space, its views eroded as ``params.erode`` says (``FreeSpace.eroded``;
+    ``coarse``: the views whose pixels are wider than ``params.cell`` at the region's centre,
+    the first look's, which may see "through" thin walls at their silhouettes)."""
+    free = scan.free_space
+    if params.erode == "none":
+        return free
+    if params.erode == "all":
+        return free.eroded()
+    centre = 0.5 * (np.asarray(scan.region.lower_W) + np.asarray(scan.region.upper_W))
+    return free.eroded(coarser_than=(centre, params.cell))

@@ -17,8 +17,9 @@ from gbh_drake.core.completion import (
     fit_rotation_axis,
 )
 from gbh_drake.core.free_space import FreeSpace
-from gbh_drake.core.object_model import raycasting_scene
-from gbh_drake.core.params import CompletionParams
+from gbh_drake.core.hangability import contact_candidates, detect_hangable_structures
+from gbh_drake.core.object_model import prepare_object, raycasting_scene
+from gbh_drake.core.params import CompletionParams, GbhParams
 from gbh_drake.objects import make_object
 
 W, H = 320, 240
@@ -197,3 +198,47 @@ def test_confidence_orders_the_classification():
     assert np.all(high.likely_free(points) <= low.likely_free(points))
     assert np.all(high.likely_occupied(points) <= low.likely_occupied(points))
     assert high.likely_free(points).sum() < low.likely_free(points).sum()
+
+
+#: GbH with the exit proof, the ground checks off (the tests' table is at z = 0 anyway).
+PROOF = GbhParams(ground_clearance=-1.0, unknown_is_occupied=True, through_proof_exit=True)
+#: m: mug_classic's outer radius; its handle's hole lies beyond it along +x (yaw 0).
+MUG_RADIUS = 0.041
+
+
+def test_a_handle_in_the_bodys_shadow_is_proven_only_by_a_confident_completion():
+    """The mug seen from -x, its handle toward +x behind the body. The scan given to GbH here is
+    the whole true mug (the handle's material as if seen), the free space the one view's. The
+    handle's hole leads out only through the body's shadow, which no camera saw: with the
+    cameras' free space alone, or a completed free space without a completion, the exit proof
+    refuses it; the completion, which calls the shadow beside the body free with confidence
+    (its rings were seen free at the other azimuths), closes the far side and proves it; at a
+    confidence its votes cannot reach (0.999: about 1000 free votes a ring, a ring here has
+    fewer than 200 cells) it does not."""
+    view = one_view("mug_classic", 0.0)
+
+    def handle(free) -> bool:
+        found = detect_hangable_structures(view.truth, PROOF, free_space=free)
+        return any(s.c[0] > MUG_RADIUS for s in found)
+
+    assert handle(None)  # no free space asked: the handle is a hole
+    assert not handle(view.free)
+    assert not handle(CompletedFreeSpace.of(view.free, None))
+    assert handle(CompletedFreeSpace.of(view.free, completed(view)))
+    assert not handle(CompletedFreeSpace.of(view.free, completed(view, confidence=0.999)))
+
+
+def test_no_hanging_contact_on_the_completed_surface():
+    """On a completed scan (its free space a ``CompletedFreeSpace``) no hanging contact is taken
+    on the completion's surface, material no camera saw; with the cameras' free space alone the
+    same samples there are contact candidates."""
+    view = one_view("mug_classic", 0.0)
+    completion = completed(view)
+    mesh = trimesh.util.concatenate([view.truth, completion.mesh])
+    obj = prepare_object(mesh, PROOF, free_space=CompletedFreeSpace.of(view.free, completion))
+    on = completion.on_surface(obj.points)
+    assert on.any() and not on.all()
+    assert not on[contact_candidates(obj, PROOF)].any()
+    plain = prepare_object(mesh, PROOF, free_space=view.free)
+    np.testing.assert_array_equal(plain.points, obj.points)
+    assert on[contact_candidates(plain, PROOF)].any()
