@@ -5,8 +5,10 @@ Layout: ``core`` holds the pure geometry (no pydrake), ``perception`` the scanni
 object set, ``station.py`` builds the simulation diagram from a ``scenario.Scenario``.
 
 ``gbh_drake.run_trial(scenario_or_path, *, overrides=None, meshcat=None)`` runs one trial and
-returns its record (:mod:`gbh_drake.api`; imported on first use, so ``import gbh_drake`` stays
-light).
+returns its record (:mod:`gbh_drake.api`); ``gbh_drake.grasps(path, ...)`` ranks hook grasps for
+a mesh, point cloud or depth images you have, in the robot's base frame
+(:mod:`gbh_drake.scan_grasps.api`). Both are imported on first use, so ``import gbh_drake``
+stays light.
 """
 
 from importlib.resources import files
@@ -31,9 +33,13 @@ SCENARIOS_DIR = REPO_ROOT / "scenarios" if IN_CHECKOUT else _PACKAGED / "scenari
 
 
 def __getattr__(name: str):
-    """``run_trial`` is imported on first use (it needs pydrake)."""
+    """``run_trial`` and ``grasps`` are imported on first use (they need pydrake)."""
     if name == "run_trial":
         from gbh_drake.api import run_trial
 
         return run_trial
+    if name == "grasps":
+        from gbh_drake.scan_grasps.api import grasps
+
+        return grasps
     raise AttributeError(f"module 'gbh_drake' has no attribute {name!r}")

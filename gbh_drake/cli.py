@@ -1,7 +1,11 @@
 """The ``gbh`` command line.
 
-    gbh run [SCENARIO.yaml] [--meshcat [--port N]] [--set YAML]   simulate a scenario (default:
-                                                       the packaged scenarios/default.yaml)
+    gbh run [SCENARIO.yaml] [--meshcat [--port N]] [--set YAML] [--save-views]
+                                                       simulate a scenario (default: the packaged
+                                                       scenarios/default.yaml)
+    gbh grasps INPUT [--table-z Z] [--html FILE] ...   ranked grasps for a mesh, point cloud or
+                                                       depth images you have (in the robot's base
+                                                       frame)
     gbh diagram [SCENARIO.yaml] [--out DIR]            write the station's and the trial's diagrams
                                                        (default output/diagrams/)
     gbh objects list [--set SET.yaml] [--csv|--json]   an object set: sizes, masses, hangable parts
@@ -32,6 +36,7 @@ from pathlib import Path
 
 from gbh_drake import SCENARIOS_DIR, __version__, interrupts
 from gbh_drake.experiment import cli as experiment_cli
+from gbh_drake.scan_grasps import cli as grasps_cli
 
 #: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
 #: package's); relative paths in it resolve against its own folder, as in any scenario file.
@@ -46,24 +51,29 @@ def _scenario_arg(parser: argparse.ArgumentParser) -> None:
                         help="scenario YAML file (default: the packaged scenarios/default.yaml)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
                         help="YAML text applied over the file, e.g. --set 'seed: 3' (may be "
-                             "repeated: applied in order)")
+                             "repeated: applied in order). A relative path in it (output_dir, "
+                             "object.mesh) is relative to the current folder; one in the file, "
+                             "to the file's folder")
+
+
+#: Known input errors: (module, class, what the one line says). A module not imported yet
+#: raised none of its errors (its import is not paid for to find out).
+INPUT_ERRORS = (
+    ("gbh_drake.outputs", "OutputError", "cannot write outputs"),
+    ("gbh_drake.scenario", "ScenarioError", "invalid scenario"),
+    ("gbh_drake.objects.mesh_io", "MeshImportError", "invalid mesh"),
+    ("gbh_drake.objects.sets", "ObjectSetError", "invalid object set"),
+    ("gbh_drake.scan_grasps.errors", "GraspsInputError", "invalid input"),
+)
 
 
 def _input_error(error: BaseException) -> str | None:
-    """The one-line message of a known input error, None for anything else (a bug)."""
-    from gbh_drake.outputs import OutputError
-
-    if isinstance(error, OutputError):
-        return f"cannot write outputs: {error}"
-    scenario = sys.modules.get("gbh_drake.scenario")
-    if scenario is not None and isinstance(error, scenario.ScenarioError):
-        return f"invalid scenario: {error}"
-    mesh_io = sys.modules.get("gbh_drake.objects.mesh_io")
-    if mesh_io is not None and isinstance(error, mesh_io.MeshImportError):
-        return f"invalid mesh: {error}"
-    sets = sys.modules.get("gbh_drake.objects.sets")
-    if sets is not None and isinstance(error, sets.ObjectSetError):
-        return f"invalid object set: {error}"
+    """The one-line message of a known input error (:data:`INPUT_ERRORS`), None for anything
+    else (a bug)."""
+    for module, name, what in INPUT_ERRORS:
+        loaded = sys.modules.get(module)
+        if loaded is not None and isinstance(error, getattr(loaded, name)):
+            return f"{what}: {error}"
     return None
 
 
@@ -190,6 +200,10 @@ def main(argv: list[str] | None = None) -> int:
                             "Enter before exiting")
     p_run.add_argument("--port", type=int, default=None,
                        help="the live Meshcat server's port (default: the first free from 7000)")
+    p_run.add_argument("--save-views", action="store_true",
+                       help="also write the scan's depth images (16-bit PNG) and views.yaml "
+                            "into <output>/views/ (gbh grasps reads them back)")
+    grasps_cli.add_subcommand(sub)  # gbh grasps
 
     p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
@@ -216,6 +230,9 @@ def main(argv: list[str] | None = None) -> int:
         return _objects(args)
     if args.command in experiment_cli.COMMANDS:
         return experiment_cli.run_command(args)
+    if args.command == "grasps":
+        quiet_drake(verbose=args.verbose)
+        return grasps_cli.run_command(args, parser)
     from gbh_drake.scenario import load_scenario
 
     # A mesh's warnings (size, mass, repairs) are said once, in the run's summary (or in the
@@ -227,7 +244,7 @@ def main(argv: list[str] | None = None) -> int:
         scenario = load_scenario(args.scenario, overrides=args.overrides)
         quiet_drake(verbose=args.verbose)
         if args.command == "run":
-            return _run(scenario, live=args.meshcat, port=args.port)
+            return _run(scenario, live=args.meshcat, port=args.port, save_views=args.save_views)
         return _diagram(scenario, Path(args.out))
     finally:
         objects_log.setLevel(level)
@@ -242,7 +259,7 @@ def quiet_drake(*, verbose: bool = False) -> None:
     logging.getLogger("drake").setLevel(logging.INFO if verbose else logging.WARNING)
 
 
-def _run(scenario, *, live: bool, port: int | None = None) -> int:
+def _run(scenario, *, live: bool, port: int | None = None, save_views: bool = False) -> int:
     from gbh_drake.run import run
     from gbh_drake.viz.meshcat_server import local_meshcat
 
@@ -252,7 +269,7 @@ def _run(scenario, *, live: bool, port: int | None = None) -> int:
         print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
         if scenario.simulator_config.target_realtime_rate == 0:
             scenario.simulator_config.target_realtime_rate = 1.0  # watchable speed
-    summary = run(scenario, meshcat=meshcat)
+    summary = run(scenario, meshcat=meshcat, save_views=save_views)
     print(summary.to_text())
     if live and sys.stdin.isatty():
         try:  # the run is complete: leaving the live view is not an interruption
@@ -273,13 +290,18 @@ def _objects(args) -> int:
     )
 
     if args.action == "fetch":
-        from gbh_drake.objects.fetch import main as fetch
+        from gbh_drake.objects.fetch_sets import main as fetch
 
         return fetch([str(p) for p in args.sets or _shipped_sets()])
     if args.action == "list":
         # Each object's warnings are in its row, not also as log lines.
-        logging.getLogger("gbh_drake.objects").setLevel(logging.ERROR)
-        rows = [row for path in args.sets or [None] for row in describe_set(path)]
+        objects_log = logging.getLogger("gbh_drake.objects")
+        level = objects_log.level
+        objects_log.setLevel(logging.ERROR)
+        try:
+            rows = [row for path in args.sets or [None] for row in describe_set(path)]
+        finally:
+            objects_log.setLevel(level)
         if args.json:
             print(json.dumps(rows, indent=1))
         elif args.csv:

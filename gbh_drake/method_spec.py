@@ -116,12 +116,12 @@ for _spec in (
     MethodSpec("gbh_regrasp", "GbH first; then a pinch sets the object down in a pose GbH can "
                "hook, a re-scan, and GbH hooks it there", tiers=(Tier.GRASPS, Tier.REGRASP),
                beyond_paper=True),
-    MethodSpec("gbh_completed", "GbH on the scan completed by symmetry: the unseen side of a "
-               "body of revolution added, the unseen space it calls free with confidence taken "
-               "as free (the paper's future work, shape completion)", beyond_paper=True),
     MethodSpec("gbh_plus", "GbH, the scoop, the regrasp, then the antipodal fallback; one retry "
                "after a lift that came away empty",
                tiers=(Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK), gripper="wedge",
                needs_gripper=True, max_retries=1, beyond_paper=True),
+    MethodSpec("gbh_completed", "GbH on the scan completed by symmetry: the unseen side of a "
+               "body of revolution added, the unseen space it calls free with confidence taken "
+               "as free (the paper's future work, shape completion)", beyond_paper=True),
 ):
     register_spec(_spec)

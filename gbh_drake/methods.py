@@ -339,6 +339,6 @@ def method_named(name: str) -> GraspMethod:
         raise KeyError(f"no grasp method {name!r} (known: {', '.join(_REGISTRY)})") from None
 
 
-for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhCompleted(),
-                GbhPlus()):
+for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhPlus(),
+                GbhCompleted()):
     register_method(_method)

@@ -40,8 +40,9 @@ from gbh_drake import interrupts
 MIN_FREE_BYTES = 64 * 2**20
 #: The lock file in every output folder (hidden; it stays, empty of meaning once unlocked).
 LOCK_NAME = ".gbh.lock"
-#: What ``gbh run`` writes into its folder.
-RUN_OUTPUTS = ("replay.html", "scenario.yaml", "summary.yaml")
+#: What ``gbh run`` writes into its folder (a pick also its scan and grasps, and with
+#: ``--save-views`` the views' depth images: ``gbh_drake.scan_grasps.run_export``).
+RUN_OUTPUTS = ("replay.html", "scenario.yaml", "summary.yaml", "scan.ply", "grasps.json", "views")
 _TMP_PREFIX = ".gbh-tmp-"
 
 
@@ -236,6 +237,21 @@ class RunOutputs:
         if name in self._staged:
             remove(self._staged.pop(name))
         self._staged[name] = write_file(self.folder / name, data)
+        return self.folder / name
+
+    def stage_folder(self, name: str, write: Callable[[Path], object]) -> Path:
+        """Writes output folder ``name`` now (``write(folder)`` fills a temporary folder beside
+        it); returns its final path. A failure to write raises :class:`OutputError` naming it."""
+        if name in self._staged:
+            remove(self._staged.pop(name))
+        tmp = self.folder / f"{_TMP_PREFIX}{os.getpid()}-{name}"
+        remove(tmp)
+        self._staged[name] = tmp
+        try:
+            tmp.mkdir()
+            write(tmp)
+        except OSError as e:
+            raise OutputError(self.folder / name, f"could not write it ({reason(e)})") from None
         return self.folder / name
 
     def commit(self) -> None:

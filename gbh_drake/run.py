@@ -5,7 +5,9 @@ Meshcat, simulate until the pick-and-carry machine has finished (task ``pick``) 
 settle time (task ``settle``), then write ``replay.html`` (a self-contained Meshcat recording),
 ``summary.yaml`` (the :class:`~gbh_drake.trial.TrialRecord`) and ``scenario.yaml`` (the
 resolved scenario, file plus overrides, so that ``gbh run <folder>/scenario.yaml`` repeats the
-run) into the scenario's output folder, all or nothing (:mod:`gbh_drake.outputs`).
+run) into the scenario's output folder, all or nothing (:mod:`gbh_drake.outputs`); a pick also
+``scan.ply`` and ``grasps.json`` (and ``views/`` when asked), in the robot's base frame B
+(:mod:`gbh_drake.scan_grasps.run_export`).
 """
 
 from __future__ import annotations
@@ -18,7 +20,9 @@ from pydrake.geometry import Meshcat
 
 from gbh_drake.core.resting import rest_in_words
 from gbh_drake.outputs import RunOutputs, plain
+from gbh_drake.scan_grasps.run_export import trial_export
 from gbh_drake.scenario import Scenario, dump_resolved
+from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.trial import TrialRecord, TrialRun, record_trial
 from gbh_drake.viz.meshcat_server import local_meshcat
 
@@ -89,13 +93,18 @@ def _touching(touching: dict[str, list[str]]) -> str:
     return ", ".join(bodies) or "nothing"
 
 
-def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
-    """Simulates ``scenario`` and writes its outputs (see the module docstring).
+def run(scenario: Scenario, *, meshcat: Meshcat | None = None,
+        save_views: bool = False) -> RunSummary:
+    """Simulates ``scenario`` and writes its outputs (see the module docstring); a pick also
+    writes its scan and GbH's ranked grasps in the robot's base frame (``scan.ply``,
+    ``grasps.json``) and, with ``save_views``, the views' depth images (``views/``:
+    :mod:`gbh_drake.scan_grasps.run_export`).
 
     The output folder is checked and locked before anything is built (a folder that is a file,
     not writable, on a full disk or in use by another run raises
     :class:`~gbh_drake.outputs.OutputError`); the outputs appear all together at the end, and a
     run that fails or is interrupted leaves none (:class:`~gbh_drake.outputs.RunOutputs`)."""
+    require_scenario(scenario, "run")
     # Check and lock the output folder before anything is built.
     with RunOutputs(scenario.output_path()) as outputs:
         # Build the trial diagram, simulate it, record it (with its Meshcat replay).
@@ -105,6 +114,12 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None) -> RunSummary:
                              str(outputs.path("replay.html")), _drift(done))
         # The outputs, all or nothing.
         outputs.stage("replay.html", done.replay_html)
+        for name, data in trial_export(done).items():
+            if callable(data):
+                if save_views:
+                    outputs.stage_folder(name, data)
+            else:
+                outputs.stage(name, data)
         outputs.stage("scenario.yaml", dump_resolved(scenario))
         outputs.stage("summary.yaml", yaml.safe_dump(
             {"scenario": summary.scenario, "task": summary.task, "replay": summary.replay,

@@ -58,6 +58,7 @@ from gbh_drake.modeling.object_asset import initial_object_pose, load_object_ass
 from gbh_drake.modeling.object_body import ObjectAsset, add_object_body, filter_object_contacts
 from gbh_drake.modeling.package_map import add_fixed_models
 from gbh_drake.scenario import Scenario
+from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.scenario.schema import RobotConfig
 from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.systems.camera_scene import add_camera_scene
@@ -195,6 +196,7 @@ def make_station(scenario: Scenario, *, meshcat: Meshcat | None = None,
     ``meshcat``: visualise there; ``prefinalize``: see :class:`Station`; ``seeds``: the
     scenario's seeds when the caller has derived them already. Add it to your builder
     with ``builder.AddSystem(make_station(scenario))`` and wire to its exported ports."""
+    require_scenario(scenario, "make_station")  # (a wrong field named at the call)
     asset = object_asset or load_object_asset(scenario.object, scenario.directory)
     X_WO = initial_object_pose(scenario.object, asset, (seeds or derive_seeds(scenario.seed)).pose)
     return Station(directives=scenario.station_directives(), plant_config=scenario.plant_config,

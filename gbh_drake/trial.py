@@ -30,12 +30,15 @@ from pydrake.systems.analysis import ApplySimulatorConfig, Simulator
 from pydrake.systems.framework import Diagram, DiagramBuilder, EventStatus
 
 from gbh_drake import interrupts
+from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.core.gripper import GRIPPERS
+from gbh_drake.core.ranges import is_number
 from gbh_drake.messages import HeldBy, Outcome, PickStatus, Verdict, verdict_final
 from gbh_drake.method_spec import Tier
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
 from gbh_drake.modeling.object_asset import ObjectAsset
 from gbh_drake.scenario import Scenario
+from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.seeds import Seeds, derive_seeds
 from gbh_drake.station import Station, make_station, scene_query_port
 from gbh_drake.systems.cage_monitor import CageMonitor
@@ -164,11 +167,18 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     scenario's object; ``method`` its grasp method (default: the registered one it names);
     ``grasps`` (each with ``X_WG`` and ``kind``) are executed instead of the method's own
     (:class:`~gbh_drake.methods.GivenGrasps`: a grasp of your own, through the same planner,
-    physics and judge)."""
+    physics and judge). A ``scenario`` field or an argument of the wrong type raises
+    :class:`~gbh_drake.scenario.ScenarioError` or TypeError naming it; the scenario's ranges
+    and relations are :func:`~gbh_drake.scenario.validate_scenario`'s (``load_scenario`` and
+    ``run_trial`` check them)."""
+    require_scenario(scenario, "build_trial")
+    _require_common("build_trial", meshcat, asset)
+    require("build_trial", "method", method, (GraspMethod, type(None)),
+            "a GraspMethod (e.g. gbh_drake.methods.method_named('gbh')) or None")
     seeds = derive_seeds(scenario.seed)
     method = method or method_named(scenario.grasp_method)
     if grasps is not None:
-        method = GivenGrasps(grasps, method)
+        method = GivenGrasps(_grasps(grasps), method)
     builder = DiagramBuilder()
 
     # The station: robot, table, object, cameras, visualisation.
@@ -234,6 +244,32 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     return Trial(diagram, station, scanner, method, source, pick, monitor, seeds, scenario)
 
 
+def _require_common(function: str, meshcat, asset) -> None:
+    require(function, "meshcat", meshcat, (Meshcat, type(None)), "a pydrake.geometry.Meshcat or None")
+    require(function, "asset", asset, (ObjectAsset, type(None)),
+            "an ObjectAsset (gbh_drake.modeling.object_asset.load_object_asset) or None")
+
+
+def _grasps(grasps) -> list:
+    """``grasps`` as a list, each with ``X_WG`` (4 x 4, or a RigidTransform) and ``kind`` (a
+    str); else TypeError naming the grasp."""
+    if isinstance(grasps, str | bytes | dict) or not hasattr(grasps, "__iter__"):
+        raise TypeError(argument_problem("build_trial", "grasps", "a list of grasps (each with "
+                                         "X_WG and kind) or None", grasps))
+    grasps = list(grasps)
+    for i, grasp in enumerate(grasps):
+        X = getattr(grasp, "X_WG", None)
+        if isinstance(X, RigidTransform):
+            X = X.GetAsMatrix4()
+        if X is None or np.shape(X) != (4, 4):
+            raise TypeError(argument_problem("build_trial", f"grasps[{i}]", "a grasp with X_WG "
+                                             "(the open gripper's pose in W, 4 x 4) and kind",
+                                             grasp))
+        require("build_trial", f"grasps[{i}].kind", getattr(grasp, "kind", None), str,
+                "'parallel' or 'vertical'")
+    return grasps
+
+
 def trial_duration(scenario: Scenario) -> float:
     """Simulated seconds a trial of ``scenario`` may last: the settle time for task
     ``settle``, else ``max_time``."""
@@ -246,6 +282,10 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
     come to rest (at most ``max_time`` simulated seconds; default: the scenario's, see
     :func:`trial_duration`); returns the simulator and the record. A simulator monitor ends the
     run, as Drake's ``Simulator`` idiom has it."""
+    require("simulate_trial", "trial", trial, Trial, "a Trial (build_trial(scenario))")
+    if max_time is not None and not (is_number(max_time) and 0 < max_time < np.inf):
+        raise TypeError(argument_problem("simulate_trial", "max_time", "a positive number of "
+                                         "simulated seconds, or None (the scenario's)", max_time))
     max_time = trial_duration(trial.scenario) if max_time is None else max_time
     simulator = Simulator(trial.diagram)
     ApplySimulatorConfig(trial.scenario.simulator_config, simulator)
@@ -305,6 +345,11 @@ def record_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     (``gbh run``, the experiment's workers). With ``meshcat`` (whose scene and recording are
     cleared first: a worker reuses one) the run is recorded at ``scenario.replay_fps`` and kept
     as HTML when ``keep_replay`` is true or returns true for the record."""
+    require_scenario(scenario, "record_trial")
+    _require_common("record_trial", meshcat, asset)
+    if not (callable(keep_replay) or isinstance(keep_replay, bool)):
+        raise TypeError(argument_problem("record_trial", "keep_replay", "True, False or a "
+                                         "function of the record", keep_replay))
     start = time.perf_counter()
     if meshcat is not None:  # a clean scene for this trial
         meshcat.Delete()

@@ -15,19 +15,22 @@ differed.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections import Counter
 from pathlib import Path
 
 
 def load(path: Path, protocol: str = "stable") -> dict[tuple, dict]:
+    """The rows of ``path`` in ``protocol`` by (object, method, trial), read and checked as the
+    runner reads them (a damaged line raises FolderError naming the file and line; a last line
+    cut short is left out with a warning)."""
+    from gbh_drake.experiment.rows import protocol_of, read_jsonl, row_problem
+
     rows = {}
-    for line in path.read_text().splitlines():
-        if line.strip():
-            row = json.loads(line)
-            if (row.get("protocol") or "stable") == protocol:
-                rows[(row["object"], row["method"], int(row["trial"]))] = row
+    for row in read_jsonl(path, check=row_problem, warn=lambda m: print(f"warning: {m}",
+                                                                         file=sys.stderr)):
+        if protocol_of(row) == protocol:
+            rows[(row["object"], row["method"], int(row["trial"]))] = row
     return rows
 
 
@@ -96,8 +99,14 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path)
     parser.add_argument("--protocol", default="stable")
     args = parser.parse_args(argv)
-    text = "\n".join(compare(load(args.before, args.protocol),
-                             load(args.after, args.protocol))) + "\n"
+    from gbh_drake.experiment.rows import FolderError
+
+    try:
+        before, after = load(args.before, args.protocol), load(args.after, args.protocol)
+    except FolderError as e:
+        print(f"compare_rows: {e}", file=sys.stderr)
+        return 2
+    text = "\n".join(compare(before, after)) + "\n"
     if args.out:
         args.out.write_text(text)
     sys.stdout.write(text)

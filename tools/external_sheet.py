@@ -4,7 +4,7 @@
         [--out docs/objects/external_sheet.png]
 
 Reads the manifest with PyYAML, takes each mesh from the fetch cache
-(``python -m gbh_drake.objects.fetch MANIFEST`` first), turns the file's frame F by the declared
+(``python -m gbh_drake.objects.fetch_sets MANIFEST`` first), turns the file's frame F by the declared
 rest, puts it on z = 0 (:func:`~gbh_drake.objects.placement.rest_on_table`, "keep") and moves
 the hangable parts with it; rendering is :func:`gbh_drake.objects.contact_sheet.contact_sheet`
 (red: closed loops, blue: open hooks, rod = hole axis). A stand-in for the object-set loader.

@@ -12,7 +12,6 @@ stable protocol.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import pickle
 import sys
@@ -66,9 +65,10 @@ def main(argv=None) -> int:
     if args.mesh == "scan":
         mesh = trimesh.Trimesh(scan["vertices"], scan["faces"], process=False)
     else:
-        with open(args.rows) as f:
-            row = next(r for r in map(json.loads, f) if (r["object"], r["method"], r["trial"])
-                       == (args.object, args.method, args.trial))
+        from gbh_drake.experiment.rows import read_jsonl, row_problem
+
+        row = next(r for r in read_jsonl(args.rows, check=row_problem)
+                   if (r["object"], r["method"], r["trial"]) == (args.object, args.method, args.trial))
         x, y, z, roll, pitch, yaw = row["pose"]
         X_WO = RigidTransform(RollPitchYaw(roll, pitch, yaw), np.array([x, y, z]))
         mesh = load_object_asset(ObjectConfig(name=args.object), ".").mesh.copy()

@@ -66,8 +66,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     from gbh_drake.experiment.report import ReportInput, by_reach
+    from gbh_drake.experiment.rows import read_jsonl, row_problem
 
-    rows = [json.loads(line) for line in open(args.rows) if line.strip()]
+    rows = read_jsonl(args.rows, check=row_problem)  # a damaged line: named with its line
     todo = [r for r in rows if r["outcome"] == "no_grasp_found" and r["method"] in SCAN_OF
             and (r.get("protocol") or "stable") == "stable"]
     with ProcessPoolExecutor(args.workers, initializer=_load, initargs=(args.scans,)) as pool:

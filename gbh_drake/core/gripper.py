@@ -336,3 +336,50 @@ def keypoints_W(X_WG: np.ndarray, q: float | None = None, geometry: HookGripperG
     """Keypoints in world W for the gripper pose ``X_WG`` (4, 4 homogeneous matrix)."""
     X = np.asarray(X_WG, dtype=float)
     return {k: X[:3, :3] @ v + X[:3, 3] for k, v in geometry.keypoints_G(q).items()}
+
+
+# ---- the frame contract: where G is on a Franka's flange --------------------------------------
+#: Degrees about z of Franka's hand frame H (``panda_hand``) on the flange ``panda_link8``: the
+#: hand is mounted turned by -45 deg, as Franka mounts it (the station's directives weld it so:
+#: ``scenario/schema.py``'s ``DEFAULT_DIRECTIVES``; ``tests/modeling`` checks that a plant
+#: built from them puts G where :func:`X_link8_G` says).
+HAND_MOUNT_YAW_DEG = -45.0
+
+
+def X_link8_H(yaw_deg: float = HAND_MOUNT_YAW_DEG) -> np.ndarray:
+    """(4, 4) pose of the hand frame H (``panda_hand``, the hook gripper's base link) in the
+    flange frame ``panda_link8``: a turn of ``yaw_deg`` about z, no offset."""
+    c, s = np.cos(np.radians(yaw_deg)), np.sin(np.radians(yaw_deg))
+    X = np.eye(4)
+    X[:2, :2] = [[c, -s], [s, c]]
+    return X
+
+
+def X_H_G(geometry: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(4, 4) pose of the gripper frame G (palm centre) in the hand frame H:
+    ``palm_offset_in_hand`` along z_H, axes parallel (the SDF's frame ``G``)."""
+    X = np.eye(4)
+    X[2, 3] = geometry.palm_offset_in_hand
+    return X
+
+
+def X_link8_G(geometry: HookGripperGeometry = HOOK_GRIPPER,
+              yaw_deg: float = HAND_MOUNT_YAW_DEG) -> np.ndarray:
+    """(4, 4) pose of the gripper frame G in the flange frame ``panda_link8`` of a Franka with
+    the hook gripper mounted as in the station: X_link8_H X_H_G. A grasp X_BG (G in the
+    robot's base frame B) puts the flange at X_B_link8 = X_BG X_link8_G^-1
+    (:func:`X_B_link8`)."""
+    return X_link8_H(yaw_deg) @ X_H_G(geometry)
+
+
+def X_B_link8(X_BG: np.ndarray, geometry: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(4, 4) the flange's pose ``panda_link8`` in B for the gripper frame at ``X_BG`` (4, 4)."""
+    return np.asarray(X_BG, dtype=float) @ np.linalg.inv(X_link8_G(geometry))
+
+
+def p_G_hook(geometry: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(3,) the hook point T in G, metres: the middle of the closed loop's bar, between the
+    rods' centre lines (0, 0, l_f). A parallel grasp puts the hole's centre c there (it stays
+    there as the fingers close symmetrically); the planner lifts the object from it. This
+    gripper's tool centre point (TCP)."""
+    return np.array([0.0, 0.0, geometry.finger_length])

@@ -32,7 +32,7 @@ from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, prepare_object
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import HangingStructure
+from gbh_drake.core.results import HangabilityReport, HangingStructure, RefusedPosition
 
 csgraph = lazy_module("scipy.sparse.csgraph")
 sparse = lazy_module("scipy.sparse")
@@ -58,17 +58,35 @@ def detect_hangable_structures(
 
     An object with nothing hangable gives an empty list. Raises GbhInputError for unusable input.
     """
+    return detect_with_report(mesh, params, seed, free_space)[0]
+
+
+def detect_with_report(
+    mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0,
+    free_space: FreeSpace | None = None,
+) -> tuple[list[HangingStructure], HangabilityReport]:
+    """:func:`detect_hangable_structures` and what the detector saw and refused on the way
+    (:class:`~gbh_drake.core.results.HangabilityReport`)."""
     obj = prepare_object(mesh, params, seed, free_space)
+    free = active_free_space(obj, params)
     idx = contact_candidates(obj, params)
+    report = HangabilityReport(len(obj.points), len(idx), params.contact_angle_deg,
+                               _best_contact_angle(obj), exit_proof=free is not None)
     labels = cluster_points(obj.points[idx], params.cluster_radius * obj.spacing,
                             params.min_cluster_size)
     sel = _subsample_clusters(labels, params.max_contacts_per_cluster)
-    c, clearance, contact = hanging_positions(obj, idx[sel], labels[sel], params)
+    c_all, clear_all, contact_all = cluster_positions(obj, idx[sel], labels[sel], params)
+    keep, small = select_positions(c_all, clear_all, params)
+    c, clearance, contact = c_all[keep], clear_all[keep], contact_all[keep]
+    report.clusters, report.positions = len(c_all), len(keep)
+    report.merged = len(c_all) - len(small) - len(keep)
+    report.refused += [RefusedPosition(c_all[i], float(clear_all[i]), "too small")
+                       for i in small]
     if len(c) == 0:
-        return []
+        return [], report
     v, t, dirs = hanging_directions(obj, c, params)
-    through = through_hole(obj, c, v)
-    free = active_free_space(obj, params)
+    mesh_through = through_hole(obj, c, v)
+    through = mesh_through.copy()
     if free is not None:
         floor = unknown_floor(obj, free, params)
         if params.through_proof_exit:
@@ -88,12 +106,26 @@ def detect_hangable_structures(
         else:
             through &= observed_through(obj, free, c, v, params.ground_normal, floor,
                                         params.through_proof_length)
+    m = np.isfinite(t).mean(axis=1)
+    for rule, refused in (("not a through-hole", ~mesh_through),
+                          ("exit proof", mesh_through & ~through)):
+        report.refused += [RefusedPosition(c[i], float(clearance[i]), rule, v[i], float(m[i]))
+                           for i in np.flatnonzero(refused)]
     structures = [
         _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i])
         for i in np.flatnonzero(through)
     ]
     structures.sort(key=lambda s: (-s.m, -s.clearance))
-    return structures
+    report.structures = len(structures)
+    return structures, report
+
+
+def _best_contact_angle(obj: ObjectModel) -> float:
+    """The smallest angle (deg) between a sample's outward normal and its direction to the CoM
+    (samples within a spacing of the CoM left out, as by :func:`contact_candidates`)."""
+    cos, far = _normal_to_com_cosines(obj)
+    return float(np.degrees(np.arccos(np.clip(cos[far].max(), -1.0, 1.0)))) if far.any() \
+        else float("nan")
 
 
 def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
@@ -102,14 +134,20 @@ def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
     only samples of material a camera saw: a hanging contact on the completion's guess of the
     unseen side would hook a loop that may not be there (the completion closes false holes and
     counts in the collision checks, it makes no structure)."""
-    to_com = obj.com - obj.points
-    dist = np.linalg.norm(to_com, axis=1)
-    cos = np.sum(obj.normals * to_com, axis=1) / np.maximum(dist, 1e-12)
-    ok = (cos > np.cos(np.radians(params.contact_angle_deg))) & (dist > obj.spacing)
+    cos, far = _normal_to_com_cosines(obj)
+    ok = (cos > np.cos(np.radians(params.contact_angle_deg))) & far
     if isinstance(obj.free_space, CompletedFreeSpace) and obj.free_space.completion is not None:
         idx = np.flatnonzero(ok)
         ok[idx[obj.free_space.completion.on_surface(obj.points[idx])]] = False
     return np.flatnonzero(ok)
+
+
+def _normal_to_com_cosines(obj: ObjectModel) -> tuple[np.ndarray, np.ndarray]:
+    """(cos (n,), far (n,)): the cosine of the angle between each sample's outward normal and
+    its direction to the CoM, and whether it is farther than a sample spacing from the CoM."""
+    to_com = obj.com - obj.points
+    dist = np.linalg.norm(to_com, axis=1)
+    return np.sum(obj.normals * to_com, axis=1) / np.maximum(dist, 1e-12), dist > obj.spacing
 
 
 def cluster_points(points: np.ndarray, radius: float, min_size: int) -> np.ndarray:
@@ -145,12 +183,35 @@ def hanging_positions(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Hanging positions (P, 3), their clearances (P,) and contact points (P, 3), metres.
 
-    ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels. For
-    each member, the free part of its segment to the CoM (up to the first hit, at most
-    ``max_hanging_distance`` long) is sampled; the cluster's position is
-    the sample farthest from the surface. Positions with clearance < ``min_clearance`` are
-    dropped and coincident ones (within another's free ball) merged, keeping the larger ball.
+    ``idx`` are sample indices of contact candidates and ``labels`` their cluster labels:
+    each cluster's position (:func:`cluster_positions`); positions with clearance <
+    ``min_clearance`` are dropped and coincident ones (within another's free ball) merged,
+    keeping the larger ball.
     """
+    c, clearance, contact = cluster_positions(obj, idx, labels, params)
+    keep, _ = select_positions(c, clearance, params)
+    return c[keep], clearance[keep], contact[keep]
+
+
+def select_positions(c: np.ndarray, clearance: np.ndarray, params: GbhParams
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """(kept, too small): indices of the positions c (P, 3) kept (clearance (P,) at least
+    ``min_clearance``, and not inside a kept one's free ball: :func:`_merge_coincident`) and
+    of those under ``min_clearance``."""
+    big = np.flatnonzero(clearance >= params.min_clearance)
+    keep = big[_merge_coincident(c[big], clearance[big], params.dedup_radius_factor)]
+    return keep, np.flatnonzero(clearance < params.min_clearance)
+
+
+def cluster_positions(
+    obj: ObjectModel, idx: np.ndarray, labels: np.ndarray, params: GbhParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One hanging position per cluster (P, 3), its exact clearance (P,) and contact point
+    (P, 3), metres, in the order of the clusters' labels.
+
+    For each member, the free part of its segment to the CoM (up to the first hit, at most
+    ``max_hanging_distance`` long) is sampled; the cluster's position is the sample farthest
+    from the surface, of the member with the largest such clearance."""
     empty = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
     if len(idx) == 0:
         return empty
@@ -171,10 +232,7 @@ def hanging_positions(
     order = np.lexsort((-member_clear, labels))
     first = order[np.r_[True, np.diff(labels[order]) != 0]]
     member_clear[first] = obj.distance(member_c[first])
-    first = first[member_clear[first] >= params.min_clearance]
-    keep = _merge_coincident(member_c[first], member_clear[first], params.dedup_radius_factor)
-    sel = first[keep]
-    return member_c[sel], member_clear[sel], p[sel]
+    return member_c[first], member_clear[first], p[first]
 
 
 def _merge_coincident(c: np.ndarray, clearance: np.ndarray, factor: float) -> np.ndarray:

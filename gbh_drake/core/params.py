@@ -14,15 +14,31 @@ frame the mesh is given in (called W in the docstrings).
 # time and needs real types, not strings.
 import copy
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
-from gbh_drake.core.ranges import FieldError, Int, Items, NonNeg, OneOf, Pos, Range, checker, ranged, sibling
+from gbh_drake.core.ranges import (
+    FieldError,
+    Int,
+    Items,
+    NonNeg,
+    OneOf,
+    Pos,
+    Range,
+    Relation,
+    checker,
+    ranged,
+    sibling,
+)
 from gbh_drake.core.results import GbhInputError
 
 #: Segment samples per cluster GbH may test (max_contacts_per_cluster x n_segment_samples).
 MAX_SEGMENT_SAMPLES = 50_000
+#: A count of object points is bounded by the points sampled.
+_AT_MOST_N_POINTS = Relation("<=", "n_points", "no more object points can be counted than are "
+                                               "sampled: the rule would keep every grasp")
 
 
 @dataclass
@@ -30,9 +46,12 @@ class GbhParams:
     """Parameters of hangability detection, grasp synthesis, collision checking and scoring.
 
     ``preset`` names where the defaults of the fields that go beyond the paper come from:
-    ``""`` (gbh_drake's, below) or ``"paper"`` (the paper's rules alone, :data:`PRESETS`); use
-    :meth:`with_preset` in code, ``gbh: {preset: paper}`` in a scenario (fields written beside
-    it still win)."""
+    ``""`` (gbh_drake's, below) or ``"paper"`` (the paper's rules alone, :data:`PRESETS`).
+    ``GbhParams(preset="paper", d2=0.005)`` in code, ``gbh: {preset: paper, d2: 0.005}`` in a
+    scenario and ``GbhParams(d2=0.005).with_preset("paper")`` give the same parameters: the
+    preset's values, and the fields given beside it win. (``dataclasses.replace(p,
+    preset=...)`` passes every field and so applies no preset's values: use
+    :meth:`with_preset`.)"""
 
     preset: str = ranged("", OneOf(("", "paper"), "'paper': the paper's rules alone"))
     """``""``: gbh_drake's defaults; ``"paper"``: the paper's rules where ours go beyond them
@@ -61,7 +80,9 @@ class GbhParams:
     cluster_radius: float = ranged(2.5, Pos(100.0))
     """Contact points closer than this many mean sample spacings are in one cluster
     (single-linkage, i.e. DBSCAN with min_samples = 1). Dimensionless."""
-    min_cluster_size: int = ranged(1, Int(1, 50_000))
+    min_cluster_size: int = ranged(1, Int(1, 50_000), relations=(
+        Relation("<=", "n_points", "a cluster of contact points larger than the surface "
+                                   "samples can never form: nothing would be hangable"),))
     """Clusters with fewer contact points are ignored. 1 keeps isolated candidates: on a thin
     wire (a bucket's bail, a bag's strap) at 5000 points the few candidates on its underside
     lie farther apart than the cluster radius; the through-hole test removes noise."""
@@ -74,7 +95,10 @@ class GbhParams:
     """Metres. c is searched on the segment toward the CoM at most this far from the contact
     point: the gripper's loop is l_f = 8 cm long, so a c farther from the material it hooks
     cannot be used; without the cap, a bucket's bail hands its c to the bucket's cavity."""
-    min_clearance: float = ranged(0.002, NonNeg(0.1, "m"))
+    min_clearance: float = ranged(0.002, NonNeg(0.1, "m"), relations=(
+        Relation("<", "max_hanging_distance", "c lies at most max_hanging_distance from the "
+                 "material it hooks, so its clearance is never more: nothing would be "
+                 "hangable"),))
     """Metres. Hanging positions closer than this to the surface are dropped (nothing fits)."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
@@ -145,10 +169,10 @@ class GbhParams:
     this number for the segments near the grasp (descend, close, lift), so a ranked grasp is
     not refused there for touching the table. A negative value turns the check off (e.g. an
     object in free space)."""
-    p_c: int = ranged(10, Int(1, 50_000))
+    p_c: int = ranged(10, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """*paper*: a grasp is kept only if fewer than p_c object points are inside the gripper
     (open, at the grasp pose)."""
-    p_sweep: int = ranged(1, Int(1, 50_000))
+    p_sweep: int = ranged(1, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """Ours: a grasp is kept only if fewer than p_sweep object points lie in the volume the
     gripper sweeps while closing (hand, rods and bar moving from the open to the closed pose,
     the closed pose included) that are not already counted in N_c. Default 1: none, because
@@ -238,6 +262,21 @@ class GbhParams:
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
     top_k: int = ranged(10, Int(1, 100))
     """*paper*: number of best grasps returned for execution."""
+    distinct_distance: float = ranged(0.005, NonNeg(0.05, "m", "0 with distinct_angle_deg 0: "
+                                                             "no de-duplication"))
+    """Ours (beyond the paper), metres: the ranked list holds distinct grasps. A grasp whose
+    origin lies closer than this to that of a better ranked grasp of the same kind, turned by
+    less than ``distinct_angle_deg`` from it, is a copy and takes no place in the top k
+    (:func:`~gbh_drake.core.scoring.rank_grasps`). The turned approaches land on the
+    neighbouring contacts (20 and 40 deg turns, contacts every 360 / n_rays_per_plane =
+    10 deg): without this, a closed handle's top ten were two poses, five exact copies each.
+    5 mm: two TSDF voxels, below what the scan resolves; distinct poses of one structure lie
+    at least 10 deg and 14 mm apart (the loop's 8 cm turned by one contact). The paper ranks
+    without it (preset ``paper``: 0)."""
+    distinct_angle_deg: float = ranged(5.0, Range(0.0, 90.0, unit="deg"))
+    """Ours, degrees: the angle below which two grasps of the same kind, with origins closer
+    than ``distinct_distance``, are one (half the 10 deg between neighbouring contacts, so
+    no two distinct contacts' grasps merge)."""
     min_miss_resultant: float = ranged(0.2, Range(0.0, 1.0))
     """Ours, in [0, 1]: when m_i < 1 but the mean of the missing rays' unit directions is
     shorter than this (the openings lie on opposite sides and cancel), the loop has no opening
@@ -249,7 +288,7 @@ class GbhParams:
     def with_preset(self, name: str) -> "GbhParams":
         """A copy with ``preset = name`` and the preset's values of :data:`PRESETS` fields
         (``""``: gbh_drake's defaults of those fields)."""
-        if name not in PRESETS:
+        if not isinstance(name, str) or name not in PRESETS:
             raise GbhInputError(f"GbhParams.preset: one of {', '.join(map(repr, PRESETS))}, got "
                                 f"{name!r}")
         ours = GbhParams()
@@ -258,9 +297,9 @@ class GbhParams:
         return dataclasses.replace(self, preset=name, **copy.deepcopy(values))
 
     def check_relations(self, at: tuple = ()) -> None:
-        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        """The rules between fields no :class:`Relation` states (``at``: where these parameters
+        are, for the messages)."""
         _check_nonzero(self.ground_normal, at + ("ground_normal",))
-        _check_at_most_n_points(self, at, ("p_c", "p_sweep"))
         work = self.max_contacts_per_cluster * self.n_segment_samples
         if work > MAX_SEGMENT_SAMPLES:
             raise FieldError(at + ("n_segment_samples",), f"{sibling(at, 'max_contacts_per_cluster')} x "
@@ -270,14 +309,40 @@ class GbhParams:
 
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
-#: approach per contact point, the design note's contact angle, unseen space taken as free).
+#: approach per contact point, the design note's contact angle, unseen space taken as free, the
+#: top ten ranked without de-duplication).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
-              "contact_angle_deg": 30.0, "unknown_is_occupied": False},
+              "contact_angle_deg": 30.0, "unknown_is_occupied": False,
+              "distinct_distance": 0.0, "distinct_angle_deg": 0.0},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))
+
+
+def _init_with_preset(init):
+    """``GbhParams.__init__``: the dataclass's own, then, for a known ``preset``, the preset's
+    values in the fields not given (as ``gbh: {preset: ...}`` in a scenario does)."""
+    fields = {f.name: f for f in dataclasses.fields(GbhParams)}
+    names = list(fields)
+
+    @functools.wraps(init)
+    def __init__(self, *args, **kwargs):  # noqa: N807
+        init(self, *args, **kwargs)
+        if isinstance(self.preset, str) and self.preset in PRESETS:
+            given = set(names[:len(args)]) | set(kwargs)
+            for name in _PRESET_FIELDS:
+                if name not in given:
+                    f = fields[name]
+                    ours = f.default if f.default_factory is dataclasses.MISSING \
+                        else f.default_factory()
+                    setattr(self, name, copy.deepcopy(PRESETS[self.preset].get(name, ours)))
+
+    return __init__
+
+
+GbhParams.__init__ = _init_with_preset(GbhParams.__init__)
 
 
 @dataclass
@@ -296,7 +361,9 @@ class AntipodalParams:
     point upward."""
     contact_depth: float = ranged(0.015, NonNeg(0.08, "m"))
     """m: the contacts' distance behind the rods' tip keypoint p2 (z_G = l_f): the finger pads."""
-    min_contact_depth: float = ranged(0.006, NonNeg(0.08, "m"))
+    min_contact_depth: float = ranged(0.006, NonNeg(0.08, "m"),
+                                      relations=(Relation("<=", "contact_depth", "the hand "
+                                                          "backs off from contact_depth to it"),))
     """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
     contacts are this close to the tips, no closer."""
     opening_margin: float = ranged(0.003, NonNeg(0.04, "m"))
@@ -311,7 +378,7 @@ class AntipodalParams:
     """m: the open gripper descends along +z_G from this far back (the pick's pre-grasp offset,
     ``PickParams.approach_distance``); the material it would pass through counts in N_c.
     0: only the grasp pose and the closing are checked (as GbH's N_c)."""
-    p_c: int = ranged(10, Int(1, 50_000))
+    p_c: int = ranged(10, Int(1, 50_000), relations=(_AT_MOST_N_POINTS,))
     """Keep grasps with fewer than p_c object points inside the swept solid model (GbH's p_c)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """m: every box of the solid model is grown by this for the point count."""
@@ -335,23 +402,14 @@ class AntipodalParams:
     check = checker(GbhInputError)
 
     def check_relations(self, at: tuple = ()) -> None:
-        """The rules between fields (``at``: where these parameters are, for the messages)."""
+        """The rules between fields no :class:`Relation` states (``at``: where these parameters
+        are, for the messages)."""
         _check_nonzero(self.ground_normal, at + ("ground_normal",))
-        _check_at_most_n_points(self, at, ("p_c",))
-        if self.min_contact_depth > self.contact_depth:
-            raise FieldError(at + ("min_contact_depth",), f"must be <= {sibling(at, 'contact_depth')} "
-                                                          f"({self.contact_depth:g} m)")
 
 
 def _check_nonzero(vector, path: tuple) -> None:
     if not np.linalg.norm(np.asarray(vector, float)) > 0:
         raise FieldError(path, f"must not be zero, got {list(vector)}")
-
-
-def _check_at_most_n_points(params, at: tuple, names: tuple[str, ...]) -> None:
-    for name in names:
-        if getattr(params, name) > params.n_points:
-            raise FieldError(at + (name,), f"must be <= {sibling(at, 'n_points')} ({params.n_points})")
 
 
 @dataclass
@@ -370,7 +428,9 @@ class ScoopParams:
     rod_gap: float = ranged(0.0015, NonNeg(0.02, "m"))
     """m: the straight rod goes down this far inside the hole's edge (between its face and the
     material's inner surface), where it keeps the material from sliding away from the wedge."""
-    hover: float = ranged(0.0005, NonNeg(0.01, "m"))
+    hover: float = ranged(0.0005, NonNeg(0.01, "m"), relations=(
+        Relation("<", "press_depth", "the press, at most press_depth below the grasp pose, "
+                                     "would never reach the table"),))
     """m: the rods' tips stop this far above the table at the grasp pose; the press goes on down."""
     press_force: float = ranged(2.0, Pos(50.0, "N"))
     """N: at the grasp pose the arm goes on down until the table pushes the hand up this hard

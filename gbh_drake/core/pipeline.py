@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 
+from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.core.collision import (
     count_open_and_sweep,
     count_unknown_in_sweep,
@@ -19,12 +20,13 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import (
     active_free_space,
     detect_hangable_structures,
+    detect_with_report,
     unknown_floor,
 )
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import GbhResult, GraspCandidate, HangingStructure
+from gbh_drake.core.results import GbhInputError, GbhResult, GraspCandidate, HangingStructure
 from gbh_drake.core.scoring import rank_grasps, score_grasps
 
 trimesh = lazy_module("trimesh")
@@ -35,6 +37,7 @@ def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
     """Stage 1 (paper Sec. 2.2): the prepared object (samples from ``seed``, CoM, ray scene,
     ``free_space``: what the cameras saw free, if known) and its hanging structures. Raises
     GbhInputError for unusable input."""
+    _check_arguments("detect", params, seed, free_space)
     obj = prepare_object(mesh, params, seed, free_space)
     return obj, detect_hangable_structures(obj, params, seed)
 
@@ -168,14 +171,18 @@ def plan_grasps(
     (vertices in W, metres; ``seed``: the surface sampler's). Grasps are X_WG of the open
     gripper; ``result.ranked`` holds the collision-free top-k (open, closing and closed;
     scoring.rank_grasps). Raises GbhInputError for unusable input; nothing hangable gives empty
-    lists. ``result.timings`` has the seconds of each stage. ``free_space``: what the cameras
-    saw free (a scan's ``ScanResult.free_space``); with ``params.unknown_is_occupied`` unseen
-    space is possibly occupied (through-hole rays, closing sweep)."""
+    lists (``result.hangability`` says what the detector saw and refused). ``result.timings``
+    has the seconds of each stage. ``free_space``: what the cameras saw free (a scan's
+    ``ScanResult.free_space``); with ``params.unknown_is_occupied`` unseen space is possibly
+    occupied (through-hole rays, closing sweep)."""
     params = GbhParams() if params is None else params
+    _check_arguments("plan_grasps", params, seed, free_space)
+    require("plan_grasps", "gripper", gripper, HookGripperGeometry,
+            "a HookGripperGeometry (gbh_drake.core.gripper.HOOK_GRIPPER)", GbhInputError)
     clock = _StageClock()
     obj = prepare_object(mesh, params, seed, free_space)
     clock.lap("sampling")
-    structures = detect_hangable_structures(obj, params, seed)
+    structures, report = detect_with_report(obj, params, seed)
     clock.lap("hangability")
     candidates = synthesize_grasps(structures, obj.points, params, gripper)
     clock.lap("synthesis")
@@ -183,7 +190,18 @@ def plan_grasps(
     clock.lap("collision")
     ranked = score(candidates, params)
     clock.lap("scoring")
-    return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu)
+    return GbhResult(structures, candidates, ranked, clock.wall, clock.cpu, report)
+
+
+def _check_arguments(function: str, params, seed, free_space) -> None:
+    """GbhInputError naming the argument of ``function`` that is of the wrong type."""
+    require(function, "params", params, GbhParams, "a GbhParams (gbh_drake.core.params)",
+            GbhInputError)
+    if not (isinstance(seed, int | np.integer) and not isinstance(seed, bool)
+            and 0 <= seed < 2**64):
+        raise GbhInputError(argument_problem(function, "seed", "an integer in [0, 2^64)", seed))
+    require(function, "free_space", free_space, (FreeSpace, type(None)),
+            "a FreeSpace (a scan's ScanResult.free_space) or None", GbhInputError)
 
 
 class _StageClock:

@@ -1,19 +1,31 @@
-"""Field rules declared beside the fields: ranges, allowed names, list lengths, fixed values.
+"""Field rules declared beside the fields: types, ranges, allowed names, list lengths, fixed
+values, paths, and the bounds between fields.
 
 A config dataclass declares each field's rule as field metadata::
 
     d2: float = ranged(0.0, Range(-0.05, 0.05, unit="m"))
 
-and its cross-field rules in a method ``check_relations(self, at=())`` that raises
-:class:`FieldError`. :func:`check_fields` checks both; the class's own public ``check()`` is
-:func:`checker`'s, the scenario loader calls :func:`check_fields` with the section's path, and
-docs/errors.md's table is rendered from the same rules (``Rule.doc``): one home per range.
+and a field that another field bounds declares that too (:class:`Relation`)::
+
+    min_lift: float = ranged(0.10, Pos(1.0, "m"), relations=(Relation("<=", "max_lift"),))
+
+(a relation between fields of two sections is declared on the section field of the config that
+holds both, :func:`section`). What no rule can say goes in a method ``check_relations(self,
+at=())`` that raises :class:`FieldError`. :func:`check_fields` checks the fields' types (from
+their annotations: a config built in code may hold anything), their rules, their relations and
+``check_relations``; the class's own public ``check()`` is :func:`checker`'s, the scenario
+loader calls :func:`check_fields` with the section's path, and docs/errors.md's tables are
+rendered from the same rules (``Rule.doc``, ``Relation.doc``): one home per range and bound.
 
 Pure Python and numpy (no pydrake): the core and the perception config import it.
 """
 
 import dataclasses
+import functools
 import math
+import operator
+import types
+import typing
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -31,15 +43,20 @@ def format_path(path: Path_) -> str:
 
 
 class FieldError(ValueError):
-    """A field that cannot work: ``path`` (tuple of names and indices) and ``problem``."""
+    """A field that cannot work: ``path`` (tuple of names and indices) and ``problem``.
 
-    def __init__(self, path: Path_, problem: str):
+    ``other``: for a bound between two fields (:class:`Relation`), the same problem said of the
+    other field (``pick.max_lift: must be >= scoop.min_lift``), for a loader that names the
+    field the user wrote rather than one left at its default."""
+
+    def __init__(self, path: Path_, problem: str, other: "FieldError | None" = None):
         super().__init__(f"{format_path(path) or '<scenario>'}: {problem}")
         self.path = tuple(path)
         self.problem = problem
+        self.other = other
 
     def __reduce__(self):  # picklable with its parts
-        return type(self), (self.path, self.problem)
+        return type(self), (self.path, self.problem, self.other)
 
 
 def _num(v) -> str:
@@ -108,10 +125,10 @@ class Range:
     def check(self, path: Path_, value) -> None:
         if value is None and self.optional:
             return
-        if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        if not is_number(value):
             raise FieldError(path, f"expected a number, got {value!r}")
         check_finite_number(path, value)
-        if self.integer and not float(value).is_integer():
+        if self.integer and not isinstance(value, int | np.integer):
             raise FieldError(path, f"expected an integer, got {value!r}")
         if not self.contains(value):
             unit = f" {self.unit}" if self.unit else ""
@@ -182,6 +199,8 @@ class Items:
                 (", none twice" if self.unique else ""))
 
     def check(self, path: Path_, value) -> None:
+        if not is_sequence(value):
+            raise FieldError(path, f"expected a list of {self.doc()}, got {shown(value)}")
         if self.length is not None and len(value) != self.length:
             raise FieldError(path, f"needs {self.length} {self.what}, got {len(value)}")
         for i, v in enumerate(value):
@@ -206,19 +225,132 @@ class Fixed:
             raise FieldError(path, f"must be {self.value!r} ({self.why}); got {value!r}")
 
 
-Rule = Range | OneOf | Registered | Items | Fixed
+@dataclass(frozen=True)
+class FilePath:
+    """A file or folder's path, as text: relative to the scenario (or experiment) file's folder
+    when written in the file, to the current folder when given in an override (``--set``, the
+    API's ``overrides``: the loader makes it absolute)."""
+
+    what: str = "file"
+
+    def doc(self) -> str:
+        return (f"a {self.what}'s path; relative: to the file's folder (given by --set or "
+                "overrides: to the current folder)")
+
+    def check(self, path: Path_, value) -> None:
+        if not isinstance(value, str):
+            raise FieldError(path, f"expected a path as text (a str; str(path) of a Path), got "
+                                   f"{shown(value)}")
+        if "\0" in value:
+            raise FieldError(path, "holds a NUL character")
+
+
+Rule = Range | OneOf | Registered | Items | Fixed | FilePath
+
+
+# ---- bounds between fields --------------------------------------------------------------------
+
+#: A relation's operator: (comparison, its words, the reverse operator).
+_OPS = {"<=": (operator.le, "must be <=", ">="), "<": (operator.lt, "must be <", ">"),
+        ">=": (operator.ge, "must be >=", "<="), ">": (operator.gt, "must exceed", "<")}
+
+
+@dataclass(frozen=True)
+class Relation:
+    """A bound between two number fields: ``<field> <op> factor x <other>`` (``op``: ``<=``,
+    ``<``, ``>=``, ``>``).
+
+    Declared in the metadata of the bounded field (``field`` empty) or, between fields of two
+    sections, of the section field of the config that holds both (``field``: the bounded field
+    inside that section, e.g. ``min_lift`` on ``Scenario.scoop``). ``other`` and ``when`` are
+    dotted paths from the declaring config. ``when``: (path, value): the bound holds only when
+    that field has that value (e.g. ``("task", "pick")``). ``why``: what goes wrong otherwise.
+    A value that is None (an optional field left out) is not compared."""
+
+    op: str
+    other: str
+    why: str = ""
+    field: str = ""
+    factor: float = 1.0
+    when: tuple = ()
+
+    def __post_init__(self):
+        if self.op not in _OPS:
+            raise ValueError(f"Relation.op: one of {', '.join(_OPS)}, got {self.op!r}")
+
+    def _scaled(self, name: str) -> str:
+        return name if self.factor == 1 else f"{_num(self.factor)} x {name}"
+
+    def doc(self, at: Path_ = ()) -> str:
+        """``<= pick.max_lift (for task pick)`` (paths from ``at``)."""
+        when = f" (for {format_path(at + _split(self.when[0]))} {self.when[1]})" \
+            if self.when else ""
+        return f"{self.op} {self._scaled(format_path(at + _split(self.other)))}{when}"
+
+    def lhs(self, name: str) -> Path_:
+        """The bounded field's path from the declaring config (declared on field ``name``)."""
+        return (name, *_split(self.field))
+
+    def check(self, obj, name: str, at: Path_ = ()) -> None:
+        """Raises :class:`FieldError` when the bound declared on ``obj``'s field ``name`` fails
+        (``at``: where ``obj`` is, for the messages)."""
+        if self.when and _value_at(obj, _split(self.when[0])) != self.when[1]:
+            return
+        lhs, rhs = self.lhs(name), _split(self.other)
+        a, b = _value_at(obj, lhs), _value_at(obj, rhs)
+        if a is None or b is None or not (is_number(a) and is_number(b)):
+            return  # left out, or not a number: the type check says so
+        compare, words, reverse = _OPS[self.op]
+        if compare(a, self.factor * b):
+            return
+        unit = _unit(obj, lhs)
+        why = f": {self.why}" if self.why else ""
+        other = FieldError(at + rhs, f"{_OPS[reverse][1]} {format_path(at + lhs)}"
+                           f"{'' if self.factor == 1 else f' / {_num(self.factor)}'} "
+                           f"({_num(a / self.factor)}{unit}), got {_num(b)}{unit}{why}")
+        raise FieldError(at + lhs, f"{words} {self._scaled(format_path(at + rhs))} "
+                         f"({_num(self.factor * b)}{unit}), got {_num(a)}{unit}{why}", other)
+
+
+def _split(dotted: str) -> Path_:
+    return tuple(dotted.split(".")) if dotted else ()
+
+
+def _value_at(obj, path: Path_):
+    for name in path:
+        obj = getattr(obj, name, None)
+    return obj
+
+
+def _unit(obj, path: Path_) -> str:
+    """`` m`` for a field whose range has unit m, else ``""``."""
+    for name in path[:-1]:
+        obj = getattr(obj, name, None)
+    fields = {f.name: f for f in dataclasses.fields(obj)} if dataclasses.is_dataclass(obj) else {}
+    rule = rule_of(fields[path[-1]]) if path[-1] in fields else None
+    unit = getattr(rule, "unit", "") or getattr(getattr(rule, "each", None), "unit", "")
+    return f" {unit}" if unit else ""
 
 # ---- declaring and checking -------------------------------------------------------------------
 
 _RULE = "rule"
+_RELATIONS = "relations"
 
 
-def ranged(default, rule: Rule, **kwargs):
-    """A dataclass field with ``default`` (a callable: its default factory, e.g. for a list)
-    and its ``rule`` as metadata."""
+def ranged(default, rule: Rule, *, relations: tuple[Relation, ...] = (), **kwargs):
+    """A dataclass field with ``default`` (a callable: its default factory, e.g. for a list),
+    its ``rule`` and the bounds other fields set it (``relations``) as metadata."""
+    metadata = {_RULE: rule, _RELATIONS: tuple(relations)}
     if callable(default):
-        return dataclasses.field(default_factory=default, metadata={_RULE: rule}, **kwargs)
-    return dataclasses.field(default=default, metadata={_RULE: rule}, **kwargs)
+        return dataclasses.field(default_factory=default, metadata=metadata, **kwargs)
+    return dataclasses.field(default=default, metadata=metadata, **kwargs)
+
+
+def section(factory, *relations: Relation):
+    """A field holding a config (``factory`` makes its default) and the bounds between a field
+    of it and a field elsewhere in the declaring config (each :class:`Relation` with ``field``
+    set)."""
+    return dataclasses.field(default_factory=factory, metadata={_RELATIONS: relations})
 
 
 def rule_of(f: dataclasses.Field) -> Rule | None:
@@ -226,21 +358,116 @@ def rule_of(f: dataclasses.Field) -> Rule | None:
     return f.metadata.get(_RULE)
 
 
+def relations_of(f: dataclasses.Field) -> tuple[Relation, ...]:
+    """The bounds declared on dataclass field ``f``."""
+    return f.metadata.get(_RELATIONS, ())
+
+
 def check_ranges(obj, at: Path_ = ()) -> None:
-    """Each field of dataclass ``obj`` that declares a rule, against it (``at``: where ``obj``
-    is, for the error's path)."""
+    """Each field of dataclass ``obj`` against its declared type (:func:`check_type`) and its
+    rule (``at``: where ``obj`` is, for the error's path)."""
+    hints = _type_hints(type(obj))
     for f in dataclasses.fields(obj):
-        rule = rule_of(f)
+        value, rule = getattr(obj, f.name), rule_of(f)
+        if not isinstance(rule, Items | FilePath):  # (these rules say what they hold)
+            check_type(at + (f.name,), value, hints.get(f.name, f.type))
         if rule is not None:
-            rule.check(at + (f.name,), getattr(obj, f.name))
+            rule.check(at + (f.name,), value)
+
+
+def check_bounds(obj, at: Path_ = ()) -> None:
+    """The :class:`Relation` bounds declared on the fields of dataclass ``obj``."""
+    for f in dataclasses.fields(obj):
+        for relation in relations_of(f):
+            relation.check(obj, f.name, at)
 
 
 def check_fields(obj, at: Path_ = ()) -> None:
-    """:func:`check_ranges`, then ``obj``'s own ``check_relations(at)`` (if it has one)."""
+    """:func:`check_ranges`, :func:`check_bounds`, then ``obj``'s own ``check_relations(at)``
+    (if it has one)."""
     check_ranges(obj, at)
+    check_bounds(obj, at)
     relations = getattr(obj, "check_relations", None)
     if relations is not None:
         relations(at)
+
+
+# ---- types ------------------------------------------------------------------------------------
+
+
+def is_number(value) -> bool:
+    """An int or float (numpy's too), not a bool."""
+    return isinstance(value, int | float | np.number) and not isinstance(value, bool | np.bool_)
+
+
+def is_sequence(value) -> bool:
+    """A list, a tuple or a 1-d numpy array (what a list field may hold in code)."""
+    return isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.ndim == 1)
+
+
+def shown(value) -> str:
+    """``0.5 (a float)``: a value and its type, for a message about a value given in code."""
+    if isinstance(value, type):
+        return f"the class {value.__name__} (not an instance of it)"
+    text = " ".join(repr(value).split())
+    text = text if len(text) <= 60 else text[:57] + "..."
+    return f"{text} ({_a(type(value).__name__)})"
+
+
+def _a(name: str) -> str:
+    """``a float``, ``an ObjectConfig``."""
+    return f"{'an' if name[:1].lower() in 'aeiou' else 'a'} {name}"
+
+
+@functools.cache
+def _type_hints(cls) -> dict:
+    try:
+        return typing.get_type_hints(cls)
+    except Exception:  # noqa: BLE001  (a forward reference that does not resolve)
+        return {}
+
+
+_KIND_WORDS = {bool: "true or false", int: "an integer", float: "a number", str: "a string"}
+
+
+def check_type(path: Path_, value, kind) -> None:
+    """Raises :class:`FieldError` when ``value`` is not of the annotated type ``kind``: a
+    number type for ``float`` (an int too), an integer for ``int``, a bool, a str, a list (a
+    tuple or 1-d array too) of such, None or the type for ``Optional``, an instance of any
+    other class (a config of ours, a Drake struct). A config built in code may hold anything;
+    a loaded one is typed by the loader already."""
+    args = typing.get_args(kind)
+    if typing.get_origin(kind) in (typing.Union, types.UnionType):
+        if value is None and type(None) in args:
+            return
+        options = [a for a in args if a is not type(None)]
+        if len(options) == 1:
+            check_type(path, value, options[0])
+        return  # a union of several: Drake's loader knows its variants
+    if kind is float:
+        ok = is_number(value)
+    elif kind is int:
+        ok = isinstance(value, int | np.integer) and not isinstance(value, bool)
+    elif kind is bool:
+        ok = isinstance(value, bool | np.bool_)
+    elif kind is str:
+        ok = isinstance(value, str)
+    elif typing.get_origin(kind) is list:
+        if not is_sequence(value):
+            raise FieldError(path, f"expected a list, got {shown(value)}")
+        if args and args[0] not in (float, int):  # numbers: the field's rule checks each
+            for i, v in enumerate(value):
+                check_type(path + (i,), v, args[0])
+        return
+    elif isinstance(kind, type) and kind.__module__ != "builtins":
+        ok = isinstance(value, kind)
+        if not ok:
+            raise FieldError(path, f"expected {_a(kind.__name__)}, got {shown(value)}")
+        return
+    else:
+        return  # dict, Any...: not checked here
+    if not ok:
+        raise FieldError(path, f"expected {_KIND_WORDS[kind]}, got {shown(value)}")
 
 
 def checker(error: type[Exception] = ValueError):

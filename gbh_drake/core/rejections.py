@@ -75,6 +75,13 @@ def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rej
                       _closest(best, RULES[last], params))
 
 
+def no_grasp_message(n_candidates: int, n_structures: int, rejections: Rejections) -> str:
+    """Why no candidate was ranked, in words (the trial's ``no_grasp_found`` reason)."""
+    why = rejections.summary()
+    return (f"no collision-free grasp among {n_candidates} candidates on {n_structures} hanging "
+            f"structures{': ' + why if why else ''}")
+
+
 def removed_by(candidates: list[GraspCandidate], params: GbhParams
                ) -> tuple[np.ndarray, np.ndarray]:
     """(rule, shortfall), each (M,): the index in :data:`RULES` of the rule that removed each

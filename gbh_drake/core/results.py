@@ -121,6 +121,85 @@ class GraspCandidate:
 
 
 @dataclass(eq=False)
+class RefusedPosition:
+    """A hanging position the detector found and refused (what it saw, for a report)."""
+
+    c: np.ndarray
+    """(3,) the position, metres in W."""
+    clearance: float
+    """Distance (m) from c to the surface."""
+    rule: str
+    """Which rule refused it (:data:`HANGABILITY_RULES`)."""
+    v: np.ndarray | None = None
+    """(3,) the hole's axis found at c (None when refused before the axis was searched)."""
+    m: float = float("nan")
+    """Fraction of the ray plane's rays that hit (nan before the axis was searched)."""
+
+
+#: Why the detector refused a hanging position, in the order the rules apply:
+#: ``too small``: its clearance is under ``GbhParams.min_clearance`` (nothing fits);
+#: ``not a through-hole``: a ray from c along +v or -v hits the mesh (a pocket, not a hole);
+#: ``exit proof``: no line through c near v leads out through space the cameras saw free
+#: (``GbhParams.unknown_is_occupied``; only with a scan's free space).
+HANGABILITY_RULES = ("too small", "not a through-hole", "exit proof")
+
+
+@dataclass(eq=False)
+class HangabilityReport:
+    """What the hangability detector saw, stage by stage (paper Sec. 2.2): how many samples,
+    contact candidates, clusters and hanging positions, and which rule refused each refused
+    position; it says why an object has no hanging structure."""
+
+    samples: int = 0
+    """Surface samples of the object."""
+    contact_candidates: int = 0
+    """Samples whose outward normal is within ``contact_angle_deg`` of the direction to the
+    CoM."""
+    contact_angle_deg: float = float("nan")
+    """The rule's angle (deg)."""
+    best_contact_angle_deg: float = float("nan")
+    """The smallest angle (deg) between a sample's normal and its direction to the CoM (how
+    near the closest sample came, when none is a candidate)."""
+    clusters: int = 0
+    """Clusters of contact candidates (each gives at most one hanging position)."""
+    merged: int = 0
+    """Hanging positions merged into a coincident one with more clearance."""
+    positions: int = 0
+    """Hanging positions whose hole was tested (after the clearance rule and merging)."""
+    exit_proof: bool = False
+    """Whether the exit proof ran (a scan's free space and ``unknown_is_occupied``)."""
+    structures: int = 0
+    """Hanging structures kept."""
+    refused: list[RefusedPosition] = field(default_factory=list)
+    """Every refused position, in the order of :data:`HANGABILITY_RULES`."""
+
+    def refused_by(self) -> dict[str, int]:
+        """How many positions each rule refused (keys :data:`HANGABILITY_RULES`, in order)."""
+        return {rule: sum(r.rule == rule for r in self.refused) for rule in HANGABILITY_RULES}
+
+    def summary(self) -> str:
+        """What the detector saw, in words."""
+        text = (f"{self.samples} surface samples, {self.contact_candidates} contact candidates "
+                f"(normal within {self.contact_angle_deg:g} deg of the direction to the centre "
+                f"of mass")
+        if self.contact_candidates == 0:
+            text += f"; the nearest came within {self.best_contact_angle_deg:.0f} deg"
+        text += f"), {self.clusters} clusters"
+        counts = self.refused_by()
+        if self.clusters:
+            text += (f"; {counts['too small']} hanging positions too small, {self.merged} "
+                     f"merged, {self.positions} tested: {counts['not a through-hole']} not a "
+                     "through-hole")
+            if self.exit_proof:
+                text += f", {counts['exit proof']} refused by the exit proof"
+            text += f", {self.structures} kept"
+        if not self.exit_proof:
+            text += ("; the exit proof did not run (no free space: the mesh alone says what "
+                     "is a hole)")
+        return text
+
+
+@dataclass(eq=False)
 class GbhResult:
     """Everything one run of :func:`gbh_drake.core.pipeline.plan_grasps` produced."""
 
@@ -135,3 +214,5 @@ class GbhResult:
     """Wall-clock seconds per stage: sampling, hangability, synthesis, collision, scoring."""
     cpu_timings: dict[str, float] = field(default_factory=dict)
     """CPU seconds of this process per stage (all threads; insensitive to other processes)."""
+    hangability: HangabilityReport | None = None
+    """What the detector saw and refused (:func:`~gbh_drake.core.hangability.detect_with_report`)."""

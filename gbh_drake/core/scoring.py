@@ -6,7 +6,10 @@ they are scored S_total = m_i S_beta S_alpha, ranked from high to low, the ten b
 motion planner then tries them in that order and executes the first it can reach (that loop is
 gbh_drake/run.py's). Our own collision checks (the closing sweep and the supporting surface,
 collision.py) belong to the same "collision-free" filter, so they are applied before ranking:
-a grasp they reject never takes one of the ten places.
+a grasp they reject never takes one of the ten places. Beyond the paper, the ten are distinct:
+a copy of a better grasp (the same kind within ``distinct_distance`` and
+``distinct_angle_deg``, :func:`is_copy`; the turned approaches land on the neighbouring
+contacts) takes no place (the ``paper`` preset ranks as the paper does, copies included).
 
 :func:`collision_free` is that filter:
 
@@ -99,11 +102,31 @@ def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
 
 
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:
-    """The collision-free candidates (:func:`collision_free`), best S_total first, at most
-    ``top_k``: the paper's ten, in the order the planner tries them.
+    """The collision-free candidates (:func:`collision_free`), best S_total first, distinct
+    (:func:`is_copy`: a copy of a better one takes no place), at most ``top_k``: the paper's
+    ten, in the order the planner tries them.
 
     Ties keep the synthesis order (stable sort), so the ranking is deterministic.
     """
     free = [g for g in candidates if collision_free(g, params)]
     order = np.argsort([-g.score for g in free], kind="stable")
-    return [free[i] for i in order[: params.top_k]]
+    ranked: list[GraspCandidate] = []
+    for i in order:
+        if len(ranked) == params.top_k:
+            break
+        if not any(is_copy(free[i], kept, params) for kept in ranked):
+            ranked.append(free[i])
+    return ranked
+
+
+def is_copy(g: GraspCandidate, other: GraspCandidate, params: GbhParams) -> bool:
+    """Whether ``g`` is a copy of ``other`` for the ranking: the same kind, origins closer than
+    ``distinct_distance`` (m) and orientations less than ``distinct_angle_deg`` apart (the
+    angle of R_WG^T R_WG'). Both tolerances 0: never (the paper's ranking)."""
+    if g.kind != other.kind:
+        return False
+    if np.linalg.norm(g.X_WG[:3, 3] - other.X_WG[:3, 3]) >= params.distinct_distance:
+        return False
+    R = g.X_WG[:3, :3].T @ other.X_WG[:3, :3]
+    cos = np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)
+    return bool(np.degrees(np.arccos(cos)) < params.distinct_angle_deg)

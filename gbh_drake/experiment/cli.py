@@ -44,7 +44,8 @@ def add_subcommands(sub) -> None:
                                                "output_dir, else output/<file stem>)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="YAML",
                    help="YAML applied over the experiment file, e.g. --set 'trials: 1' (may be "
-                        "repeated: applied in order)")
+                        "repeated: applied in order); a relative path in it (output_dir, base) "
+                        "is relative to the current folder, one in the file to its folder")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     p = sub.add_parser("report", help="rebuild an experiment's summary.md, CSVs and plots "
@@ -67,8 +68,9 @@ def _report(folder: Path) -> int:
         print(f"gbh: {folder}: no {ROWS_FILE} (not an experiment folder)", file=sys.stderr)
         return 2
     try:  # everything is read and checked before anything is written
-        summary, plot = write_report(folder, warn=_warn)
-        lines = table1(read_input(folder))
+        data = read_input(folder, warn=_warn)
+        summary, plot = write_report(folder, warn=_warn, data=data)
+        lines = table1(data)
     except FolderError as e:
         _say(f"damaged experiment folder: {e}")
         return 2

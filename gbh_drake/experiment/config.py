@@ -57,7 +57,16 @@ import numpy as np
 import yaml
 from pydrake.common.yaml import yaml_dump_typed
 
-from gbh_drake.core.ranges import FieldError, Int, Items, OneOf, check_fields, format_path, ranged
+from gbh_drake.core.ranges import (
+    FieldError,
+    FilePath,
+    Int,
+    Items,
+    OneOf,
+    check_fields,
+    format_path,
+    ranged,
+)
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -69,7 +78,13 @@ from gbh_drake.scenario import (
     validate_scenario,
 )
 from gbh_drake.scenario.loader import apply_overrides
-from gbh_drake.yamlfiles.layers import LayerError, Layers, file_layer, load_layers
+from gbh_drake.yamlfiles.layers import (
+    LayerError,
+    Layers,
+    file_layer,
+    load_layers,
+    override_layers,
+)
 from gbh_drake.yamlfiles.yaml_text import (
     YamlTextError,
     compose,
@@ -161,14 +176,15 @@ class Experiment:
 
     name: str = ""
     """Shown in the reports; empty: the file's stem."""
-    base: str = ""
-    """The base scenario file (required), relative to the experiment file."""
+    base: str = ranged("", FilePath("base scenario file"))
+    """The base scenario file (required), relative to the experiment file (given by ``--set``:
+    to the current folder)."""
     base_overrides: str = ""
     """YAML applied over the base scenario for every method (a mapping in the file, or text)."""
     objects: list[str] = ranged(list, Items(None, None, what="object names", unique=True))
     """Names of objects: of ``object_set`` (looked up first) or of the built-in set (``gbh
     objects list``), each once; empty with an ``object_set``: every object of the set."""
-    object_set: str = ""
+    object_set: str = ranged("", FilePath("object set manifest"))
     """An object set's manifest (:mod:`gbh_drake.objects.sets`), relative to the experiment
     file: its objects (meshes with their masses, rests and ground truth, or built-in ones)."""
     trials: int = ranged(5, Int(1, 1000, "per object, method and protocol; the paper ran 5"))
@@ -189,9 +205,9 @@ class Experiment:
     """The methods compared; every one runs every (object, trial)."""
     replays: str = ranged("failures", OneOf(REPLAY_MODES))
     """Meshcat replays kept: ``failures`` (every failed trial), ``all`` or ``none``."""
-    output_dir: str = ""
-    """The experiment's folder, relative to the experiment file; empty: ``output/<file stem>``
-    under the working folder."""
+    output_dir: str = ranged("", FilePath("folder"))
+    """The experiment's folder, relative to the experiment file (given by ``--set``: to the
+    current folder); empty: ``output/<file stem>`` under the working folder."""
     engine: str = ranged("local", OneOf(ENGINES, note="local worker processes, or Ray tasks at "
                                                       "ray_address"))
     """Where the trials run: ``local`` (worker processes on this machine, ``--workers``) or
@@ -310,8 +326,7 @@ def load_experiment(filename: str | Path, *, overrides: str | list[str] = "") ->
     path = Path(filename)
     origin, text = file_layer(path, "experiment", ExperimentError)
     layers = [(origin, text)] + [(f"{path} (--set {t!r})", t)
-                                 for t in ([overrides] if isinstance(overrides, str) else overrides)
-                                 if t.strip()]
+                                 for _, t in override_layers(origin, overrides, ExperimentError)]
     experiment, trees = load_layers(Experiment, layers, Experiment(), what="experiment",
                                     error=ExperimentError, prepare=_overrides_as_text)
     experiment.source_path = str(path.resolve())

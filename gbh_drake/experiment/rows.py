@@ -20,6 +20,7 @@ z in m, roll, pitch, yaw in rad), ``outcome``, ``success``, ``reason``, ``held_b
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import json
 import os
@@ -89,6 +90,11 @@ ROW_FIELDS = {"object": str, "method": str, "trial": int, "seed": int, "outcome"
               "success": bool, "reason": str, "viewpoints": int}
 
 
+#: Fields a row may leave out (or give as null), with their types when it has them: what the
+#: runner and the reports key or sort by besides :data:`ROW_FIELDS`.
+OPTIONAL_ROW_FIELDS = {"protocol": str, "scenario_digest": str, "replay": str}
+
+
 def row_problem(row) -> str | None:
     """What makes ``row`` (a parsed line) not a row, or None."""
     if not isinstance(row, dict):
@@ -96,7 +102,9 @@ def row_problem(row) -> str | None:
     missing = [name for name in ROW_FIELDS if name not in row]
     if missing:
         return f"a row without {', '.join(missing)}"
-    for name, kind in ROW_FIELDS.items():
+    present = {name: kind for name, kind in OPTIONAL_ROW_FIELDS.items()
+               if row.get(name) is not None}
+    for name, kind in {**ROW_FIELDS, **present}.items():
         value = row[name]
         if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
             return f"{name} is {value!r}, not {'a' if kind is not int else 'an'} " \
@@ -165,12 +173,25 @@ class RowStore:
         return read_jsonl(self.path, check=row_problem, warn=warn, repair=repair)
 
     def append(self, row: dict) -> None:
-        """Appends one row and flushes it to the disk."""
+        """Appends one row and flushes it to the disk. A row that cannot be written whole (a
+        full disk) is cut off again, so that the file keeps only whole rows; the OSError is
+        raised."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        with open(self.path, "a") as f:
-            f.write(to_line(row))
-            f.flush()
-            os.fsync(f.fileno())
+        line = to_line(row).encode()
+        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            size = os.fstat(fd).st_size
+            try:
+                done = 0
+                while done < len(line):  # (a write may take part of it: the rest follows)
+                    done += os.write(fd, line[done:])
+                os.fsync(fd)
+            except OSError:
+                with contextlib.suppress(OSError):
+                    os.ftruncate(fd, size)  # (what part of the line reached the file goes)
+                raise
+        finally:
+            os.close(fd)
 
     def rewrite(self, rows: Iterable[dict]) -> None:
         """Replaces the file with ``rows`` (atomically: a temporary file renamed into place)."""

@@ -26,6 +26,7 @@ The folder::
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import json
 import os
@@ -36,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from gbh_drake import interrupts
+from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.experiment.config import (
     Experiment,
     ExperimentError,
@@ -106,6 +108,11 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
     ray``: Ray at its ``ray_address``, else local workers). The engine changes no row: a folder
     resumes whatever ran it. Raises :class:`ExperimentError` when the folder holds rows of other
     scenarios."""
+    require("run_experiment", "experiment", experiment, Experiment,
+            "an Experiment (gbh_drake.experiment.config.load_experiment(path))")
+    require("run_experiment", "out", out, (str, os.PathLike, type(None)), "a folder's path or None")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise TypeError(argument_problem("run_experiment", "workers", "an integer >= 1", workers))
     start = time.perf_counter()
     ray_address = ray_address or experiment.ray_engine_address()
     folder = Path(out) if out else experiment.output_path()
@@ -131,17 +138,22 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                               trials_per_worker=per_worker) if ray_address \
             else local_results(pending, workers, trials_per_worker=per_worker)
         started = datetime.datetime.now().isoformat(timespec="seconds")
-        ran, interrupted = 0, True
+        ran, interrupted, failed, replay_errors = 0, True, None, {}
         bar = _progress_bar(len(pending), experiment.name, enabled=progress)
         by_digest = {(t.object, t.method, t.trial, t.digest): t for t in pending}
+
+        def warn(message: str) -> None:
+            bar.write(message, file=sys.stderr)
+
         try:
             for result in results:
                 interrupts.check()  # a signal whose exception some library dropped
                 row = result.row
                 _set_protocol(row, by_digest)
-                with interrupts.deferred():  # the row and its replay, or neither
-                    _save(folder, store, row, result.replay_html,
-                          warn=lambda m: bar.write(m, file=sys.stderr))
+                with interrupts.deferred():  # the row, then its replay
+                    problem = _save(folder, store, row, result.replay_html, warn=warn)
+                if problem:
+                    replay_errors[row_key(row)] = problem
                 done[row_key(row)] = row
                 if row["outcome"] == "error":
                     bar.write(f"{experiment.name}: trial {row_key(row)} ended in an error "
@@ -151,51 +163,72 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
                                     f"{len(done)} succeeded", refresh=False)
                 bar.update(1)
             interrupted = False
+        except BaseException as e:
+            failed = e
+            raise
         finally:
             bar.close()
             wall = time.perf_counter() - start
-            if ran or interrupted:
-                _log_run(folder, started=started, wall=wall, trials=ran, engine=engine,
-                         interrupted=interrupted)
+            # Stopped by an error or a signal: what follows must not hide it (a full disk fails
+            # these too): their own failures are warnings then, every row written is kept.
+            with _said_if(failed is not None, warn):
+                if ran or interrupted:
+                    _log_run(folder, started=started, wall=wall, trials=ran, engine=engine,
+                             interrupted=interrupted)
             if not interrupted and len(done) == len(tasks):
-                _sort_rows(store, experiment)
-            write_report(folder, warn=log)
+                _sort_rows(store, experiment, replay_errors)
+            with _said_if(failed is not None, warn):
+                write_report(folder, warn=log)
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
 
 
-def _save(folder: Path, store: RowStore, row: dict, replay_html: str | None, *, warn) -> None:
-    """Appends ``row`` and puts its replay (if any) into ``replays/``. The replay is written
-    first to a temporary file; when that fails (a full disk, a name too long) the row is still
-    written, without the replay and with ``replay_error`` saying why (and ``warn`` told). A row
-    that cannot be appended is an :class:`OutputError` (its trial runs again on resume)."""
-    staged = None
+@contextlib.contextmanager
+def _said_if(stopping: bool, warn):
+    """While an experiment is stopping on an error or a signal: an output that cannot be
+    written is a warning (the first error is the one reported), else it is raised."""
+    try:
+        yield
+    except OSError as e:
+        if not stopping:
+            raise
+        warn(f"gbh: warning: {e if isinstance(e, OutputError) else reason(e)}")
+
+
+def _save(folder: Path, store: RowStore, row: dict, replay_html: str | None, *, warn
+          ) -> str | None:
+    """Appends ``row`` first, then puts its replay (if any) into ``replays/`` (written to a
+    hidden temporary file, renamed into place): a finished trial's row is kept whatever becomes
+    of its replay. A replay that cannot be written (the disk filled, a name too long) is a
+    warning naming the file, and the experiment goes on; the row says where the replay should
+    be until the rows are sorted at the end of a complete run (:func:`_sort_rows`: ``replay``
+    emptied, ``replay_error`` says why); returns why (``<file>: <problem>``), or None. A row that cannot
+    be appended is an :class:`OutputError` (the file keeps its whole rows; that trial runs
+    again on resume)."""
+    target = None
     if replay_html is not None:
         name = replay_name(row)
         target = folder / "replays" / name
-        try:
-            target.parent.mkdir(exist_ok=True)
-            staged = write_file(target, replay_html)
-            row["replay"] = f"replays/{name}"
-        except OSError as e:
-            problem = e.problem if isinstance(e, OutputError) else reason(e)
-            row["replay"] = ""
-            row["replay_error"] = f"{target}: {problem}"
-            warn(f"gbh: warning: trial {row_key(row)}: its replay was not kept: "
-                 f"{row['replay_error']}")
+        row["replay"] = f"replays/{name}"
     try:
         store.append(row)
     except OSError as e:
-        if staged is not None:
-            remove(staged)
         raise OutputError(store.path, f"could not append the row of trial {row_key(row)} "
                                       f"({reason(e)})") from None
-    if staged is not None:
-        try:
-            os.replace(staged, target)
-        except OSError as e:  # the row says where the replay should be; say why it is not
+    if target is None:
+        return None
+    staged = None
+    try:
+        target.parent.mkdir(exist_ok=True)
+        staged = write_file(target, replay_html)
+        os.replace(staged, target)
+    except OSError as e:
+        if staged is not None:
             remove(staged)
-            warn(f"gbh: warning: trial {row_key(row)}: its replay was not kept: {target}: "
-                 f"{reason(e)}")
+        problem = f"{target}: {e.problem if isinstance(e, OutputError) else reason(e)}"
+        warn(f"gbh: warning: trial {row_key(row)}: its replay was not kept: {problem}; its row "
+             "is")
+        return problem
+    return None
 
 
 def _set_protocol(row: dict, by_digest: dict) -> None:
@@ -223,7 +256,8 @@ def _finished(store: RowStore, tasks, *, warn=None) -> dict:
             done[task.key] = row
     if stale:
         raise ExperimentError(
-            f"{store.path}: {len(stale)} rows were made with other scenarios than this "
+            str(store.path), "", None,
+            f"{len(stale)} rows were made with other scenarios than this "
             f"experiment's (its base, method overrides, pose or seed changed since), e.g. "
             f"{stale[0]}; write to another folder (--out), or move {ROWS_FILE} away to start "
             "over")
@@ -238,17 +272,29 @@ def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> 
         write_atomically(folder / "scenarios" / f"{name}.yaml", trial_scenario_yaml(scenario))
 
 
-def _sort_rows(store: RowStore, experiment: Experiment) -> None:
-    """Rewrites the rows in report order (object, method, trial), one per trial."""
+def _sort_rows(store: RowStore, experiment: Experiment, replay_errors: dict | None = None
+               ) -> None:
+    """Rewrites the rows in report order (object, method, trial), one per trial; a row of this
+    run whose replay could not be written says so (``replay_errors``, by trial: ``replay``
+    emptied, ``replay_error`` why). The rows of earlier runs are kept as they are."""
     rows = {row_key(r): r for r in store.load()}
+    for key, problem in (replay_errors or {}).items():
+        row = rows.get(key)
+        if row is not None and row.get("replay") and \
+                not (store.path.parent / row["replay"]).is_file():
+            row["replay"], row["replay_error"] = "", problem
     key = sort_key(experiment.objects, [m.name for m in experiment.methods],
                    experiment.protocols)
     store.rewrite(sorted(rows.values(), key=key))
 
 
 def _log_run(folder: Path, **fields) -> None:
-    with open(folder / RUNS_FILE, "a") as f:
-        f.write(json.dumps(fields, sort_keys=True) + "\n")
+    """Appends one line to ``runs.jsonl`` (an :class:`OutputError` when it cannot)."""
+    try:
+        with open(folder / RUNS_FILE, "a") as f:
+            f.write(json.dumps(fields, sort_keys=True) + "\n")
+    except OSError as e:
+        raise OutputError(folder / RUNS_FILE, f"could not append to it ({reason(e)})") from None
 
 
 def _progress_bar(total: int, name: str, *, enabled: bool):

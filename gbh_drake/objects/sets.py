@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake.core.ranges import FieldError, check_fields
-from gbh_drake.modeling.object_config import (
+from gbh_drake.objects.manifest import (
     ObjectSetManifest,
     SetEntry,
     SetPart,

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import copy
 import logging
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import trimesh
 
+from gbh_drake.core.arguments import require
 from gbh_drake.objects.mass import MassProperties, mass_properties_for
 from gbh_drake.objects.mesh_io import load_mesh_file
 from gbh_drake.objects.placement import Placement, rest_on_table
@@ -65,6 +67,7 @@ def load_mesh_object(
     The last few results are kept per process (keyed by the file's path, size and modification
     time and the arguments), so that checking a scenario and building its station import a
     user's mesh once; each call gets its own copy."""
+    require("load_mesh_object", "path", path, (str, os.PathLike), "a mesh file's path (a str or Path)")
     try:
         stat = Path(path).stat()
         key = (str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns, scale, density, mass,

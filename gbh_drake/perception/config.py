@@ -19,9 +19,9 @@ from gbh_drake.core.ranges import (
     OneOf,
     Pos,
     Range,
+    Relation,
     checker,
     ranged,
-    sibling,
 )
 
 #: Viewpoint layouts: ``ring`` (all views at ``elevation_deg``) or ``spiral`` (views spread over
@@ -33,6 +33,9 @@ LAYOUTS = ("spiral", "ring")
 VIEW_CHOICES = ("fixed", "holes")
 #: Pixels a scan may render and fuse in all (views x width x height).
 MAX_SCAN_PIXELS = 40_000_000
+#: A camera distance's bounds: what the camera measures.
+_BETWEEN_DEPTHS = (Relation(">", "depth_min", "the camera would measure nothing there"),
+                   Relation("<", "depth_max", "the camera would measure nothing there"))
 
 
 @dataclass
@@ -45,11 +48,14 @@ class ScanConfig:
     layout: str = ranged("spiral", OneOf(LAYOUTS))
     """``spiral`` or ``ring`` (see ``LAYOUTS``); a ring at one elevation misses the inside of
     deep cups."""
-    distance: float = ranged(0.5, Pos(5.0, "m"))
+    distance: float = ranged(0.5, Pos(5.0, "m"), relations=_BETWEEN_DEPTHS)
     """Camera-to-centre distance (m) of the views, and the least one when they are aimed: views
     move farther (up to ``distance_max``) only when the object needs it to fit the field of
     view. Primesense works from about 0.35 m."""
-    distance_max: float = ranged(1.0, Pos(5.0, "m"))
+    distance_max: float = ranged(1.0, Pos(5.0, "m"),
+                                 relations=(Relation(">=", "distance", "aimed views back off "
+                                                     "from distance up to this"),
+                                            *_BETWEEN_DEPTHS))
     """Farthest camera-to-centre distance (m) of aimed views; a larger object is scanned from
     here and gets a warning if it reaches the image border."""
     aim_views: bool = True
@@ -59,7 +65,7 @@ class ScanConfig:
     fov_margin: float = ranged(1.15, Range(1.0, 10.0))
     """The object's bounding sphere, enlarged by this factor, must fit the narrower half field
     of view of aimed views."""
-    first_look_distance: float = ranged(0.8, Pos(5.0, "m"))
+    first_look_distance: float = ranged(0.8, Pos(5.0, "m"), relations=_BETWEEN_DEPTHS)
     """Camera-to-T distance (m) of the first look (wide: it must see the whole object)."""
     first_look_elevation_deg: float = ranged(
         60.0, Range(0.0, 90.0, lo_open=True, hi_open=True, unit="deg"))
@@ -108,7 +114,9 @@ class ScanConfig:
         40.0, Range(0.0, 89.0, unit="deg",
                     note="90 would look straight down, where the view's up is undefined"))
     """Elevation of the views above the horizontal plane through T (deg); the lowest for spiral."""
-    elevation_max_deg: float = ranged(70.0, Range(0.0, 89.0, unit="deg"))
+    elevation_max_deg: float = ranged(70.0, Range(0.0, 89.0, unit="deg"),
+                                      relations=(Relation(">=", "elevation_deg", "a spiral's "
+                                                          "views rise from elevation_deg to this"),))
     """Highest elevation of a ``spiral`` layout (deg); unused by ``ring``."""
     azimuth_deg: float = ranged(180.0, Range(-360.0, 360.0, unit="deg"))
     """Azimuth of the first view about +z_W, from +x_W (deg); 180 puts it on the robot's side
@@ -123,14 +131,16 @@ class ScanConfig:
     """Vertical field of view (deg); Primesense: about 45."""
     depth_min: float = ranged(0.2, Pos(10.0, "m"))
     """Nearest measured depth (m); closer pixels are invalid."""
-    depth_max: float = ranged(1.5, Pos(10.0, "m"))
+    depth_max: float = ranged(1.5, Pos(10.0, "m"), relations=(
+        Relation(">", "depth_min", "no depth would be measured"),))
     """Farthest measured depth (m); farther pixels are invalid."""
 
     # --- TSDF fusion ---
     voxel_size: float = ranged(
         0.0025, Range(0.001, 0.05, unit="m", note="smaller voxels take minutes and gigabytes of TSDF"))
     """TSDF voxel edge (m)."""
-    sdf_trunc: float = ranged(0.01, Pos(0.2, "m"))
+    sdf_trunc: float = ranged(0.01, Pos(0.2, "m"), relations=(
+        Relation(">=", "voxel_size", "the TSDF needs a band of two voxels", factor=2.0),))
     """TSDF truncation distance (m), a few voxels."""
 
     # --- Workspace and segmentation (the object is segmented, not cropped by a fixed box) ---
@@ -138,7 +148,8 @@ class ScanConfig:
     """Half side (m) of the workspace box around T in x and y: nothing outside it is scanned. A
     generous bound, not the object's box: the object is segmented inside it. (Before the
     segmentation this was a tight +-0.15 m crop box.)"""
-    crop_z_max: float = ranged(0.6, Pos(2.0, "m"))
+    crop_z_max: float = ranged(0.6, Pos(2.0, "m"), relations=(
+        Relation(">", "crop_z_min", "the workspace would be empty"),))
     """Top of the workspace box: height above the table (m)."""
     crop_z_min: float = ranged(0.004, Pos(0.5, "m"))
     """Height above the table (m) below which points and mesh parts go with the table; the mesh
@@ -152,7 +163,8 @@ class ScanConfig:
     table_margin: float = ranged(0.04, NonNeg(1.0, "m"))
     """The table is fused (its rays carve free space around the object, then it is cut away)
     only within this horizontal distance (m) of the object's footprint box."""
-    table_tolerance: float = ranged(0.002, Pos(0.05, "m"))
+    table_tolerance: float = ranged(0.002, Pos(0.05, "m"), relations=(
+        Relation("<", "crop_z_min", "points counted as the table must lie below the cut"),))
     """How far (m) a point may be from the table plane and count as the table (RANSAC inlier
     distance), and how close a fitted plane must be to ``table_height`` to be snapped to it."""
     cluster_cell: float = ranged(
@@ -205,6 +217,11 @@ class ScanConfig:
     noise_grazing_deg: float = ranged(70.0, Range(0.0, 90.0, lo_open=True, unit="deg"))
     """Pixels seen at more than this angle from the surface normal start dropping out (deg);
     all are dropped at 90."""
+    depth_unit: float = ranged(0.0, Range(0.0, 0.01, unit="m", note="0: the renderer's floats"))
+    """The sensor's depth unit (m): it delivers each depth in whole units, as a 16-bit depth
+    image holds them (Primesense and RealSense: 0.001, millimetres; 0.0001 keeps tenths), after
+    the noise. 0 (default): the renderer's float depths. With it, the views ``gbh run
+    --save-views`` writes as 16-bit PNG are the very depths the scan fused."""
 
     # --- Renderer ---
     renderer_name: str = "default"
@@ -213,18 +230,8 @@ class ScanConfig:
     validate = checker(ValueError)
 
     def check_relations(self, at: tuple = ()) -> None:
-        """The rules between fields (``at``: where this config is, for the messages)."""
-        for lo, hi in (("distance", "distance_max"), ("depth_min", "depth_max"),
-                       ("elevation_deg", "elevation_max_deg"), ("crop_z_min", "crop_z_max")):
-            if getattr(self, lo) > getattr(self, hi):
-                raise FieldError(at + (hi,), f"must be >= {sibling(at, lo)} ({getattr(self, lo):g}), "
-                                             f"got {getattr(self, hi):g}")
-        for name in ("distance", "distance_max", "first_look_distance"):
-            if not self.depth_min < getattr(self, name) < self.depth_max:
-                raise FieldError(at + (name,), f"must lie between {sibling(at, 'depth_min')} and "
-                                               f"{sibling(at, 'depth_max')} ({self.depth_min:g}-"
-                                               f"{self.depth_max:g} m), got {getattr(self, name):g} "
-                                               "m: the camera would measure nothing there")
+        """The rules between fields no :class:`Relation` states (``at``: where this config is,
+        for the messages)."""
         pixels = self.num_views * self.width * self.height
         if pixels > MAX_SCAN_PIXELS:
             raise FieldError(at + ("num_views",), f"{self.num_views} views of {self.width} x "
@@ -234,10 +241,7 @@ class ScanConfig:
         if self.first_look_scale > min(self.width, self.height) // 8:
             raise FieldError(at + ("first_look_scale",), "leaves first-look images smaller than "
                              f"8 pixels (width {self.width}, height {self.height})")
-        if self.sdf_trunc < 2 * self.voxel_size:
-            raise FieldError(at + ("sdf_trunc",), f"must be >= 2 voxel_size ({2 * self.voxel_size:g} "
-                                                  f"m), got {self.sdf_trunc:g}")
-        if self.table_tolerance >= self.crop_z_min:
-            raise FieldError(at + ("table_tolerance",), f"must be < {sibling(at, 'crop_z_min')} "
-                                                        f"({self.crop_z_min:g} m), got "
-                                                        f"{self.table_tolerance:g}")
+        if self.depth_unit and self.depth_max / self.depth_unit > 65534:
+            raise FieldError(at + ("depth_unit",), f"{self.depth_unit:g} m: depth_max "
+                             f"{self.depth_max:g} m is more than 65534 units, more than a 16-bit "
+                             "image holds")

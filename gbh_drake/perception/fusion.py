@@ -48,21 +48,22 @@ class ViewPoints:
 
 
 def view_points(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
-                X_WCs: Sequence[RigidTransform], box: CropBox) -> ViewPoints:
+                X_WCs: Sequence[RigidTransform], box: CropBox, stride: int = 1) -> ViewPoints:
     """The points in W of the valid pixels of ``depths`` (h, w) float32 (m), seen from cameras
-    at X_WC, that lie inside ``box`` (only the image window that can see the box is read).
-    Single precision (about 0.1 um at 1 m): this runs over every pixel near the object."""
+    at X_WC, that lie inside ``box`` (only the image window that can see the box is read; with
+    ``stride`` > 1 only every stride-th row and column of it). Single precision (about 0.1 um
+    at 1 m): this runs over every pixel near the object."""
     parts = []
     lower = np.asarray(box.lower_W, dtype=np.float32)
     upper = np.asarray(box.upper_W, dtype=np.float32)
     for i, (depth, X_WC) in enumerate(zip(depths, X_WCs, strict=True)):
         rows, cols, z_min, z_max = image_window(box.corners(), intrinsics, X_WC)
-        d = depth[rows, cols]
+        d = depth[rows, cols][::stride, ::stride]
         with np.errstate(invalid="ignore"):
             v, u = np.nonzero((d > max(z_min, 0.0)) & (d <= z_max))  # no 0, inf or nan
         z = d[v, u].astype(np.float32)
-        v = v + (rows.start or 0)
-        u = u + (cols.start or 0)
+        v = v * stride + (rows.start or 0)
+        u = u * stride + (cols.start or 0)
         # Through the pixel's centre (u + 0.5, v + 0.5): see ``CameraIntrinsics``.
         cx, cy = intrinsics.open3d_principal_point()
         x = (u.astype(np.float32) - np.float32(cx)) * (z / np.float32(intrinsics.fx))

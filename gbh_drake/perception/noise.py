@@ -7,7 +7,9 @@ Three effects, after Nguyen, Izadi and Lovell (3DIMPVT 2012) and Khoshelham and 
   steps of c z^2;
 - dropout where the surface is seen at a grazing angle (including silhouette edges), certain at
   90 degrees from the normal.
-Lateral noise and the projector's shadow are not modelled.
+Lateral noise and the projector's shadow are not modelled. :func:`sensor_depth` adds it and
+then rounds to the sensor's output unit (``ScanConfig.depth_unit``: a 16-bit depth image holds
+whole millimetres, or tenths), when asked.
 """
 
 from __future__ import annotations
@@ -50,3 +52,19 @@ def add_depth_noise(depth: np.ndarray, intrinsics: CameraIntrinsics, config: Sca
         step = config.noise_depth_step
         z = 1.0 / (np.maximum(np.round(1.0 / (z * step)), 1.0) * step)
     return np.where(keep, z, 0.0).astype(np.float32)
+
+
+def sensor_depth(depth: np.ndarray, intrinsics: CameraIntrinsics, config: ScanConfig,
+                 rng: np.random.Generator) -> np.ndarray:
+    """``depth`` (h, w) float32 (m) as the sensor delivers it: with ``config.noise`` the noise
+    model (:func:`add_depth_noise`), then with ``config.depth_unit`` each measured depth in
+    whole units (as a 16-bit depth image holds it; 0 and inf stay)."""
+    if config.noise:
+        depth = add_depth_noise(depth, intrinsics, config, rng)
+    if config.depth_unit:
+        d = np.asarray(depth, dtype=np.float64)
+        with np.errstate(invalid="ignore"):
+            measured = np.isfinite(d) & (d > 0)
+        depth = np.where(measured, np.round(d / config.depth_unit) * config.depth_unit,
+                         d).astype(np.float32)
+    return depth

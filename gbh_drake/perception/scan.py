@@ -42,8 +42,13 @@ from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.crop import CropBox
 from gbh_drake.perception.depth import valid_depth
 from gbh_drake.perception.fusion import integrate, masked_depths, view_points
-from gbh_drake.perception.noise import add_depth_noise
-from gbh_drake.perception.segment import bounding_sphere, box_faces_reached, segment_points
+from gbh_drake.perception.noise import sensor_depth
+from gbh_drake.perception.segment import (
+    Segmentation,
+    bounding_sphere,
+    box_faces_reached,
+    segment_points,
+)
 from gbh_drake.perception.table import TablePlane, fit_table_plane
 from gbh_drake.perception.view_choice import chosen_config
 from gbh_drake.perception.viewpoints import (
@@ -59,6 +64,10 @@ trimesh = lazy_module("trimesh")
 #: ROI_SCALE x its radius + ROI_MARGIN (m).
 ROI_SCALE = 1.1
 ROI_MARGIN = 0.03
+#: Views fit the table (when no first look did) to every TABLE_FIT_STRIDE-th row and column's
+#: points: 1.8 mm apart at 0.5 m in 640 x 480 images, several per the fit's 5 mm cells, a
+#: quarter of the points (10 views: about 3 million points otherwise).
+TABLE_FIT_STRIDE = 2
 
 
 @dataclass
@@ -117,6 +126,9 @@ class ScanResult:
     reframes: int = 0
     """How many times the views were re-framed because the object reached the edge of the
     region framed by the first look (see ``ScanConfig.reframe_tries``)."""
+    target_W: np.ndarray | None = None
+    """(3,) m: the scan target T the object was looked for around (the workspace box's
+    centre, the segmentation's reference before anything was found)."""
 
     def __deepcopy__(self, memo) -> ScanResult:
         """The mesh, the arrays and the free space are shared, not copied: a scan is never
@@ -202,13 +214,19 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
     result.aim_W, result.view_distance = np.asarray(aim, dtype=float), float(distance)
     result.reframes = reframes
     if look is not None:
-        result.first_look_X_WCs = look.X_WCs
-        result.object_radius = look.radius
-        result.first_look_free_space = look.free_space
-        if result.free_space is not None and look.free_space is not None:
-            result.free_space = result.free_space.with_views(look.free_space)
+        add_first_look(result, look)
     result.timing = timing
     return result
+
+
+def add_first_look(result: ScanResult, look: FirstLook) -> None:
+    """Records the first look in ``result`` (in place): its camera poses, the object's radius,
+    its free space, also added to the scan's (each view at its own margin)."""
+    result.first_look_X_WCs = look.X_WCs
+    result.object_radius = look.radius
+    result.first_look_free_space = look.free_space
+    if result.free_space is not None and look.free_space is not None:
+        result.free_space = result.free_space.with_views(look.free_space)
 
 
 #: The start of the warning that the object reaches the edge of the region framed by the first
@@ -263,45 +281,21 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
                noise_seed: int = 0) -> FirstLook:
     """Finds the table and the object from two small wide views from the sides of p_WT (see
     ``viewpoints.first_look_poses``); looks again, aimed and farther, if the object reaches the
-    edge of those views."""
+    edge of those views. Renders, then :func:`look_at_images` does the rest."""
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
-    scale = config.first_look_scale
-    small = dataclasses.replace(config, width=max(config.width // scale, 8),
-                                height=max(config.height // scale, 6))
+    small = first_look_config(config)
     camera, intrinsics = make_depth_camera(small), CameraIntrinsics.from_config(small)
     rng = np.random.default_rng([int(noise_seed), 1])
-    # Clusters on a grid coarse enough for the small images' sampling: two pixels' footprint at
-    # the look's distance (surfaces seen at up to 60 deg stay connected).
-    footprint = 2.0 * np.tan(np.deg2rad(0.5 * config.fov_y_deg)) / intrinsics.height
-    coarse = dataclasses.replace(
-        config, cluster_cell=max(config.cluster_cell, 2.0 * footprint * config.first_look_distance),
-        min_cluster_points=max(5, config.min_cluster_points // scale ** 2), min_cell_points=1)
     target, distance, reference = p_WT, config.first_look_distance, None
     look = None
     for _ in range(2):
         X_WCs = first_look_poses(config, target, distance)
         depths = render_depth_images(query_object, camera, X_WCs)
-        if config.noise:
-            depths = [add_depth_noise(d, intrinsics, small, rng) for d in depths]
-        if look is None:
-            points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
-            table, warning = fit_table_plane(points.p_WQ, config)
-            box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
-            look = FirstLook(X_WCs, table, np.zeros((0, 3)),
-                             warnings=[warning] if warning else [])
-        points = view_points(depths, intrinsics, X_WCs, box)
-        segmentation = segment_points(points.p_WQ, look.table, coarse, p_WT, box,
-                                      reference=reference)
-        if not segmentation.found:
-            if not look.found:
-                look.message = _nothing_found(segmentation.dropped, config, p_WT, box)
-            break
-        p_W_object = points.p_WQ[segmentation.object_mask]
-        look.X_WCs, look.p_W_object = X_WCs, p_W_object
-        look.free_space = make_free_space(depths, intrinsics, X_WCs, small, distance)
-        look.reference_W = p_W_object[np.argmin(np.linalg.norm(p_W_object - p_WT, axis=1))]
-        look.centre_W, look.radius = bounding_sphere(p_W_object, look.table)
-        if len(points.at_border(intrinsics, segmentation.object_mask)) == 0:
+        if config.noise or config.depth_unit:
+            depths = [sensor_depth(d, intrinsics, small, rng) for d in depths]
+        look, at_border = look_at_images(depths, intrinsics, X_WCs, config, p_WT, look,
+                                         reference=reference, distance=distance)
+        if not at_border:
             break
         # The object goes beyond the first look's images: look again, at it, from farther.
         target, reference = look.centre_W, look.reference_W
@@ -309,6 +303,61 @@ def first_look(query_object: QueryObject, config: ScanConfig, p_WT, *,
             half_fov(config)))
         distance = min(distance, config.depth_max - 2.0 * look.radius)
     return look
+
+
+def first_look_config(config: ScanConfig) -> ScanConfig:
+    """The first look's camera: ``config``'s with images ``first_look_scale`` times smaller
+    (the same field of view)."""
+    scale = config.first_look_scale
+    return dataclasses.replace(config, width=max(config.width // scale, 8),
+                               height=max(config.height // scale, 6))
+
+
+def look_at_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
+                   X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT,
+                   look: FirstLook | None = None, *, reference=None, distance: float,
+                   table: TablePlane | None = None, sensor_error: float | None = None
+                   ) -> tuple[FirstLook, bool]:
+    """One round of the first look on depth images in hand (h, w) float32 (m; 0 or inf: no
+    measurement) taken from X_WC: (the look, whether the object reaches the images' border).
+
+    The first round (``look`` None) fits the table to the images' points (or takes ``table``)
+    and bounds the workspace around the target p_WT (m, in W); a later round keeps the
+    previous round's table and keeps the previous round's findings when it finds nothing.
+    The object is the cluster nearest ``reference`` (default p_WT), on a grid coarse enough
+    for small images (two pixels' footprint at ``first_look_distance``). The views' free space
+    (:func:`make_free_space`) has the margin for views at ``distance`` (m), or that of
+    ``sensor_error`` (m) when given."""
+    p_WT = np.asarray(p_WT, dtype=float).reshape(3)
+    if look is None:
+        warning = ""
+        if table is None:
+            points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+            table, warning = fit_table_plane(points.p_WQ, config)
+        look = FirstLook(list(X_WCs), table, np.zeros((0, 3)),
+                         warnings=[warning] if warning else [])
+    box = CropBox.workspace(p_WT, config, _table_height_at(look.table, p_WT))
+    # Clusters on a grid coarse enough for the small images' sampling: two pixels' footprint at
+    # the look's distance (surfaces seen at up to 60 deg stay connected).
+    footprint = 1.0 / intrinsics.fy  # (m per pixel at 1 m)
+    coarse = dataclasses.replace(
+        config, cluster_cell=max(config.cluster_cell, 2.0 * footprint * config.first_look_distance),
+        min_cluster_points=max(5, config.min_cluster_points // config.first_look_scale ** 2),
+        min_cell_points=1)
+    points = view_points(depths, intrinsics, X_WCs, box)
+    segmentation = segment_points(points.p_WQ, look.table, coarse, p_WT, box,
+                                  reference=reference)
+    if not segmentation.found:
+        if not look.found:
+            look.message = _nothing_found(segmentation.dropped, config, p_WT, box)
+        return look, False
+    p_W_object = points.p_WQ[segmentation.object_mask]
+    look.X_WCs, look.p_W_object = list(X_WCs), p_W_object
+    look.free_space = make_free_space(depths, intrinsics, X_WCs, config, distance,
+                                      sensor_error=sensor_error)
+    look.reference_W = p_W_object[np.argmin(np.linalg.norm(p_W_object - p_WT, axis=1))]
+    look.centre_W, look.radius = bounding_sphere(p_W_object, look.table)
+    return look, len(points.at_border(intrinsics, segmentation.object_mask)) > 0
 
 
 def free_space_margin(config: ScanConfig, depth: float) -> float:
@@ -337,59 +386,68 @@ def depth_error(config: ScanConfig, depth: float) -> float:
 
 def make_free_space(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                     X_WCs: Sequence[RigidTransform], config: ScanConfig, depth: float, *,
-                    far_is_free: bool = True) -> FreeSpace:
+                    far_is_free: bool = True, sensor_error: float | None = None) -> FreeSpace:
     """The views' observed-free space (``core.free_space``) at :func:`free_space_margin`.
     ``far_is_free``: an ``inf`` pixel means nothing was hit up to ``config.depth_max`` (Drake's
-    renderer); False for a sensor whose "no return" may hide a surface."""
+    renderer); False for a sensor whose "no return" may hide a surface. ``sensor_error`` (m):
+    how far a measured depth may lie from the surface it hit, when known (images in hand),
+    instead of the noise model's :func:`depth_error` at ``depth``; the margin is then
+    ``voxel_size`` plus it."""
+    error = depth_error(config, depth) if sensor_error is None else float(sensor_error)
     return FreeSpace.from_depth_images(
         depths, intrinsics.fx, intrinsics.fy, intrinsics.cx, intrinsics.cy,
-        [X_WC.inverse().GetAsMatrix4() for X_WC in X_WCs], free_space_margin(config, depth),
-        config.depth_max if far_is_free else None, depth_error(config, depth))
+        [X_WC.inverse().GetAsMatrix4() for X_WC in X_WCs], float(config.voxel_size + error),
+        config.depth_max if far_is_free else None, error)
 
 
 def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics,
                       X_WCs: Sequence[RigidTransform], config: ScanConfig, p_WT, *,
                       first_look: FirstLook | None = None, noise_seed: int = 0,
-                      view_distance: float | None = None, far_is_free: bool = True
-                      ) -> ScanResult:
+                      view_distance: float | None = None, far_is_free: bool = True,
+                      table: TablePlane | None = None, reference=None,
+                      sensor_error: float | None = None,
+                      pixel_masks: Sequence[np.ndarray] | None = None) -> ScanResult:
     """Fuses depth images (h, w) float32 (m; 0 or inf: no measurement) taken from X_WC into the
-    mesh of the object near target p_WT (m, in W); adds noise first when ``config.noise``
-    (seeded by ``noise_seed``).
+    mesh of the object near target p_WT (m, in W); makes them what the sensor delivers first
+    (``noise.sensor_depth``: noise when ``config.noise``, seeded by ``noise_seed``, and whole
+    ``depth_unit`` steps). The simulated scan renders its views and calls this; images
+    from a real camera come here the same way (``gbh_drake.scan_grasps``).
 
-    The table plane is fitted to the images' points and the object is the cluster nearest p_WT
-    (see ``segment.segment_points``), unless ``first_look`` (from :func:`first_look`) already
-    found them. The images (noisy) are kept as ``free_space`` (:func:`make_free_space`, its
-    margin for views at ``view_distance``, default ``config.distance``; ``far_is_free``: an
-    inf pixel saw nothing up to ``config.depth_max``, true of Drake's renderer)."""
+    The table plane is fitted to the images' points (or ``table`` is taken as given) and the
+    object is the cluster nearest ``reference`` (default p_WT; see ``segment.segment_points``),
+    unless ``first_look`` (from :func:`first_look` or :func:`look_at_images`) already found
+    them. ``pixel_masks`` (one (h, w) bool per image): only their pixels may be the object's.
+    The images (noisy) are kept as ``free_space`` (:func:`make_free_space`, its margin for
+    views at ``view_distance``, default ``config.distance``, or from ``sensor_error``;
+    ``far_is_free``: an inf pixel saw nothing up to ``config.depth_max``, true of Drake's
+    renderer)."""
     start = time.perf_counter()
     p_WT = np.asarray(p_WT, dtype=float).reshape(3)
     timing: dict[str, float] = {}
-    if config.noise:
+    if config.noise or config.depth_unit:
         rng = np.random.default_rng(int(noise_seed))
-        depths = [add_depth_noise(d, intrinsics, config, rng) for d in depths]
+        depths = [sensor_depth(d, intrinsics, config, rng) for d in depths]
     warnings: list[str] = list(first_look.warnings) if first_look is not None else []
     if first_look is not None:
         table = first_look.table
-    else:
-        points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config))
+    elif table is None:
+        # Every other pixel's point: still several per 5 mm cell the fit thins them to.
+        points = view_points(depths, intrinsics, X_WCs, CropBox.workspace(p_WT, config),
+                             stride=TABLE_FIT_STRIDE)
         table, warning = fit_table_plane(points.p_WQ, config)
         warnings += [warning] if warning else []
     box = CropBox.workspace(p_WT, config, _table_height_at(table, p_WT))
     region = box
     if first_look is not None and first_look.found:
-        # Around the first look's sphere, with room for what it may have missed (warned of if
-        # the object reaches this region's edge); the table beyond it is not read at all.
-        half = ROI_SCALE * first_look.radius + ROI_MARGIN
-        c = first_look.centre_W
-        region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
-        region = CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
+        region = object_region(box, first_look.centre_W, first_look.radius)
     result = ScanResult(trimesh.Trimesh(), np.zeros((0, 3)), list(X_WCs), intrinsics, box,
-                        table=table, aim_W=p_WT, view_distance=config.distance, region=region)
+                        table=table, aim_W=p_WT, view_distance=config.distance, region=region,
+                        target_W=p_WT)
     points = view_points(depths, intrinsics, X_WCs, region)
     seen = first_look is not None and first_look.found
-    reference = first_look.reference_W if seen else None
-    segmentation = segment_points(points.p_WQ, table, config, p_WT, box, reference=reference,
-                                  known_W=first_look.p_W_object if seen else None)
+    reference = first_look.reference_W if seen else reference
+    segmentation = _segment(points, table, config, p_WT, box, reference,
+                            first_look.p_W_object if seen else None, pixel_masks)
     result.p_WQ = points.p_WQ[segmentation.object_mask].astype(np.float64)
     timing["segment"] = time.perf_counter() - start
 
@@ -414,7 +472,7 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
         result.mesh_W = mesh
         distance = config.distance if view_distance is None else view_distance
         result.free_space = make_free_space(depths, intrinsics, X_WCs, config, distance,
-                                            far_is_free=far_is_free)
+                                            far_is_free=far_is_free, sensor_error=sensor_error)
         if len(mesh.faces) == 0:
             message = (f"empty scan: {len(result.p_WQ)} points of the object but fusion gave "
                        f"no surface (voxel {config.voxel_size} m)")
@@ -423,6 +481,41 @@ def scan_depth_images(depths: Sequence[np.ndarray], intrinsics: CameraIntrinsics
     result.warnings = warnings
     result.timing = timing
     return result
+
+
+def object_region(box: CropBox, centre_W: np.ndarray, radius: float) -> CropBox:
+    """The region the views are read in around an object's bounding sphere (``centre_W``, m,
+    ``radius``, m): a cube of half side ``ROI_SCALE`` x radius + ``ROI_MARGIN`` (room for what
+    the first look may have missed, warned of if the object reaches its edge) within the
+    workspace ``box``, down to the box's floor; the table beyond it is not read at all."""
+    half = ROI_SCALE * radius + ROI_MARGIN
+    c = np.asarray(centre_W, dtype=float)
+    region = box.intersect(CropBox(tuple(c - half), tuple(c + half)))
+    return CropBox((*region.lower_W[:2], box.lower_W[2]), region.upper_W)
+
+
+def _segment(points, table: TablePlane, config: ScanConfig, p_WT: np.ndarray, box: CropBox,
+             reference, known_W: np.ndarray | None,
+             pixel_masks: Sequence[np.ndarray] | None) -> Segmentation:
+    """``segment.segment_points`` on the views' ``points`` (``fusion.ViewPoints``); with
+    ``pixel_masks``, the points above the table outside them are not the object's (nor
+    clustered)."""
+    if pixel_masks is None:
+        return segment_points(points.p_WQ, table, config, p_WT, box, reference=reference,
+                              known_W=known_W)
+    in_mask = np.zeros(len(points.p_WQ), dtype=bool)
+    for i, mask in enumerate(pixel_masks):
+        mine = points.view == i
+        in_mask[mine] = np.asarray(mask, dtype=bool)[points.v[mine], points.u[mine]]
+    considered = np.flatnonzero(in_mask | (table.heights(points.p_WQ) < config.crop_z_min))
+    part = segment_points(points.p_WQ[considered], table, config, p_WT, box,
+                          reference=reference, known_W=known_W)
+    whole = Segmentation(np.zeros(len(points.p_WQ), dtype=bool),
+                         np.zeros(len(points.p_WQ), dtype=bool), table.heights(points.p_WQ),
+                         part.dropped, part.touches)
+    whole.object_mask[considered] = part.object_mask
+    whole.low_mask[considered] = part.low_mask
+    return whole
 
 
 def _near_footprint(p_WQ: np.ndarray, p_W_object: np.ndarray, table: TablePlane,

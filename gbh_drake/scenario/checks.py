@@ -5,9 +5,11 @@ what was expected) on the first field that cannot give a meaningful run:
 
 1. every number anywhere (our dataclasses and Drake's config structs, poses and their
    distributions included) is finite;
-2. each field is in its range: the rules our dataclasses declare beside their fields
+2. each field is of its declared type (a scenario built in code may hold anything) and in its
+   range: the rules our dataclasses declare beside their fields
    (:func:`gbh_drake.core.ranges.ranged`) and, for Drake's own config structs, the small table
-   :data:`DRAKE_RULES`; then the relations between fields (each dataclass's own
+   :data:`DRAKE_RULES`; then the bounds between fields (:class:`~gbh_drake.core.ranges.
+   Relation`, declared beside the fields) and the other relations (each dataclass's own
    ``check_relations``, and the scenario's, :func:`check_relations`);
 3. poses and distributions (:mod:`.poses`), the object (:mod:`.object_checks`), the model
    directives (:mod:`gbh_drake.modeling.directives`), the cameras (:mod:`.cameras`): what Drake
@@ -18,7 +20,8 @@ what was expected) on the first field that cannot give a meaningful run:
 5. the start state must allow a meaningful trial (:mod:`.start_state`).
 
 :func:`rule_table` lists every range rule by section (docs/errors.md's table,
-:func:`rules_markdown`, and the generated test cases use it).
+:func:`rules_markdown`, and the generated test cases use it); :func:`relation_table` every bound
+between fields (:func:`relations_markdown`).
 """
 
 import dataclasses
@@ -36,10 +39,13 @@ from gbh_drake.core.ranges import (
     Path_,
     Pos,
     Range,
+    Relation,
     Rule,
+    check_bounds,
     check_finite_number,
     check_ranges,
     format_path,
+    relations_of,
     rule_of,
 )
 from gbh_drake.method_spec import method_spec
@@ -143,6 +149,26 @@ def rules_markdown(schema=Scenario) -> str:
     return "\n".join(rows) + "\n"
 
 
+def relation_table(schema=Scenario, at: Path_ = ()) -> list[tuple[Path_, str, Relation]]:
+    """Every bound between fields declared in ``schema`` and its sections: (the path of the
+    config that declares it, the field it is declared on, the relation), in field order."""
+    table = [(at, f.name, r) for f in dataclasses.fields(schema) for r in relations_of(f)]
+    for name, kind in struct_fields(schema).items():
+        kind = optional_of(kind) or kind
+        if _is_ours(kind):
+            table += relation_table(kind, at + (name,))
+    return table
+
+
+def relations_markdown(schema=Scenario) -> str:
+    """The table of :func:`relation_table` of ``schema`` as Markdown (docs/errors.md includes
+    it; a test keeps them equal)."""
+    rows = ["| field | must be | why |", "|---|---|---|"]
+    rows += [f"| `{format_path(at + relation.lhs(name))}` | {relation.doc(at)} | {relation.why} |"
+             for at, name, relation in relation_table(schema)]
+    return "\n".join(rows) + "\n"
+
+
 def iter_numbers(value, path: Path_ = ()):
     """(path, number) for every number in ``value``: dataclasses, Drake structs (with YAML
     paths: a ``schema.Rotation``'s ``value`` is skipped as YAML does), lists, dicts, arrays."""
@@ -175,24 +201,17 @@ def check_finite(scenario) -> None:
 
 
 def check_relations(scenario) -> None:
-    """Fields that depend on each other: the scenario's rules across sections, then each of our
-    dataclasses' own ``check_relations``."""
+    """Fields that depend on each other: the bounds declared beside the fields (the scenario's
+    across sections, then each section's), the scenario's other rules across sections, then
+    each of our dataclasses' own ``check_relations``."""
     s = scenario
-    if s.task == "pick" and s.max_time <= s.settle_time:
-        raise FieldError(("max_time",), f"must exceed settle_time ({s.settle_time:g} s): the "
-                                        "pick starts when settling ends")
-    if s.pick.cage_test_force > s.robot.hand.max_force:
-        raise FieldError(("pick", "cage_test_force"),
-                         f"must be <= robot.hand.max_force ({s.robot.hand.max_force:g} N)")
+    for at, config in ours(s):
+        check_bounds(config, at)
     spec = method_spec(s.grasp_method)
     needs = spec.gripper if spec.needs_gripper else None
     if needs and s.gripper != needs:
         raise FieldError(("robot", "gripper"), f"{s.robot.gripper}: grasp_method "
                          f"{s.grasp_method} needs the {needs} gripper (give {needs} or auto)")
-    if s.task == "pick" and s.monitor.lifted_height >= s.pick.max_lift:
-        raise FieldError(("monitor", "lifted_height"),
-                         f"must be < pick.max_lift ({s.pick.max_lift:g} m): the gripper rises "
-                         "at most that far, so no object could ever count as lifted")
     for section in ("gbh", "antipodal"):
         n = np.asarray(getattr(s, section).ground_normal, float)
         if not (np.linalg.norm(n) > 0 and np.allclose(n / np.linalg.norm(n), [0, 0, 1])):
@@ -201,9 +220,8 @@ def check_relations(scenario) -> None:
         relations = getattr(config, "check_relations", None)
         if relations is not None:
             relations(at)
-    for name in ("output_dir", "source_path"):
-        if "\0" in getattr(s, name):
-            raise FieldError((name,), "holds a NUL character")
+    if "\0" in s.source_path:
+        raise FieldError(("source_path",), "holds a NUL character")
     if s.output_dir:
         out = s.resolve(s.output_dir)
         try:

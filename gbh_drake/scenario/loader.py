@@ -9,6 +9,12 @@ The schema is the :class:`~gbh_drake.scenario.schema.Scenario` dataclass.
 its line when it is written there, and what was expected; docs/errors.md lists the checks and
 limits. An empty, whitespace-only or comment-only file is the default scenario.
 
+An override is YAML text (a ``str``, or ``bytes`` decoded as a file is: UTF-8, a byte-order
+mark dropped, UTF-16 and invalid bytes named), or a list of them. A relative path in an
+override (``output_dir``, ``object.mesh``: the fields whose rule is
+:class:`~gbh_drake.core.ranges.FilePath`) is relative to the current folder, and made absolute
+as it is loaded; a relative path in the file is relative to the file's folder.
+
 Drake's own config structs are reused where they exist (``MultibodyPlantConfig``,
 ``SimulatorConfig``, ``VisualizationConfig``, ``CameraConfig``, ``schema.Transform`` for poses,
 which also takes distributions such as ``!UniformVector``, sampled from the scenario's ``seed``).
@@ -17,15 +23,23 @@ which also takes distributions such as ``!UniformVector``, sampled from the scen
 
 
 import copy
+import os
 from pathlib import Path
 
 from pydrake.common.yaml import yaml_dump_typed, yaml_load_typed
 
 from gbh_drake.core.params import PRESETS
-from gbh_drake.core.ranges import FieldError, format_path
-from gbh_drake.scenario.checks import check_scenario
+from gbh_drake.core.ranges import FieldError, check_ranges, format_path, shown
+from gbh_drake.scenario.checks import check_scenario, ours
 from gbh_drake.scenario.schema import ObjectConfig, Scenario
-from gbh_drake.yamlfiles.layers import LayerError, Layers, file_layer, load_layers, override_layers, written
+from gbh_drake.yamlfiles.layers import (
+    LayerError,
+    Layers,
+    file_layer,
+    load_layers,
+    override_layers,
+    written,
+)
 
 
 class ScenarioError(LayerError):
@@ -37,29 +51,40 @@ class ScenarioError(LayerError):
     expected."""
 
 
-def load_scenario(filename: str | Path, *, overrides: str | list[str] | tuple[str, ...] = ""
-                  ) -> Scenario:
+#: An override: YAML text, or bytes decoded as a file is.
+Override = str | bytes
+#: ``overrides`` of the loading functions: one override, or several applied in order.
+Overrides = Override | list[Override] | tuple[Override, ...]
+
+
+def load_scenario(filename: str | os.PathLike, *, overrides: Overrides = "") -> Scenario:
     """Loads and checks a scenario file; ``overrides`` (YAML text, or several applied in order)
     go on top of it. Raises :class:`ScenarioError` (see the module docstring)."""
+    if not isinstance(filename, str | os.PathLike):
+        raise ScenarioError("load_scenario()", "filename", None, "expected a scenario file's path "
+                            f"(a str or Path), got {shown(filename)}")
     path = Path(filename)
     origin, text = file_layer(path, "scenario", ScenarioError)
-    return _load_layers([(origin, text), *override_layers(origin, overrides)], Scenario(),
-                        origin, str(path.resolve()))
+    return _load_layers([(origin, text), *override_layers(origin, overrides, ScenarioError)],
+                        Scenario(), origin, str(path.resolve()), overrides_from=1)
 
 
-def apply_overrides(scenario: Scenario, overrides: str | list[str] | tuple[str, ...],
+def apply_overrides(scenario: Scenario, overrides: Overrides,
                     origin: str = "<in memory>") -> Scenario:
     """A copy of ``scenario`` with ``overrides`` (YAML text, or several applied in order) on
     top, checked as a loaded file is; raises :class:`ScenarioError` naming ``origin``."""
-    return _load_layers(override_layers(origin, overrides), scenario, origin,
-                        scenario.source_path)
+    require_scenario(scenario, "apply_overrides", check_fields=False)
+    return _load_layers(override_layers(origin, overrides, ScenarioError), scenario, origin,
+                        scenario.source_path, overrides_from=0)
 
 
 def _load_layers(layers: list[tuple[str, str]], start: Scenario, origin: str,
-                 source_path: str) -> Scenario:
-    """``start`` updated by each (origin, YAML text) layer in turn, then checked."""
+                 source_path: str, *, overrides_from: int) -> Scenario:
+    """``start`` updated by each (origin, YAML text) layer in turn (from ``overrides_from`` on,
+    overrides: their relative paths are the current folder's), then checked."""
     scenario, trees = load_layers(Scenario, layers, start, what="scenario",
-                                  error=ScenarioError, reload=_with_preset)
+                                  error=ScenarioError, overrides_from=overrides_from,
+                                  reload=_with_preset)
     scenario.source_path = source_path
     try:
         _check_layers(trees, scenario)
@@ -122,10 +147,31 @@ def _pose_text(pose) -> str:
 
 def validate_scenario(scenario: Scenario, origin: str) -> None:
     """Checks a scenario built in code; raises :class:`ScenarioError` naming ``origin``."""
+    require_scenario(scenario, "validate_scenario", check_fields=False)
     try:
         check_scenario(scenario)
     except FieldError as e:
         raise ScenarioError(origin, format_path(e.path), None, e.problem) from None
+
+
+def require_scenario(scenario, function: str, *, check_fields: bool = True) -> Scenario:
+    """``scenario`` when it is a :class:`Scenario` whose fields hold values of their types and
+    within their ranges (``check_fields``; the relations between fields, the object, the
+    models and the start state are :func:`validate_scenario`'s); else raises
+    :class:`ScenarioError` naming ``function``'s argument or the field. For the public
+    functions that take a scenario built in code (``build_trial``, ``make_station``...): a
+    wrong value is named at the call, not deep inside the build."""
+    if not isinstance(scenario, Scenario):
+        raise ScenarioError(f"{function}()", "scenario", None, "expected a Scenario (of a file: "
+                            f"gbh_drake.scenario.load_scenario(path)), got {shown(scenario)}")
+    if check_fields:
+        try:
+            for at, config in ours(scenario):
+                check_ranges(config, at)
+        except FieldError as e:
+            raise ScenarioError(scenario.source_path or "<in memory>", format_path(e.path), None,
+                                e.problem) from None
+    return scenario
 
 
 def dump_resolved(scenario: Scenario) -> str:
@@ -134,6 +180,7 @@ def dump_resolved(scenario: Scenario) -> str:
     beside a mesh, ``object.pose`` beside a random pose, ``source_path``), ``output_dir``
     emptied (a rerun writes to ``output/<file stem>``, not over the folder the file was saved
     in)."""
+    require_scenario(scenario, "dump_resolved", check_fields=False)
     resolved = copy.deepcopy(scenario)
     if resolved.object.mesh:
         resolved.object.mesh = str(scenario.resolve(scenario.object.mesh))

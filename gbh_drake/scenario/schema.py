@@ -28,7 +28,7 @@ from gbh_drake.core.params import (
     ScoopParams,
 )
 from gbh_drake.core.ranges import (
-    FieldError,
+    FilePath,
     Int,
     Items,
     NonNeg,
@@ -36,8 +36,9 @@ from gbh_drake.core.ranges import (
     Pos,
     Range,
     Registered,
+    Relation,
     ranged,
-    sibling,
+    section,
 )
 from gbh_drake.method_spec import method_names, method_spec
 from gbh_drake.modeling.directives import (  # noqa: F401  (re-exported: the scenario's defaults)
@@ -68,7 +69,8 @@ class HandConfig:
     ``max_force`` by the plant; the hand driver moves its set point at ``speed`` and keeps it
     within ``force / kp`` of the measured finger, so a blocked finger squeezes with ``force``."""
 
-    force: float = ranged(70.0, Pos(1000.0, "N"))
+    force: float = ranged(70.0, Pos(1000.0, "N"), relations=(
+        Relation("<=", "max_force", "the fingers' actuators apply at most that"),))
     """Grasp force (N) each finger applies once it is blocked (Franka: 70 N continuous)."""
     max_force: float = ranged(140.0, Pos(1000.0, "N"))
     """Effort limit (N) of each finger's actuator (Franka: 140 N peak)."""
@@ -79,10 +81,6 @@ class HandConfig:
     kd: float = ranged(60.0, Pos(1e5, "N s/m"))
     """Finger damping (N s/m) of the drive."""
 
-    def check_relations(self, at: tuple = ()) -> None:
-        if self.force > self.max_force:
-            raise FieldError(at + ("force",), f"must be <= {sibling(at, 'max_force')} "
-                                              f"({self.max_force:g} N), got {self.force:g}")
 
 
 @dataclass
@@ -119,13 +117,19 @@ class PickConfig:
 
     approach_distance: float = ranged(0.10, Pos(0.5, "m"))
     """Pre-grasp offset (m) back along the approach direction (-z_G)."""
-    max_approach_distance: float = ranged(0.25, Pos(0.5, "m"))
+    max_approach_distance: float = ranged(0.25, Pos(0.5, "m"),
+                                          relations=(
+        Relation(">=", "approach_distance", "the pre-grasp pose backs off from approach_distance "
+                                            "up to this"),))
     """The pre-grasp pose backs off in 5 cm steps up to this distance (m) until the gripper is
     clear of the scanned object's convex hull."""
-    lift_clearance: float = ranged(0.05, NonNeg(0.5, "m"))
+    lift_clearance: float = ranged(0.05, NonNeg(0.5, "m"), relations=(
+        Relation("<", "max_lift", "the object's lowest point rises no more than the gripper: "
+                                  "the clearance could never be reached"),))
     """After the lift, the object's lowest point (estimated from the scan, hanging from the
     grasp) is at least this far (m) above the table."""
-    min_lift: float = ranged(0.10, Pos(1.0, "m"))
+    min_lift: float = ranged(0.10, Pos(1.0, "m"), relations=(
+        Relation("<=", "max_lift", "the gripper rises at least min_lift, at most max_lift"),))
     """The gripper rises at least this much (m)."""
     max_lift: float = ranged(0.40, Pos(1.0, "m"))
     """The gripper rises at most this much (m); lower when the arm cannot reach higher."""
@@ -178,15 +182,6 @@ class PickConfig:
     home, the object is scanned again and the pick planned anew, the grasps near the failed one
     skipped: at most this many times (beyond the paper). Omitted: the method's own (``gbh_plus``
     1; the paper's methods make one attempt, 0)."""
-
-    def check_relations(self, at: tuple = ()) -> None:
-        if self.max_approach_distance < self.approach_distance:
-            raise FieldError(at + ("max_approach_distance",),
-                             f"must be >= {sibling(at, 'approach_distance')} "
-                             f"({self.approach_distance:g} m)")
-        if self.min_lift > self.max_lift:
-            raise FieldError(at + ("min_lift",), f"must be <= {sibling(at, 'max_lift')} "
-                                                 f"({self.max_lift:g} m)")
 
 
 @dataclass
@@ -252,11 +247,14 @@ class Scenario:
     grasp_method: str = ranged("gbh", Registered(method_names, "registered in gbh_drake/method_spec.py"))
     """How grasps are chosen: a registered method (:mod:`gbh_drake.method_spec`): ``gbh`` (the
     paper), ``antipodal`` (the two-straight-finger baseline), ``gbh_fallback`` (GbH, then an
-    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``
-    and ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry)."""
+    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``,
+    ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry) and ``gbh_completed`` (GbH on the
+    scan completed by symmetry, ``completion``)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
-    scoop: ScoopParams = field(default_factory=ScoopParams)
+    scoop: ScoopParams = section(ScoopParams, Relation(
+        "<=", "pick.max_lift", "a scoop lifts at least scoop.min_lift; the gripper rises at "
+        "most pick.max_lift", field="min_lift"))
     """The scoop of material lying flat (methods ``gbh_scoop``, ``gbh_plus``): which structures,
     the wedge's rules, the press on the table."""
     regrasp: RegraspParams = field(default_factory=RegraspParams)
@@ -265,17 +263,31 @@ class Scenario:
     completion: CompletionParams = field(default_factory=CompletionParams)
     """Shape completion of the scan's unseen side (method ``gbh_completed``, beyond the paper):
     the completion, its confidence, its grid."""
-    pick: PickConfig = field(default_factory=PickConfig)
+    pick: PickConfig = section(
+        PickConfig, Relation("<=", "robot.hand.max_force", "the fingers' actuators apply at "
+                             "most that", field="cage_test_force"),
+        Relation("<", "robot.hand.force", "the cage test relaxes the squeeze to this force: at "
+                 "the grasp force a pinch would pass it as a cage", field="cage_test_force"))
     """How the chosen grasp is executed (approach, lift until clear, carry, cage test, release)."""
-    monitor: MonitorConfig = field(default_factory=MonitorConfig)
+    monitor: MonitorConfig = section(
+        MonitorConfig,
+        Relation("<", "pick.max_lift", "the gripper rises at most that far, so no object could "
+                 "ever count as lifted", field="lifted_height", when=("task", "pick")),
+        Relation("<=", "pick.lift_clearance", "the pick lifts the object's lowest point that "
+                 "high: a higher threshold would judge a lift that went as planned not lifted",
+                 field="lifted_height", when=("task", "pick")))
     """The success rules (lifted height, closed-loop tolerance)."""
-    max_time: float = ranged(60.0, Pos(600.0, "s", "a pick takes about 10-20 simulated seconds"))
+    max_time: float = ranged(60.0, Pos(600.0, "s", "a pick takes about 10-20 simulated seconds"),
+                             relations=(Relation(">", "settle_time", "the pick starts when "
+                                                 "settling ends", when=("task", "pick")),))
     """Simulated seconds after which a trial is cut off (it normally ends when the pick-and-carry
     machine has finished)."""
     replay_fps: float = ranged(16.0, Pos(120.0, "frames/s"))
     """Frames per second of the saved Meshcat replay (fewer frames, smaller file)."""
-    output_dir: str = ""
-    """Where a run writes its replay and summary; empty: ``output/<scenario file stem>``."""
+    output_dir: str = ranged("", FilePath("folder"))
+    """Where a run writes its replay and summary, relative to the scenario file's folder (given
+    in an override: to the current folder); empty: ``output/<scenario file stem>`` under the
+    current folder."""
     source_path: str = ""
     """Set by the loader: the scenario file itself (do not write it in YAML)."""
 

@@ -36,6 +36,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import ContactResults, MultibodyPlant
 from pydrake.systems.framework import LeafSystem
 
+from gbh_drake.core.arguments import argument_problem, require
 from gbh_drake.core.gripper import HOOK_GRIPPER
 from gbh_drake.messages import (
     GraspSearch,
@@ -108,6 +109,12 @@ class CageMonitor(LeafSystem):
         body frame (its convex hull's suffice); ``bar_deployed_max`` (rad): the bar counts as
         deployed below this angle magnitude."""
         super().__init__()
+        require("CageMonitor", "config", config, (MonitorConfig, type(None)),
+                "a MonitorConfig (a scenario's monitor) or None")
+        if np.ndim(p_OV) != 2 or np.shape(p_OV)[1] != 3 or not len(p_OV) or \
+                not np.all(np.isfinite(np.asarray(p_OV, dtype=float))):
+            raise TypeError(argument_problem("CageMonitor", "p_OV", "an (n, 3) array of finite "
+                                             "vertices (m, in the body frame)", p_OV))
         self._config = config or MonitorConfig()
         self._p_OV = np.asarray(p_OV, dtype=float).reshape(-1, 3)
         self._bar_max = bar_deployed_max

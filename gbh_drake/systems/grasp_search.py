@@ -12,7 +12,7 @@ from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
 
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.rejections import count_rejections
+from gbh_drake.core.rejections import count_rejections, no_grasp_message
 from gbh_drake.core.scoop import ScoopResult
 from gbh_drake.messages import GraspSearch, Outcome
 from gbh_drake.perception.scan import ScanResult
@@ -43,11 +43,8 @@ def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
                            (hangability.message or "no hangable structure found") + also)
     candidates = list(candidates or [])
     rejections = count_rejections(candidates, params or GbhParams())
-    why = rejections.summary()
-    return GraspSearch(Outcome.NO_GRASP_FOUND,
-                       f"no collision-free grasp among {len(candidates)} candidates on "
-                       f"{len(hangability.structures)} hanging structures"
-                       f"{': ' + why if why else ''}{also}", rejections.removed)
+    return GraspSearch(Outcome.NO_GRASP_FOUND, no_grasp_message(
+        len(candidates), len(hangability.structures), rejections) + also, rejections.removed)
 
 
 class GraspSearchReport(LeafSystem):

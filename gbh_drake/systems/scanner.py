@@ -7,6 +7,8 @@ from pydrake.common.value import AbstractValue
 from pydrake.geometry import QueryObject
 from pydrake.systems.framework import LeafSystem
 
+from gbh_drake.core.arguments import argument_problem, require
+from gbh_drake.core.ranges import is_number, is_sequence
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.scan import ScanResult, scan_object
 
@@ -56,8 +58,17 @@ class Scanner(LeafSystem):
         then the views aim at what it found);
         ``noise_seed``: seed of the depth noise (when ``config.noise``)."""
         super().__init__()
+        require("Scanner", "config", config, ScanConfig, "a ScanConfig (a scenario's scan)")
         config.validate()
         self._config = config
+        if not (is_sequence(p_WT) and len(p_WT) == 3 and all(is_number(v) and np.isfinite(v)
+                                                              for v in p_WT)):
+            raise TypeError(argument_problem("Scanner", "p_WT", "3 finite coordinates (x, y, z "
+                                             "in m; a scenario's scan_target)", p_WT))
+        if scan_time is not None and not (is_number(scan_time) and 0 <= scan_time < np.inf):
+            raise TypeError(argument_problem("Scanner", "scan_time", "a time >= 0 (s) or None",
+                                             scan_time))
+        require("Scanner", "noise_seed", noise_seed, (int, np.integer), "an integer")
         self._p_WT = np.asarray(p_WT, dtype=float).reshape(3)
         self._noise_seed = int(noise_seed)
         self._query = self.DeclareAbstractInputPort("query_object",

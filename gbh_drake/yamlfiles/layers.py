@@ -7,12 +7,22 @@ no string where a list is expected), and its node tree is kept, so that an error
 by a field's range or a rule between fields, names the layer (the file, or ``<file>
 (overrides)``) and the line where the field was written last (:meth:`Layers.locate`).
 
+An override is YAML text (a ``str``, or ``bytes`` decoded as a file is: UTF-8, a byte-order
+mark dropped, UTF-16 and invalid bytes named). A relative path an override writes (a field whose
+rule is :class:`~gbh_drake.core.ranges.FilePath`: ``output_dir``, ``object.mesh``, an
+experiment's ``base``) is the current folder's and is made absolute as it is loaded; a relative
+path written in the file stays the file folder's.
+
 Errors read ``<origin>: <field> (line N): <problem>`` (:func:`error_text`), and are
 :class:`LayerError` s: :class:`~gbh_drake.scenario.loader.ScenarioError` for a scenario,
 :class:`~gbh_drake.experiment.config.ExperimentError` for an experiment.
 """
 
 import copy
+import dataclasses
+import functools
+import types
+import typing
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +31,7 @@ from typing import TypeVar
 import yaml
 from pydrake.common.yaml import yaml_load_typed
 
-from gbh_drake.core.ranges import FieldError, format_path
+from gbh_drake.core.ranges import FieldError, FilePath, format_path, rule_of, shown
 from gbh_drake.yamlfiles.yaml_text import (
     YamlFieldError,
     YamlTextError,
@@ -94,10 +104,16 @@ class Layers:
 
     def locate(self, error: FieldError, origin: str, kind: type[LayerError]) -> LayerError:
         """``error`` as a ``kind``, naming the layer and line where its field was written last
-        (``origin`` and no line when no layer wrote it: a default judged by a rule)."""
-        path = tuple(error.path)
-        written, line = self.wrote(path)
-        return kind(written or origin, format_path(path), line, error.problem)
+        (``origin`` and no line when no layer wrote it: a default judged by a rule). For a bound
+        between two fields (``error.other``), the one written last is named: a field left at
+        its default is not where the user sees the problem."""
+        said = (error, error.other) if getattr(error, "other", None) is not None else (error,)
+        for i in range(len(self.roots) - 1, -1, -1):
+            for e in said:
+                written, line = Layers(self.roots[i:i + 1]).wrote(tuple(e.path))
+                if written is not None:
+                    return kind(written, format_path(tuple(e.path)), line, e.problem)
+        return kind(origin, format_path(tuple(error.path)), None, error.problem)
 
 
 def written(root: yaml.Node | None, path: tuple, *, nonempty: bool = False) -> bool:
@@ -120,20 +136,24 @@ def file_layer(path, what: str, error: type[LayerError]) -> tuple[str, str]:
 
 
 def load_layers(schema: type[T], layers: list[tuple[str, str]], start: T, *,
-                what: str, error: type[LayerError],
+                what: str, error: type[LayerError], overrides_from: int = 1,
                 prepare: Callable[[yaml.Node], yaml.Node] | None = None,
                 reload: Callable[[T, T, str], T] | None = None) -> tuple[T, Layers]:
     """``start`` updated by each (origin, YAML text) layer in turn, and the layers' trees.
 
     ``what`` names the kind of file in messages (``scenario``, ``experiment``); ``error``: the
-    :class:`LayerError` raised; ``prepare(root)``: the tree ``yaml_load_typed`` reads, when a
-    layer's text needs reshaping first (an experiment's ``overrides`` mappings become text);
-    ``reload(loaded, defaults, text)``: a second look at a loaded layer (a scenario's GbH
-    preset changes the defaults the layer's own fields go over)."""
+    :class:`LayerError` raised; ``overrides_from``: the index of the first override (the
+    layers from it on make their relative paths the current folder's: :func:`absolute_paths`);
+    ``prepare(root)``: the tree ``yaml_load_typed`` reads, when a layer's text needs reshaping
+    first (an experiment's ``overrides`` mappings become text); ``reload(loaded, defaults,
+    text)``: a second look at a loaded layer (a scenario's GbH preset changes the defaults the
+    layer's own fields go over)."""
     result, trees = copy.deepcopy(start), Layers()
-    for origin, text in layers:
+    for i, (origin, text) in enumerate(layers):
         result, root = _load_layer(schema, text, origin, result, what, error, prepare, reload)
         trees.roots.append((origin, root))
+        if i >= overrides_from:
+            absolute_paths(result, root, path_fields(schema))
     return result, trees
 
 
@@ -162,11 +182,67 @@ def _load_layer(schema, text: str, origin: str, defaults, what: str, error, prep
     return result, root
 
 
-def override_layers(origin: str, overrides: str | list[str] | tuple[str, ...]
+def override_layers(origin: str, overrides, error: type[LayerError] = LayerError
                     ) -> list[tuple[str, str]]:
-    """(origin, text) of each non-blank override, labelled ``<origin> (overrides)`` (``(overrides
-    i of n)`` when there are several) for messages."""
-    texts = [overrides] if isinstance(overrides, str) else list(overrides)
-    texts = [t for t in texts if t.strip()]
-    return [(f"{origin} ({'overrides' if len(texts) == 1 else f'overrides {i + 1} of {len(texts)}'})",
-             t) for i, t in enumerate(texts)]
+    """(origin, text) of each non-blank override (a ``str``, ``bytes`` decoded as a file is, or
+    a list of them), labelled ``<origin> (overrides)`` (``(overrides i of n)`` when there are
+    several) for messages; ``error`` for what is not YAML text."""
+    several = isinstance(overrides, list | tuple)
+    items = list(overrides) if several else [overrides]
+    for i, item in enumerate(items):
+        if not isinstance(item, str | bytes):
+            where = f"overrides[{i}]" if several else "overrides"
+            raise error(f"{origin} ({where})", "", None, "expected YAML text (a str, or bytes in "
+                        "UTF-8) or a list of them, got " + shown(item))
+    texts = [t for t in items if t.strip()]
+    layers = []
+    for i, text in enumerate(texts):
+        label = f"{origin} ({'overrides' if len(texts) == 1 else f'overrides {i + 1} of {len(texts)}'})"
+        if isinstance(text, bytes):
+            try:
+                text = decode(text)
+            except YamlTextError as e:
+                raise error(label, "", e.line, e.problem, e.column) from None
+        layers.append((label, text))
+    return layers
+
+
+@functools.cache
+def path_fields(schema) -> tuple[tuple, ...]:
+    """The paths of ``schema``'s fields (its dataclass sections' too) whose rule is
+    :class:`~gbh_drake.core.ranges.FilePath`."""
+    found = []
+
+    def walk(cls, at: tuple) -> None:
+        hints = typing.get_type_hints(cls)
+        for f in dataclasses.fields(cls):
+            if isinstance(rule_of(f), FilePath):
+                found.append(at + (f.name,))
+            kind = hints.get(f.name)
+            options = typing.get_args(kind) if typing.get_origin(kind) in (typing.Union,
+                                                                            types.UnionType) \
+                else (kind,)
+            for option in options:
+                if dataclasses.is_dataclass(option):
+                    walk(option, at + (f.name,))
+
+    walk(schema, ())
+    return tuple(found)
+
+
+def absolute_paths(config, root: yaml.Node | None, paths) -> None:
+    """Each field of ``paths`` (tuples of names) that the YAML document ``root`` writes, when it
+    is a relative path, made absolute against the current folder (a path given in an override,
+    e.g. ``--set "output_dir: out"``, is where the user is, not where the file is)."""
+    for path in paths:
+        if not written(root, path, nonempty=True):
+            continue
+        *parents, name = path
+        holder = config
+        for part in parents:
+            holder = getattr(holder, part, None)
+        value = getattr(holder, name, None)
+        if isinstance(value, str) and "\0" not in value:
+            p = Path(value).expanduser()
+            if not p.is_absolute():
+                setattr(holder, name, str(Path.cwd() / p))

@@ -17,7 +17,13 @@ from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.results import PARALLEL, VERTICAL, GraspCandidate, HangingStructure
-from gbh_drake.core.scoring import collision_free, miss_resultant, rank_grasps, score_grasps
+from gbh_drake.core.scoring import (
+    collision_free,
+    is_copy,
+    miss_resultant,
+    rank_grasps,
+    score_grasps,
+)
 
 
 def linking_number(a: np.ndarray, b: np.ndarray) -> float:
@@ -278,14 +284,19 @@ def test_cancelling_misses_give_a_neutral_beta(params):
 
 def test_ranking_filters_then_sorts_then_cuts(mug_result, params):
     """The paper's order: collision-free grasps (our sweep and ground checks included), by
-    S_total, the top k; nothing left out scores higher than the last one kept unless it fails a
-    collision check."""
+    S_total, copies of a better grasp left out, the top k; nothing left out scores higher than
+    the last one kept unless it fails a collision check or copies one kept."""
     free = [g for g in mug_result.candidates if collision_free(g, params)]
-    assert mug_result.ranked == sorted(free, key=lambda g: -g.score)[: params.top_k]
+    distinct: list = []
+    for g in sorted(free, key=lambda g: -g.score):
+        if not any(is_copy(g, kept, params) for kept in distinct):
+            distinct.append(g)
+    assert mug_result.ranked == distinct[: params.top_k]
     cut = min(g.score for g in mug_result.ranked)
     for g in mug_result.candidates:
         if g not in mug_result.ranked and g.score > cut:
-            assert not collision_free(g, params)
+            assert not collision_free(g, params) or any(is_copy(g, kept, params)
+                                                        for kept in mug_result.ranked)
     for field, bad in (("n_collisions", params.p_c), ("n_sweep_collisions", params.p_sweep),
                        ("ground_distance", params.ground_clearance - 1e-4)):
         g = dataclasses.replace(mug_result.ranked[0], **{field: bad})
@@ -381,3 +392,31 @@ def test_turned_grasps_are_the_papers_turned_about_the_hole_or_the_finger(ring_r
         if kind == PARALLEL:  # h stays as far from c as the paper's, on the turned approach
             assert np.linalg.norm(g.h - s.c) == pytest.approx(np.linalg.norm(paper.h - s.c))
             np.testing.assert_allclose(unit(s.c - g.h), R[:, 2], atol=1e-9)
+
+
+def _pose_gap(a: GraspCandidate, b: GraspCandidate) -> tuple[float, float]:
+    """(m, deg) between two grasps' origins and orientations."""
+    R = a.X_WG[:3, :3].T @ b.X_WG[:3, :3]
+    angle = np.degrees(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)))
+    return float(np.linalg.norm(a.X_WG[:3, 3] - b.X_WG[:3, 3])), float(angle)
+
+
+def test_a_closed_handles_top_ten_are_ten_distinct_grasps(mug, mug_result, params):
+    """The mug's closed handle: the turned approaches land on the neighbouring contacts, so the
+    ranking without de-duplication (the paper's, preset ``paper`` keeps it) holds copies of one
+    pose; with it the ten are distinct: any two differ in kind, or by at least
+    ``distinct_distance`` or ``distinct_angle_deg``."""
+    assert mug_result.structures[0].m == 1.0  # a closed loop
+    ranked = mug_result.ranked
+    assert len(ranked) == params.top_k
+    for i, a in enumerate(ranked):
+        for b in ranked[:i]:
+            distance, angle = _pose_gap(a, b)
+            assert a.kind != b.kind or distance >= params.distinct_distance \
+                or angle >= params.distinct_angle_deg, (i, distance, angle)
+    plain = rank_grasps(mug_result.candidates, dataclasses.replace(
+        params, distinct_distance=0.0, distinct_angle_deg=0.0))
+    copies = sum(any(a.kind == b.kind and max(_pose_gap(a, b)) < 1e-6 for b in plain[:i])
+                 for i, a in enumerate(plain))
+    assert copies > 0, "the ranking without de-duplication has no copies: the test shows nothing"
+    assert GbhParams().with_preset("paper").distinct_distance == 0.0

@@ -52,3 +52,26 @@ def test_prepared_object_must_match_the_sampling_params():
     assert prepare_object(obj, GbhParams(n_points=800)) is obj
     with pytest.raises(GbhInputError, match="prepare it again"):
         prepare_object(obj, GbhParams(n_points=900))
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"params": {"n_points": 500}}, "plan_grasps(): params: expected a GbhParams "
+                                    "(gbh_drake.core.params), got {'n_points': 500} (a dict)"),
+    ({"params": GbhParams}, "plan_grasps(): params: expected a GbhParams (gbh_drake.core.params), "
+                            "got the class GbhParams (not an instance of it)"),
+    ({"seed": "1"}, "plan_grasps(): seed: expected an integer in [0, 2^64), got '1' (a str)"),
+    ({"seed": -1}, "plan_grasps(): seed: expected an integer in [0, 2^64), got -1 (an int)"),
+    ({"seed": 1.5}, "plan_grasps(): seed: expected an integer in [0, 2^64), got 1.5 (a float)"),
+    ({"free_space": "scan"}, "plan_grasps(): free_space: expected a FreeSpace (a scan's "
+                             "ScanResult.free_space) or None, got 'scan' (a str)"),
+    ({"params": GbhParams(parallel_grasps="no")},
+     "GbhParams.parallel_grasps: expected true or false, got 'no' (a str)"),
+])
+def test_plan_grasps_names_an_argument_of_the_wrong_type(kwargs, message):
+    import trimesh
+
+    from gbh_drake.core.pipeline import plan_grasps
+
+    with pytest.raises(GbhInputError) as info:
+        plan_grasps(trimesh.creation.box((0.05, 0.05, 0.05)), **kwargs)
+    assert str(info.value) == message

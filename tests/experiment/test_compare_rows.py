@@ -39,3 +39,20 @@ def test_only_changed_trials_are_listed_with_where_they_changed():
     assert changed == ["| mug | gbh-10 | 0 | success [cage] | not_lifted | physics | not_lifted |"]
     assert any(line.startswith("where: 0 changed upstream") and "1 in the physics" in line
                for line in lines)
+
+
+def test_rows_are_read_as_the_runner_reads_them(tmp_path, capsys):
+    """A damaged line is one line naming the file and line (exit 2), not a traceback; a row of
+    another protocol is left out, one whose protocol is a list refused."""
+    import json
+
+    good = {"object": "mug", "method": "gbh-10", "trial": 0, "seed": 1, "viewpoints": 10,
+            **row("success")}
+    path = tmp_path / "trials.jsonl"
+    path.write_text(json.dumps(good) + "\n" + json.dumps({**good, "protocol": "natural"}) + "\n")
+    assert list(compare_rows.load(path)) == [("mug", "gbh-10", 0)]
+    path.write_text(json.dumps(good) + "\n" + json.dumps({**good, "protocol": ["natural"]}) + "\n")
+    assert compare_rows.main([str(path), str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"compare_rows: {path}: line 2: protocol is ['natural'], not a string; the file "
+                   "is damaged: fix or remove that line\n")

@@ -340,3 +340,36 @@ def test_the_seed_line_is_set_only_where_it_is_alone():
     assert _with_seed(13, text, 345) is None  # not the seed it was dumped with
     assert _with_seed(12, "object: {}\n", 345) is None  # no top-level seed
     assert _with_seed(12, text + "seed: 12\n", 345) is None  # two
+
+
+def test_a_relative_path_given_by_set_is_the_current_folders(tmp_path, monkeypatch):
+    """``gbh experiment <packaged file> --set "output_dir: out"`` writes into ./out, not beside
+    the file (site-packages for a wheel); the file's own relative paths stay its folder's."""
+    files, here = tmp_path / "files", tmp_path / "here"
+    files.mkdir()
+    here.mkdir()
+    (files / "base.yaml").write_text("seed: 1\n")
+    (here / "mine.yaml").write_text("seed: 2\n")
+    path = write(files, "base: base.yaml\noutput_dir: out\nobjects: [box]\n")
+    monkeypatch.chdir(here)
+    experiment = load_experiment(path)
+    assert (experiment.output_path(), experiment.base_path) == (files / "out", files / "base.yaml")
+    experiment = load_experiment(path, overrides=["output_dir: out", "base: mine.yaml"])
+    assert (experiment.output_path(), experiment.base_path) == (here / "out", here / "mine.yaml")
+
+
+@pytest.mark.parametrize(("args", "kwargs", "message"), [
+    (("exp.yaml",), {}, "run_experiment(): experiment: expected an Experiment "
+                        "(gbh_drake.experiment.config.load_experiment(path)), got 'exp.yaml' (a str)"),
+    ((), {"workers": 0}, "run_experiment(): workers: expected an integer >= 1, got 0 (an int)"),
+    ((), {"workers": "2"}, "run_experiment(): workers: expected an integer >= 1, got '2' (a str)"),
+    ((), {"out": 3}, "run_experiment(): out: expected a folder's path or None, got 3 (an int)"),
+])
+def test_run_experiment_names_an_argument_of_the_wrong_type(tmp_path, args, kwargs, message):
+    from gbh_drake.experiment.runner import run_experiment
+
+    args = args or (load_experiment(SHORT),)
+    with pytest.raises(TypeError) as info:
+        run_experiment(*args, **kwargs)
+    assert str(info.value) == message
+    assert not (tmp_path / "output").exists()

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from gbh_drake.cli import main
-from gbh_drake.experiment.rows import ROWS_FILE, FolderError, RowStore
+from gbh_drake.experiment.rows import ROWS_FILE, FolderError, RowStore, row_key
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "experiment"))
 from test_rows_report import make_row  # noqa: E402
@@ -98,6 +98,34 @@ def test_resume_refuses_a_damaged_middle_row_and_runs_nothing(tmp_path, capsys):
                           "not a JSON line"), err
     assert (sorted(p.name for p in folder.iterdir() if p.name != ".gbh.lock"),
             (folder / ROWS_FILE).read_bytes()) == before
+
+
+@pytest.mark.parametrize("field, value, words", [
+    ("protocol", ["stable"], "line 2: protocol is ['stable'], not a string"),
+    ("protocol", {"name": "natural"}, "line 2: protocol is {'name': 'natural'}, not a string"),
+    ("scenario_digest", 5, "line 2: scenario_digest is 5, not a string"),
+    ("replay", ["a.html"], "line 2: replay is ['a.html'], not a string"),
+])
+def test_resume_refuses_a_row_with_a_field_of_another_type_naming_its_line(
+        tmp_path, capsys, field, value, words):
+    """A row gbh did not write (a list where the protocol is: the finished-trial set cannot key
+    it) is refused before anything runs, naming the file and line; nothing is changed."""
+    folder = _folder(tmp_path, middle=json.dumps({**make_row("box", "gbh-10", 5),
+                                                  field: value}).encode())
+    before = sorted(p.name for p in folder.iterdir()), (folder / ROWS_FILE).read_bytes()
+    assert main(["experiment", str(SHORT), "--out", str(folder), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith(f"gbh: damaged experiment folder: {folder / ROWS_FILE}: {words}; the "
+                          "file is damaged: fix or remove that line"), err
+    assert (sorted(p.name for p in folder.iterdir() if p.name != ".gbh.lock"),
+            (folder / ROWS_FILE).read_bytes()) == before
+
+
+def test_a_row_without_a_protocol_or_with_null_is_stable(tmp_path):
+    folder = _folder(tmp_path, middle=json.dumps({**make_row("box", "gbh-10", 5),
+                                                  "protocol": None}).encode())
+    assert [row_key(r)[3] for r in RowStore(folder).load()] == ["stable"] * 3
 
 
 def test_the_store_raises_on_damage_not_at_the_end(tmp_path):

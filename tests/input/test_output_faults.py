@@ -6,8 +6,11 @@ experiment file's field and line) and exit 2, or the row written; never a traceb
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import json
+import os
+import shutil
 import subprocess
 import sys
 from collections import namedtuple
@@ -19,7 +22,7 @@ import gbh_drake.trial as trial_module
 from gbh_drake import outputs
 from gbh_drake.cli import main
 from gbh_drake.experiment import runner
-from gbh_drake.experiment.rows import ROWS_FILE, RowStore
+from gbh_drake.experiment.rows import ROWS_FILE, RowStore, row_key
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "experiment"))
 from test_rows_report import make_row  # noqa: E402
@@ -158,27 +161,86 @@ def _failed_row():
     return row
 
 
-def test_a_replay_on_a_full_disk_keeps_its_row(tmp_path, monkeypatch):
-    folder = tmp_path / "e"
-    folder.mkdir()
-    real_fsync = outputs.os.fsync
-    replay_fds = []
+@pytest.fixture
+def small_disk(tmp_path):
+    """``make(size)``: a tmpfs of ``size`` (e.g. ``"1m"``) mounted on a folder of ``tmp_path``,
+    a disk that really fills (root only: skipped where it cannot be mounted)."""
+    mounted = []
 
-    def fsync(fd):
-        if Path(f"/proc/self/fd/{fd}").resolve().name.endswith(".html"):
-            replay_fds.append(fd)
-            raise OSError(errno.ENOSPC, "No space left on device")
-        return real_fsync(fd)
-    monkeypatch.setattr(outputs.os, "fsync", fsync)
-    warned = []
-    runner._save(folder, RowStore(folder), _failed_row(), "<html></html>", warn=warned.append)
-    assert replay_fds
-    rows = RowStore(folder).load()
-    assert len(rows) == 1 and rows[0]["replay"] == ""
-    assert rows[0]["replay_error"] == (f"{folder}/replays/mug_classic__gbh-10__0.html: could "
-                                       "not write it (no space left on the disk)")
-    assert len(warned) == 1 and "its replay was not kept" in warned[0]
+    def make(size: str) -> Path:
+        disk = tmp_path / f"disk{len(mounted)}"
+        disk.mkdir()
+        if os.geteuid() != 0 or shutil.which("mount") is None:
+            pytest.skip("mounting a small tmpfs needs root")
+        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size},mode=0755", "tmpfs",
+                               str(disk)], capture_output=True, text=True)
+        if done.returncode != 0:
+            pytest.skip(f"cannot mount a tmpfs here: {done.stderr.strip()}")
+        mounted.append(disk)
+        return disk
+
+    yield make
+    for disk in mounted:
+        subprocess.run(["umount", "-l", str(disk)], check=False)
+
+
+def fill(disk: Path, leave: int) -> None:
+    """Fills ``disk`` until ``leave`` bytes are free (a file of zeros, ``filler``)."""
+    free = shutil.disk_usage(disk).free
+    with open(disk / "filler", "wb") as f:
+        f.write(b"\0" * max(free - leave, 0))
+
+
+def test_a_replay_that_fills_the_disk_keeps_its_row_and_the_experiment_goes_on(small_disk):
+    """On a real 1 MB disk with 100 kB left: the row is written first; the replay (600 kB)
+    fails on the full disk with a warning naming it, leaves nothing half-written; the next
+    trial's row is written; the final sort says in the row why its replay is not there."""
+    folder = small_disk("1m") / "e"
+    folder.mkdir()
+    fill(folder.parent, 100_000)
+    store, warned = RowStore(folder), []
+    runner._save(folder, store, _failed_row(), "<html>" + "x" * 600_000 + "</html>",
+                 warn=warned.append)
+    target = folder / "replays" / "mug_classic__gbh-10__0.html"
+    assert warned == [f"gbh: warning: trial ('mug_classic', 'gbh-10', 0, 'stable'): its replay "
+                      f"was not kept: {target}: could not write it (no space left on the disk); "
+                      "its row is"]
     assert list((folder / "replays").iterdir()) == []  # no partial replay
+    row = make_row("mug_classic", "gbh-10", 1)
+    runner._save(folder, store, row, None, warn=warned.append)  # the experiment goes on
+    rows = store.load()
+    assert [r["trial"] for r in rows] == [0, 1] and rows[0]["replay"] == f"replays/{target.name}"
+    experiment = runner.Experiment(objects=["mug_classic"], trials=2, methods=[
+        runner.Experiment().methods[0]])
+    runner._sort_rows(store, experiment)  # an earlier run's row: kept as it is
+    assert store.load()[0]["replay"] == f"replays/{target.name}"
+    problem = f"{target}: could not write it (no space left on the disk)"
+    runner._sort_rows(store, experiment, {row_key(rows[0]): problem})  # this run's: said
+    (first, second) = store.load()
+    assert first["replay"] == "" and first["replay_error"] == problem
+    assert second == row
+
+
+def test_a_row_that_meets_a_full_disk_leaves_the_file_whole(small_disk):
+    """The disk is full to the last byte: the row cannot be appended (one line, that trial
+    runs again on resume) and what part of it reached the file is cut off again."""
+    folder = small_disk("1m") / "e"
+    folder.mkdir()
+    store = RowStore(folder)
+    store.append(make_row("box", "gbh-10", 0))
+    before = store.path.read_bytes()
+    fill(folder.parent, 0)
+    with open(folder.parent / "filler", "ab", buffering=0) as f:  # every byte left, too
+        with contextlib.suppress(OSError):
+            while True:
+                f.write(b"\0" * 512)
+    row = make_row("box", "gbh-10", 1, "dropped")
+    row["reason"] = "dropped " * 2000  # longer than the file's last page: part of it is written
+    with pytest.raises(outputs.OutputError, match=r"could not append the row of trial .* \(no "
+                                                  r"space left on the disk\)"):
+        runner._save(folder, store, row, "<html></html>", warn=print)
+    assert store.path.read_bytes() == before
+    assert not (folder / "replays").exists()
 
 
 def test_a_replay_folder_that_is_a_file_keeps_its_row(tmp_path):
@@ -188,7 +250,7 @@ def test_a_replay_folder_that_is_a_file_keeps_its_row(tmp_path):
     warned = []
     runner._save(folder, RowStore(folder), _failed_row(), "<html></html>", warn=warned.append)
     rows = RowStore(folder).load()
-    assert len(rows) == 1 and rows[0]["replay"] == "" and "replay_error" in rows[0]
+    assert len(rows) == 1 and len(warned) == 1 and "its replay was not kept" in warned[0]
 
 
 def test_a_replay_written_comes_after_its_row(tmp_path):
@@ -206,4 +268,47 @@ def test_a_row_that_cannot_be_appended_is_one_line(tmp_path):
     (folder / ROWS_FILE).mkdir(parents=True)  # the rows' file is a folder
     with pytest.raises(outputs.OutputError, match="could not append the row of trial"):
         runner._save(folder, RowStore(folder), _failed_row(), "<html></html>", warn=print)
-    assert not list(folder.rglob(".gbh-tmp-*"))  # the staged replay went with it
+    assert not list(folder.rglob(".gbh-tmp-*"))  # no replay is written for a row not kept
+
+
+@pytest.mark.sim
+def test_a_disk_that_fills_in_the_middle_of_an_experiment_loses_no_row(small_disk, capsys):
+    """A real experiment (2 short trials, replays kept) on an 80 MB disk that passes the
+    free-space check at the start and is then filled to 1.5 MB free, after the start and
+    before the first trial ends: each replay (a few MB) fails on the full disk with a warning
+    naming its file, every row is kept, the reports are written; a resume on the full disk is
+    refused at the start, and once space is freed it finds nothing to run."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.experiment.config import load_experiment
+    from gbh_drake.experiment.runner import run_experiment
+
+    disk = small_disk("80m")
+    spec = disk.parent / "e.yaml"
+    spec.write_text(f"base: {SCENARIOS_DIR / 'default.yaml'}\n"
+                    "base_overrides: {max_time: 0.6, settle_time: 0.1}\nobjects: [box]\n"
+                    "trials: 2\nreplays: all\nmethods:\n"
+                    "  - {name: gbh-1, overrides: {scan: {num_views: 1}}}\n")
+    out = disk / "e"
+
+    def log(message: str) -> None:  # said once the folder is checked, before any trial runs
+        print(message)
+        if "to run on" in message:
+            fill(disk, 1_500_000)
+
+    result = run_experiment(load_experiment(spec), out=out, workers=1, progress=False, log=log)
+    assert result.complete and result.ran == 2
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    rows = RowStore(out).load()
+    assert [r["trial"] for r in rows] == [0, 1]
+    for row in rows:
+        target = out / "replays" / f"box__gbh-1__{row['trial']}.html"
+        assert any(f"its replay was not kept: {target}: could not write it (no space left on the "
+                   "disk)" in w for w in warnings), warnings
+        assert row["replay"] == "" and row["replay_error"] == (f"{target}: could not write it "
+                                                               "(no space left on the disk)")
+    assert (out / "summary.md").is_file() and not list(out.rglob(".gbh-tmp-*"))
+    with pytest.raises(outputs.OutputError, match="MB free on its disk"):  # still full
+        run_experiment(load_experiment(spec), out=out, workers=1, progress=False, log=print)
+    (disk / "filler").unlink()
+    again = run_experiment(load_experiment(spec), out=out, workers=1, progress=False, log=print)
+    assert (again.skipped, again.ran) == (2, 0) and RowStore(out).load() == rows

@@ -122,6 +122,15 @@ def test_gbh_run_without_a_file_runs_the_packaged_default(installed):
         assert (folder / name).is_file()
 
 
+def test_a_relative_output_dir_given_by_set_is_under_the_current_folder(installed):
+    """Not in the packaged scenarios folder (site-packages), where the file is."""
+    out = _run([installed.gbh, "run", "--set", "output_dir: out/settle",
+                "--set", "task: settle\nsettle_time: 0.05"], cwd=installed.cwd).stdout
+    assert f"replay: {installed.cwd / 'out' / 'settle' / 'replay.html'}" in out, out
+    assert (installed.cwd / "out" / "settle" / "summary.yaml").is_file()
+    assert not (installed.package / "scenarios" / "out").exists()
+
+
 def test_a_packaged_scenario_finds_its_mesh_beside_it(installed):
     scenario = installed.package / "scenarios" / "mesh_file.yaml"  # mesh: meshes/staple.obj
     out = _run([installed.gbh, "run", scenario, "--set", "task: settle\nsettle_time: 0.05"],

@@ -68,3 +68,23 @@ def test_parameters_change_the_object():
     small, large = make_object("mug_classic"), make_object("mug_classic", radius=0.045)
     assert large.mesh.extents[1] > small.mesh.extents[1]
     assert large.mesh.is_watertight and large.mesh.body_count == 1
+
+
+@pytest.mark.parametrize(("name", "params", "message"), [
+    (None, {}, "make_object(): name: expected an object's name (gbh objects list), got None "
+               "(a NoneType)"),
+    (["mug_classic"], {}, "make_object(): name: expected an object's name (gbh objects list), "
+                          "got ['mug_classic'] (a list)"),
+    ("mug_classic", {"radius": "big"}, "make_object(): radius: expected a finite number (or a "
+                                       "list of them), got 'big' (a str)"),
+    ("mug_classic", {"radius": float("nan")}, "make_object(): radius: expected a finite number "
+                                              "(or a list of them), got nan (a float)"),
+    ("box", {"size": (0.07, "0.1", 0.16)}, "make_object(): size: expected a finite number (or a "
+                                           "list of them), got (0.07, '0.1', 0.16) (a tuple)"),
+])
+def test_make_object_names_an_argument_of_the_wrong_type(name, params, message):
+    with pytest.raises(TypeError) as info:
+        make_object(name, **params)
+    assert str(info.value) == message
+    with pytest.raises(KeyError, match="unknown object 'mug_clasic'"):  # (a name: as before)
+        make_object("mug_clasic")

@@ -70,6 +70,7 @@ def test_the_set_meets_issue_37():
     assert len(set(files)) == len(files), "a mesh listed twice"
 
 
+@pytest.mark.sim  # a third-party mesh's import, stable poses and holes: seconds each
 @pytest.mark.parametrize("obj", OBJECTS, ids=[o["name"] for o in OBJECTS])
 def test_the_fetched_mesh_matches_its_entry(obj):
     try:

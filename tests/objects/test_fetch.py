@@ -16,12 +16,11 @@ from gbh_drake.objects.fetch import (
     Source,
     default_cache_dir,
     fetch_sources,
-    main,
     parse_mesh_uri,
-    read_manifest_entries,
     resolve,
     source_dir,
 )
+from gbh_drake.objects.fetch_sets import main, read_manifest_entries
 
 CUBE_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 MIT = b"MIT License\n"

@@ -79,3 +79,34 @@ def test_open_mesh_is_accepted_with_a_warning():
     mesh = load_mesh_file(pybullet_mug_path())
     assert not mesh.is_watertight
     assert any("not watertight" in w for w in mesh.metadata["gbh_warnings"])
+
+
+@pytest.mark.parametrize("path", [None, 3, b"/x.obj"])
+def test_a_path_that_is_not_a_path_is_named(path):
+    from gbh_drake.objects import load_mesh_object
+
+    for load, name in ((load_mesh_file, "load_mesh_file"), (load_mesh_object, "load_mesh_object")):
+        with pytest.raises(TypeError, match=rf"^{name}\(\): path: expected a mesh file's path \(a "
+                                            r"str or Path\), got "):
+            load(path)
+
+
+@pytest.mark.parametrize("scale", ["1", True, None])
+def test_a_scale_that_is_not_a_number_is_refused(tmp_path, scale):
+    path = tmp_path / "box.obj"
+    trimesh.creation.box((0.05, 0.05, 0.05)).export(path)
+    with pytest.raises(MeshImportError, match=f"box.obj: scale must be a positive number, got "
+                                              f"{scale!r}"):
+        load_mesh_file(path, scale=scale)
+
+
+@pytest.mark.parametrize("kwargs", [{"density": "600"}, {"mass": "0.3"}])
+def test_a_density_or_mass_that_is_not_a_number_is_named(tmp_path, kwargs):
+    from gbh_drake.objects import load_mesh_object
+
+    path = tmp_path / "box.obj"
+    trimesh.creation.box((0.05, 0.05, 0.05)).export(path)
+    (name,) = kwargs
+    with pytest.raises(TypeError, match=rf"^mass_properties_for\(\): {name}: expected a number, "
+                                        rf"got '{kwargs[name]}' \(a str\)"):
+        load_mesh_object(path, **kwargs)

@@ -122,3 +122,26 @@ def test_an_uncached_pypi_mesh_says_how_to_fetch_it(meshes, monkeypatch, tmp_pat
                          "license: MIT}}\n")
     with pytest.raises(ObjectSetError, match=r"run `gbh objects fetch"):
         load_object_set(path).object("far")
+
+
+def test_gbh_objects_list_shows_a_set_as_text_csv_and_json(meshes, capsys):
+    import csv
+    import io
+    import json
+
+    from gbh_drake.cli import main
+
+    path = write(meshes, "name: mine\nobjects:\n" + MUG + "  - {builtin: box}\n")
+    assert main(["objects", "list", "--set", str(path), "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in rows] == ["my_mug", "box"]
+    assert rows[0]["mass_g"] == pytest.approx(320.0) and rows[0]["tags"] == ["cup"]
+    assert rows[0]["hangable_parts"].startswith("handle (closed, 35.0 mm)")
+    assert rows[1]["control"] and rows[1]["hangable_parts"] == "none (control)"
+    assert main(["objects", "list", "--set", str(path), "--csv"]) == 0
+    table = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert [r["name"] for r in table] == ["my_mug", "box"] and table[0]["tags"] == "cup"
+    assert main(["objects", "list", "--set", str(path)]) == 0
+    assert capsys.readouterr().out.splitlines()[0].startswith("my_mug")
+    assert main(["objects", "list", "--set", str(meshes / "nothere.yaml")]) == 2
+    assert "invalid object set" in capsys.readouterr().err

@@ -24,3 +24,23 @@ def test_empty_result_says_why():
     assert result.empty and result.message == "not scanned yet"
     assert len(result.mesh_W.faces) == 0 and result.p_WQ.shape == (0, 3)
     assert result.warnings == []
+
+
+@pytest.mark.parametrize(("args", "kwargs", "message"), [
+    ((None, [0.55, 0.0, 0.06]), {}, "Scanner(): config: expected a ScanConfig (a scenario's "
+                                    "scan), got None (a NoneType)"),
+    (("config", 0.5), {}, "Scanner(): p_WT: expected 3 finite coordinates (x, y, z in m; a "
+                          "scenario's scan_target), got 0.5 (a float)"),
+    (("config", [0.55, 0.0]), {}, "Scanner(): p_WT: expected 3 finite coordinates (x, y, z in m; "
+                                  "a scenario's scan_target), got [0.55, 0.0] (a list)"),
+    (("config", [0.55, 0.0, 0.06]), {"scan_time": "1"},
+     "Scanner(): scan_time: expected a time >= 0 (s) or None, got '1' (a str)"),
+])
+def test_the_scanner_names_an_argument_of_the_wrong_type(args, kwargs, message):
+    from gbh_drake.perception.config import ScanConfig
+    from gbh_drake.systems import Scanner
+
+    args = tuple(ScanConfig() if a == "config" else a for a in args)
+    with pytest.raises(TypeError) as info:
+        Scanner(*args, **kwargs)
+    assert str(info.value) == message

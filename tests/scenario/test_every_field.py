@@ -3,7 +3,9 @@
 For every field reachable through mappings (our dataclasses and Drake's config structs): a
 non-finite number (nan, inf, -inf) where it takes a number, a value of the wrong type, an
 unknown sub-field where it takes a mapping; for every rule (``gbh_drake.scenario.checks.rule_table``): a
-value on each side out of its range, a name that is not allowed, a list of the wrong length.
+value on each side out of its range, a name that is not allowed, a list of the wrong length;
+for every bound between fields (``gbh_drake.scenario.checks.relation_table``): a value of the
+bounded field beyond its bound.
 Each case runs through the real command line: exit code 2, one line naming the file, the
 field's exact path and its line, nothing written. Lists of Drake structs (``directives``,
 ``cameras``) and poses (``schema.Transform``) are walked by hand in tests/input/input_corpus.py.
@@ -21,7 +23,7 @@ import pytest
 from gbh_drake.cli import main
 from gbh_drake.core.ranges import Fixed, Items, OneOf, Range, format_path
 from gbh_drake.scenario import Scenario
-from gbh_drake.scenario.checks import rule_table
+from gbh_drake.scenario.checks import relation_table, rule_table
 from gbh_drake.yamlfiles.yaml_text import optional_of, struct_fields, union_options
 
 RULES = rule_table()
@@ -126,8 +128,32 @@ def _outside(rule: Range):
         yield "high", hi
 
 
+def _relation_cases():
+    """For each bound, the bounded field alone set beyond the other field's default (1.5 times
+    past it, or to the end of its own range when that is nearer)."""
+    defaults, cases = Scenario(), []
+    for at, name, relation in relation_table():
+        lhs, rhs = at + relation.lhs(name), at + tuple(relation.other.split("."))
+        bound = relation.factor * _value(defaults, rhs)
+        value = bound * 1.5 if relation.op in ("<=", "<") else bound / 1.5
+        rule = RULES[lhs[:-1]][lhs[-1]]
+        value = min(max(value, rule.lo if rule.lo is not None else value),
+                    rule.hi if rule.hi is not None else value)
+        value = round(value) if rule.integer else value
+        cases.append((f"{format_path(lhs)}:{relation.op}{format_path(rhs)}", lhs, _fmt(value),
+                      "must "))
+    return cases
+
+
+def _value(obj, path):
+    for part in path:
+        obj = getattr(obj, part)
+    return obj
+
+
 KIND_CASES = _kind_cases()
 RULE_CASES = _rule_cases()
+RELATION_CASES = _relation_cases()
 #: A field whose out-of-range value another check meets first (documented here).
 RULE_EXCEPTIONS = {
     # scan.first_look_scale high also leaves first-look images under 8 pixels (same field).
@@ -174,13 +200,25 @@ def test_every_rule(case_id, path, value, expect, tmp_path, capsys):
     assert not (tmp_path / "output").exists()
 
 
+@pytest.mark.parametrize(("case_id", "path", "value", "expect"), RELATION_CASES,
+                         ids=[c[0] for c in RELATION_CASES])
+def test_every_bound(case_id, path, value, expect, tmp_path, capsys):
+    """The field written is the one named, at its line (the first bound it breaks, which may be
+    another of its bounds than this case's)."""
+    code, out, err, scenario, line = _run(tmp_path, capsys, path, value)
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    field = format_path(path)
+    assert err.startswith(f"gbh: invalid scenario: {scenario}: {field} (line {line}): must "), err
+    assert not (tmp_path / "output").exists()
+
+
 def test_every_field_is_walked():
     """The generated cases reach every leaf of the schema (but those walked by hand)."""
     walked = {c[1][:-1] if isinstance(c[1][-1], int) or c[1][-1] == "zzz" else c[1]
               for c in KIND_CASES}
     for path, _ in leaves():
         assert path in walked, path
-    assert len(KIND_CASES) > 300 and len(RULE_CASES) > 250
+    assert len(KIND_CASES) > 300 and len(RULE_CASES) > 250 and len(RELATION_CASES) >= 29
 
 
 def test_every_number_has_a_rule_or_is_finite_only():

@@ -42,3 +42,32 @@ def test_an_unknown_preset_is_refused_in_yaml_and_code(tmp_path):
         _load(tmp_path, "gbh: {preset: papr}")
     with pytest.raises(GbhInputError, match="preset"):
         GbhParams().with_preset("papr")
+
+
+@pytest.mark.parametrize("name", list(PRESETS))
+def test_a_preset_means_the_same_in_python_as_in_yaml(tmp_path, name):
+    """``GbhParams(preset=name)`` is ``gbh: {preset: name}`` field by field, and so is
+    ``GbhParams().with_preset(name)``; a field given beside it wins in both."""
+    loaded = _load(tmp_path, f"gbh: {{preset: '{name}'}}").gbh
+    for made in (GbhParams(preset=name), GbhParams().with_preset(name), GbhParams(name)):
+        for f in dataclasses.fields(GbhParams):
+            assert getattr(made, f.name) == getattr(loaded, f.name), (name, f.name)
+    beside = _load(tmp_path, f"gbh: {{preset: '{name}', contact_angle_deg: 33, "
+                             "approach_rotations_deg: [0, 10]}").gbh
+    made = GbhParams(preset=name, contact_angle_deg=33.0, approach_rotations_deg=[0.0, 10.0])
+    assert made == beside
+    made.check()
+
+
+def test_the_paper_preset_in_python_is_the_papers_rules():
+    paper = GbhParams(preset="paper")
+    assert (paper.snap_tilt_max_deg, paper.approach_rotations_deg, paper.contact_angle_deg,
+            paper.unknown_is_occupied) == (0.0, [0.0], 30.0, False)
+    assert GbhParams(preset="paper", contact_angle_deg=35.0).contact_angle_deg == 35.0  # given
+    ours = dataclasses.replace(paper, d2=0.005)  # every field passed on: nothing re-applied
+    assert ours.contact_angle_deg == 30.0 and ours.d2 == 0.005
+    kept = dataclasses.replace(GbhParams(preset="paper", contact_angle_deg=35.0), d2=0.0)
+    assert kept.contact_angle_deg == 35.0
+    assert GbhParams(preset="papr").snap_tilt_max_deg == 45.0  # unknown: check() refuses it
+    with pytest.raises(GbhInputError, match="preset"):
+        GbhParams(preset="papr").check()

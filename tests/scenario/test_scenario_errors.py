@@ -3,10 +3,11 @@ YAML. The command-line corpus of bad inputs is in tests/input/."""
 
 import pytest
 
-from gbh_drake import station
+from gbh_drake import SCENARIOS_DIR, station
 from gbh_drake.modeling import names
 from gbh_drake.scenario import RandomRestingPose, Scenario, ScenarioError, load_scenario, validate_scenario
 from gbh_drake.scenario.checks import DRAKE_RULES
+from gbh_drake.scenario.loader import apply_overrides
 
 
 def _write(tmp_path, text, name="bad.yaml"):
@@ -35,11 +36,19 @@ def test_error_in_overrides_names_the_overrides(tmp_path):
 
 def test_value_from_file_judged_after_overrides(tmp_path):
     """A field written in the file but made invalid by an override is reported where the
-    override wrote what made it invalid, else in the file."""
+    override wrote what made it invalid: of two fields one of which bounds the other, the one
+    written last is named."""
     path = _write(tmp_path, "settle_time: 1\nmax_time: 5\n")
     with pytest.raises(ScenarioError) as info:
         load_scenario(path, overrides="settle_time: 6")
-    assert (info.value.origin, info.value.field, info.value.line) == (str(path), "max_time", 2)
+    assert (info.value.origin, info.value.field, info.value.line) == \
+        (f"{path} (overrides)", "settle_time", 1)
+    assert info.value.problem == "must be < max_time (5 s), got 6 s: the pick starts when " \
+                                 "settling ends"
+    with pytest.raises(ScenarioError) as info:  # written last in the file: there
+        load_scenario(path, overrides="pick: {hold_time: 1}\nmax_time: 0.5")
+    assert (info.value.origin, info.value.field, info.value.line) == \
+        (f"{path} (overrides)", "max_time", 2)
 
 
 def test_a_default_value_has_no_line(tmp_path):
@@ -168,3 +177,88 @@ def test_a_later_layer_chooses_between_pose_and_random_pose(tmp_path):
                                       "random_pose: {}}}")
     assert "object.random_pose" in str(e.value) and "(overrides)" in str(e.value)
     assert "not both" in str(e.value)
+
+
+# ---- overrides as given through the API: bytes, wrong types ------------------------------------
+
+
+def test_overrides_given_as_bytes_are_read_as_a_file_is(tmp_path):
+    path = _write(tmp_path, "seed: 1\n")
+    assert load_scenario(path, overrides=b"seed: 5").seed == 5
+    assert load_scenario(path, overrides=[b"\xef\xbb\xbfseed: 5", "seed: 6"]).seed == 6  # BOM
+    from gbh_drake.scenario import dump_resolved
+
+    text = "seed: 7\nscan: {num_views: 1}\ngbh: {preset: paper}\n"
+    assert dump_resolved(load_scenario(path, overrides=text.encode())) == \
+        dump_resolved(load_scenario(path, overrides=text))
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path, overrides="seed: 5".encode("utf-16"))
+    assert str(info.value) == f"{path} (overrides): is UTF-16 text; save it as UTF-8"
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path, overrides=["seed: 2", b"# caf\xe9\nseed: 5"])
+    assert str(info.value) == (f"{path} (overrides 2 of 2): line 1, column 6: is not UTF-8 text "
+                               "(byte 0xe9); save it as UTF-8")
+
+
+@pytest.mark.parametrize(("overrides", "where", "got"), [
+    (None, "overrides", "None (a NoneType)"),
+    (3, "overrides", "3 (an int)"),
+    ({"seed": 3}, "overrides", "{'seed': 3} (a dict)"),
+    (["seed: 3", None], "overrides[1]", "None (a NoneType)"),
+])
+def test_overrides_that_are_not_yaml_text_are_refused(tmp_path, overrides, where, got):
+    path = _write(tmp_path, "seed: 1\n")
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path, overrides=overrides)
+    assert str(info.value) == (f"{path} ({where}): expected YAML text (a str, or bytes in UTF-8) "
+                               f"or a list of them, got {got}")
+
+
+@pytest.mark.parametrize("filename", [None, 3, b"x.yaml", Scenario()])
+def test_a_file_name_that_is_not_a_path_is_refused(filename):
+    with pytest.raises(ScenarioError, match=r"^load_scenario\(\): filename: expected a scenario "
+                                            r"file's path \(a str or Path\), got "):
+        load_scenario(filename)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: validate_scenario("x.yaml", "o"),
+    lambda: __import__("gbh_drake.scenario.loader").scenario.loader.apply_overrides("x.yaml", ""),
+    lambda: __import__("gbh_drake.scenario.loader").scenario.loader.dump_resolved("x.yaml"),
+])
+def test_a_path_where_a_scenario_is_expected_is_named(call):
+    with pytest.raises(ScenarioError, match=r"\(\): scenario: expected a Scenario \(of a file: "
+                                            r"gbh_drake.scenario.load_scenario\(path\)\), got "
+                                            r"'x.yaml' \(a str\)"):
+        call()
+
+
+# ---- relative paths: an override's are the current folder's, a file's its folder's ---------------
+
+
+def test_a_relative_path_in_an_override_is_relative_to_the_current_folder(tmp_path, monkeypatch):
+    here, there = tmp_path / "here", tmp_path / "there"
+    here.mkdir()
+    there.mkdir()
+    import trimesh
+
+    for folder in (here, there):
+        trimesh.creation.box((0.05, 0.05, 0.05)).export(folder / "cube.obj")
+    path = _write(there, "output_dir: out\nobject: {mesh: cube.obj}\n")
+    monkeypatch.chdir(here)
+    from_file = load_scenario(path)
+    assert from_file.output_path() == there / "out"
+    assert from_file.resolve(from_file.object.mesh) == there / "cube.obj"
+    overridden = load_scenario(path, overrides=["output_dir: out", "object: {mesh: cube.obj}"])
+    assert overridden.output_dir == str(here / "out") and overridden.output_path() == here / "out"
+    assert overridden.object.mesh == str(here / "cube.obj")
+    default = load_scenario(SCENARIOS_DIR / "default.yaml", overrides="output_dir: out")
+    assert default.output_path() == here / "out"  # (not the packaged scenarios folder)
+    assert load_scenario(path, overrides="output_dir: ~/out").output_dir == "~/out"  # absolute
+    in_code = apply_overrides(Scenario(source_path=str(path)), "output_dir: out")
+    assert in_code.output_path() == here / "out"
+    (here / "cube.obj").unlink()
+    with pytest.raises(ScenarioError) as info:  # the error names the override and its path
+        load_scenario(path, overrides="object: {mesh: cube.obj}")
+    assert (info.value.origin, info.value.field) == (f"{path} (overrides)", "object.mesh")
+    assert str(here / "cube.obj") in info.value.problem

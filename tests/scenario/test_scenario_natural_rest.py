@@ -42,7 +42,8 @@ def test_stable_is_the_default_and_unchanged():
     ("{object: {random_pose: {rest: upright}}}", "object.random_pose.rest", "one of stable, natural"),
     ("{object: {random_pose: {rest: natural, stable: false}}}", "object.random_pose.stable",
      "give one of them"),
-    ("{object: {mesh: meshes/staple.obj, pose: {translation: [0.55, 0, 0]}}}\n"
+    (f"{{object: {{mesh: {SCENARIOS_DIR / 'meshes' / 'staple.obj'}, "  # (an override's path is
+     "pose: {translation: [0.55, 0, 0]}}}\n"                        # the current folder's)
      "---\n{object: {random_pose: {rest: natural}}}", "object.random_pose.rest",
      "a mesh file (object.mesh) has none"),
 ])

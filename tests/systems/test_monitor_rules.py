@@ -137,3 +137,21 @@ def test_nothing_left_after_a_retry_says_so():
     assert w.verdict.outcome == Outcome.NO_REACHABLE_GRASP
     assert w.verdict.reason == ("no grasp left to try (a retry: 1 earlier grasp came away empty; "
                                 "3 grasps near it skipped)")
+
+
+@pytest.mark.parametrize(("config", "p_OV", "message"), [
+    ({}, np.zeros((4, 3)), "CageMonitor(): config: expected a MonitorConfig (a scenario's "
+                           "monitor) or None, got {} (a dict)"),
+    (None, np.zeros(3), "CageMonitor(): p_OV: expected an (n, 3) array of finite vertices (m, in "
+                        "the body frame), got array([0., 0., 0.]) (a ndarray)"),
+    (None, np.full((2, 3), np.nan), "CageMonitor(): p_OV: expected an (n, 3) array of finite "
+                                    "vertices (m, in the body frame), got array([[nan, nan, nan], "
+                                    "[nan, nan, nan]]) (a ndarray)"),
+])
+def test_the_monitor_names_an_argument_of_the_wrong_type(config, p_OV, message):
+    """(Before the plant is read: an empty dict was taken for no config, silently.)"""
+    from gbh_drake.systems import CageMonitor
+
+    with pytest.raises(TypeError) as info:
+        CageMonitor(None, "mug_classic", p_OV, config)
+    assert str(info.value) == message
