@@ -40,32 +40,14 @@ def scan_key(task) -> str:
 def _scan_task(args):
     """Scans one trial (see the module docstring) into ``path``."""
     path, scenario_yaml, source_path, is_control, candidates = args
-    import logging
-
     import numpy as np
-    from pydrake.common.yaml import yaml_load_typed
-    from pydrake.systems.analysis import Simulator
+    from sweep_thresholds import scanned_trial  # tools/, this script's folder
 
     from gbh_drake.perception.scan import first_look, scan_object
     from gbh_drake.perception.view_choice import candidate_configs
-    from gbh_drake.scenario import Scenario
     from gbh_drake.station import scene_query_port
-    from gbh_drake.trial import build_trial
 
-    logging.getLogger("drake").setLevel(logging.WARNING)
-    scenario = yaml_load_typed(schema=Scenario, data=scenario_yaml)
-    scenario.source_path = source_path
-    trial = build_trial(scenario)
-    simulator = Simulator(trial.diagram)
-    simulator.Initialize()
-    port = trial.scanner.GetOutputPort("mesh_W")
-    t = scenario.settle_time
-    while True:  # until the scan is taken (once the object is still)
-        simulator.AdvanceTo(t)
-        scan = port.Eval(trial.scanner.GetMyContextFromRoot(simulator.get_context()))
-        if scan.taken_at == scan.taken_at or t > 10.0:  # not nan
-            break
-        t += 0.05
+    scenario, trial, simulator, scan = scanned_trial(scenario_yaml, source_path)
     station_context = trial.station.GetMyContextFromRoot(simulator.get_context())
     query = trial.station.GetOutputPort(scene_query_port(scenario.scan.renderer_name)).Eval(
         station_context)
