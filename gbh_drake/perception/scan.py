@@ -44,6 +44,8 @@ from gbh_drake.perception.depth import valid_depth
 from gbh_drake.perception.fusion import integrate, masked_depths, view_points
 from gbh_drake.perception.noise import sensor_depth
 from gbh_drake.perception.segment import (
+    ROI_MARGIN,
+    ROI_SCALE,
     Segmentation,
     bounding_sphere,
     box_faces_reached,
@@ -60,10 +62,6 @@ from gbh_drake.perception.viewpoints import (
 
 trimesh = lazy_module("trimesh")
 
-#: The views' points are read in a cube around the first look's bounding sphere: half side
-#: ROI_SCALE x its radius + ROI_MARGIN (m).
-ROI_SCALE = 1.1
-ROI_MARGIN = 0.03
 #: Views fit the table (when no first look did) to every TABLE_FIT_STRIDE-th row and column's
 #: points: 1.8 mm apart at 0.5 m in 640 x 480 images, several per the fit's 5 mm cells, a
 #: quarter of the points (10 views: about 3 million points otherwise).

@@ -134,7 +134,7 @@ def first_look_candidates(look, config: ScanConfig, params: GbhParams | None = N
     from gbh_drake.core.object_model import prepare_object
     from gbh_drake.core.params import CompletionParams
     from gbh_drake.core.results import GbhInputError
-    from gbh_drake.perception.scan import ROI_MARGIN, ROI_SCALE  # the scan's region
+    from gbh_drake.perception.segment import ROI_MARGIN, ROI_SCALE  # the scan's region
 
     mesh = first_look_model(look, config)
     if len(mesh.faces) == 0:
