@@ -122,5 +122,8 @@ for _spec in (
                "after a lift that came away empty, then the tiers after the failed one",
                tiers=(Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK), gripper="wedge",
                needs_gripper=True, max_retries=1, beyond_paper=True),
+    MethodSpec("gbh_completed", "GbH on the scan completed by symmetry: the unseen side of a "
+               "body of revolution added, the unseen space it calls free with confidence taken "
+               "as free (the paper's future work, shape completion)", beyond_paper=True),
 ):
     register_spec(_spec)

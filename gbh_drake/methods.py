@@ -20,6 +20,8 @@ Shipped (``Scenario.grasp_method``):
 * ``gbh_regrasp`` (:class:`GbhRegrasp`, beyond the paper): GbH, then, when it finds a structure
   but no hook grasp of the object as it lies, a regrasp: a pinch sets the object down in a
   resting pose in which GbH can hook it, a re-scan, and GbH on the new scan;
+* ``gbh_completed`` (:class:`GbhCompleted`, beyond the paper): GbH on the scan completed by
+  symmetry (:mod:`gbh_drake.core.completion`);
 * ``gbh_plus`` (:class:`GbhPlus`, beyond the paper): all of it in one: GbH, the scoop, the
   regrasp, then the antipodal fallback; after a lift that came away empty, one retry.
 
@@ -52,6 +54,7 @@ from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.hangability_detector import HangabilityDetector
 from gbh_drake.systems.regrasp_planner import RegraspPlanner
 from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
+from gbh_drake.systems.shape_completer import ShapeCompleter
 
 
 @dataclass
@@ -268,6 +271,23 @@ class GbhRegrasp(GraspMethod):
                                                       poses=planner.get_output_port()))
 
 
+class GbhCompleted(GraspMethod):
+    """GbH on the scan completed by shape completion (beyond the paper; the paper's Sec. 4
+    remedy for one view): a ``ShapeCompleter`` between the Scanner and GbH's detector. The
+    pick plans on the scan as taken."""
+
+    spec = method_spec("gbh_completed")
+
+    def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
+        systems: dict[str, System] = {}
+        completer = _add(builder, systems, "shape_completer",
+                         ShapeCompleter(scenario.completion, seed=seeds.sampling))
+        builder.Connect(scan, completer.get_input_port())
+        add_gbh(builder, scenario, seeds, completer.get_output_port(), systems)
+        return _gbh_source(systems, add_search(builder, systems, scan, hook=True,
+                                               scenario=scenario))
+
+
 class GbhPlus(GraspMethod):
     """Everything in one (beyond the paper): GbH; then a scoop of material lying flat; then a
     regrasp into a pose GbH can hook; then the antipodal fallback, bar folded; and, when a lift
@@ -333,5 +353,6 @@ def method_named(name: str) -> GraspMethod:
         raise KeyError(f"no grasp method {name!r} (known: {', '.join(_REGISTRY)})") from None
 
 
-for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhPlus()):
+for _method in (Gbh(), Antipodal(), GbhFallback(), GbhScoop(), GbhRegrasp(), GbhPlus(),
+                GbhCompleted()):
     register_method(_method)

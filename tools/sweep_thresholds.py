@@ -55,12 +55,12 @@ from pathlib import Path
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
-def _scan_task(args):
-    """(key, scan record) of one trial: the scanned mesh, the ground and the truth (parts in W)."""
-    key, scenario_yaml, source_path = args
+def scanned_trial(scenario_yaml: str, source_path):
+    """(scenario, trial, simulator, scan): the trial of ``scenario_yaml`` (its file
+    ``source_path``) built and simulated until its Scanner has taken the scan (once the object
+    is still; at most 10 simulated seconds), as ``gbh experiment`` would."""
     import logging
 
-    import numpy as np
     from pydrake.common.yaml import yaml_load_typed
     from pydrake.systems.analysis import Simulator
 
@@ -81,6 +81,15 @@ def _scan_task(args):
         if getattr(scan, "taken_at", t) == getattr(scan, "taken_at", t) or t > 10.0:  # not nan
             break
         t += 0.05
+    return scenario, trial, simulator, scan
+
+
+def _scan_task(args):
+    """(key, scan record) of one trial: the scanned mesh, the ground and the truth (parts in W)."""
+    key, scenario_yaml, source_path = args
+    import numpy as np
+
+    scenario, trial, _, scan = scanned_trial(scenario_yaml, source_path)
     X = trial.station.X_WO_initial
     parts = [(np.asarray(X.multiply(p.center_O)), 0.5 * p.clear_diameter + 0.02)
              for p in trial.station.asset.hangable_parts]

@@ -395,8 +395,9 @@ def count_unknown_in_sweep(free: FreeSpace, X_WG: np.ndarray, grid_G: np.ndarray
                            ground_normal: np.ndarray, ground_height: float,
                            surface_distance=None, surface_band: float = 0.0) -> np.ndarray:
     """(M,) int: for each pose X_WG (M, 4, 4), how many of the points ``grid_G`` (n, 3, in G)
-    lie in space no camera saw free (``free.observed_free`` at its margin), more than
-    ``free.margin`` above the supporting plane (``ground_normal . p = ground_height``, W: the
+    lie in space not known free (``free.known_free``: no camera saw it free, nor did a
+    completion call it free with confidence), more than ``free.margin`` above the supporting
+    plane (``ground_normal . p = ground_height``, W: the
     table's own noise band is not free) and, when ``surface_distance`` (a function of (k, 3)
     points in W giving their distance to the scanned surface, m) is given, farther than
     ``surface_band`` from the scanned surface."""
@@ -410,7 +411,7 @@ def count_unknown_in_sweep(free: FreeSpace, X_WG: np.ndarray, grid_G: np.ndarray
     pose = np.repeat(np.arange(len(X)), len(grid_G))
     keep = p @ n > ground_height + free.margin
     p, pose = p[keep], pose[keep]
-    unknown = ~free.observed_free(p)
+    unknown = ~free.known_free(p)
     p, pose = p[unknown], pose[unknown]
     if surface_distance is not None and len(p):
         far = surface_distance(p) > surface_band

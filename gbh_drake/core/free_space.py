@@ -52,6 +52,12 @@ class DepthView:
     """This view's own margin (m) for :meth:`FreeSpace.observed_free` (a view taken from
     farther away, or with coarser pixels, than the others); None: the FreeSpace's."""
 
+    def footprint(self, point_W) -> float:
+        """m: how wide this view's pixel is at ``point_W`` (3,): its depth over the focal length."""
+        p = np.asarray(point_W, dtype=float).reshape(3)
+        z = float(self.X_CW[2, :3] @ p + self.X_CW[2, 3])
+        return abs(z) / min(self.fx, self.fy)
+
     def free_mask(self, points_W: np.ndarray, margin: float) -> np.ndarray:
         """(n,) bool: the points (n, 3) this view saw free (in the image, in front of the camera
         and at least ``margin`` metres nearer than the depth at their pixel)."""
@@ -130,6 +136,28 @@ class FreeSpace:
                      for v in other.views)
         return FreeSpace(own + more, self.margin, max(self.depth_error, other.depth_error))
 
+    def eroded(self, pixels: int = 1, coarser_than: tuple | None = None) -> FreeSpace:
+        """A copy whose every pixel holds the least depth of its (2 ``pixels`` + 1)^2
+        neighbourhood (NaN, nothing known, if any of them is): a point is then seen free only
+        if the rays of its pixel's neighbours passed it too. A pixel's one ray can pass beside a
+        thin rim or wall that covers part of the pixel (a first look's pixel is 5 mm wide at
+        0.8 m), which would make the whole pixel's column "free" through it.
+        ``coarser_than`` (p_W (3,), footprint m): only the views whose pixels are wider than
+        that at the point p_W (:meth:`DepthView.footprint`) are eroded."""
+        from scipy.ndimage import minimum_filter
+
+        size = 2 * int(pixels) + 1
+        views = []
+        for view in self.views:
+            if coarser_than is not None and view.footprint(coarser_than[0]) <= coarser_than[1]:
+                views.append(view)
+                continue
+            depth = np.where(np.isnan(view.depth), -np.inf, view.depth).astype(np.float32)
+            depth = minimum_filter(depth, size=size, mode="nearest")
+            views.append(dataclasses.replace(
+                view, depth=np.where(np.isneginf(depth), np.float32(np.nan), depth)))
+        return dataclasses.replace(self, views=tuple(views))
+
     def view_margin(self, view: DepthView) -> float:
         """The margin (m) ``view`` is asked with: its own, else this free space's."""
         return self.margin if view.margin is None else view.margin
@@ -165,6 +193,15 @@ class FreeSpace:
             q_W = (ray_C * d[:, None] - t) @ R  # the point it measured; X_WC = X_CW^-1
             seen[i] = np.abs(q_W @ n - height) <= tolerance
         return seen
+
+    def known_free(self, points_W: np.ndarray) -> np.ndarray:
+        """(n,) bool: the points (n, 3, m, in W) the GbH core may take as free (the
+        through-hole proof, the unknown space of the closing sweep): here the points a camera
+        saw free (:meth:`observed_free`); a completed scan's free space
+        (:class:`gbh_drake.core.completion.CompletedFreeSpace`) adds the unseen points its
+        completion calls free with confidence. The lift's unseen space asks
+        :meth:`observed_free` alone."""
+        return self.observed_free(points_W)
 
     def observed_free(self, points_W: np.ndarray, margin: float | None = None) -> np.ndarray:
         """(n,) bool: the points (n, 3, m, in W) at least one view saw free: in its image, in

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gbh_drake.core.completion import CompletedFreeSpace
 from gbh_drake.core.free_space import FreeSpace
 from gbh_drake.core.geometry import fibonacci_cap, fibonacci_sphere, orthonormal_basis, unit
 from gbh_drake.core.lazy import lazy_module
@@ -136,9 +137,17 @@ def _best_contact_angle(obj: ObjectModel) -> float:
 
 
 def contact_candidates(obj: ObjectModel, params: GbhParams) -> np.ndarray:
-    """Indices of samples whose outward normal points to the CoM within ``contact_angle_deg``."""
+    """Indices of samples whose outward normal points to the CoM within ``contact_angle_deg``.
+    On a completed scan (its free space a :class:`~gbh_drake.core.completion.CompletedFreeSpace`)
+    only samples of material a camera saw: a hanging contact on the completion's guess of the
+    unseen side would hook a loop that may not be there (the completion closes false holes and
+    counts in the collision checks, it makes no structure)."""
     cos, far = _normal_to_com_cosines(obj)
-    return np.flatnonzero((cos > np.cos(np.radians(params.contact_angle_deg))) & far)
+    ok = (cos > np.cos(np.radians(params.contact_angle_deg))) & far
+    if isinstance(obj.free_space, CompletedFreeSpace) and obj.free_space.completion is not None:
+        idx = np.flatnonzero(ok)
+        ok[idx[obj.free_space.completion.on_surface(obj.points[idx])]] = False
+    return np.flatnonzero(ok)
 
 
 def _normal_to_com_cosines(obj: ObjectModel) -> tuple[np.ndarray, np.ndarray]:
@@ -332,9 +341,10 @@ def unknown_floor(obj: ObjectModel, free: FreeSpace, params: GbhParams) -> float
 def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.ndarray,
                      ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
                      max_length: float = np.inf) -> np.ndarray:
-    """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in observed-free space
-    (``free.observed_free`` at its margin) from c until they are ``_RAY_BEYOND_BOX_SPACINGS``
-    sample spacings out of the mesh's bounding box, or ``max_length`` (m) from c if that comes
+    """Mask (P,): the rays from c (P, 3) along +v and -v (P, 3) run in known-free space
+    (``free.known_free``: seen free, or completed free with confidence) from c until they are
+    ``_RAY_BEYOND_BOX_SPACINGS`` sample spacings out of the mesh's bounding box, or
+    ``max_length`` (m) from c if that comes
     first (``GbhParams.through_proof_length``), sampled every half spacing. All samples
     must be free: one unseen stretch may be the material the view did not see. Samples lower
     than ``floor`` along ``ground_normal`` (:func:`unknown_floor`) are not asked: the table is
@@ -357,7 +367,7 @@ def observed_through(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: np.nda
     n_g = np.asarray(ground_normal, dtype=float)
     used &= samples @ (n_g / np.linalg.norm(n_g)) > floor
     free_mask = np.ones(used.shape, dtype=bool)
-    free_mask[used] = free.observed_free(samples[used])
+    free_mask[used] = free.known_free(samples[used])
     return free_mask.all(axis=1).reshape(2, -1).all(axis=0)
 
 
@@ -371,7 +381,8 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
                           ground_normal=(0.0, 0.0, 1.0), floor: float = -np.inf,
                           length: float = 0.025, max_angle_deg: float = 60.0) -> np.ndarray:
     """Mask (P,): some straight line through c (P, 3) within ``max_angle_deg`` of the hole's
-    axis v (P, 3) runs in observed-free space (``free.observed_free`` at its margin) for
+    axis v (P, 3) runs in known-free space (``free.known_free``: seen free at its margin, or
+    completed free with confidence) for
     ``length`` (m) on both sides of c, every sample (half a sample spacing apart) higher than
     ``floor`` along ``ground_normal`` (:func:`unknown_floor`).
 
@@ -393,7 +404,7 @@ def observed_through_line(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
     ok = above.all(axis=2)  # (P, L): lines that stay out of the table band
     free_mask = np.zeros(samples.shape[:3], dtype=bool)
     ask = ok[:, :, None] & np.ones(len(s), dtype=bool)
-    free_mask[ask] = free.observed_free(samples[ask])
+    free_mask[ask] = free.known_free(samples[ask])
     return (ok & free_mask.all(axis=2)).any(axis=1)
 
 
@@ -432,7 +443,9 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
       inside the band is not the table;
     * or runs ``max_length`` (m) from c: far enough;
 
-    and every sample before that end must be observed free (:meth:`FreeSpace.observed_free`).
+    and every sample before that end must be known free (:meth:`FreeSpace.known_free`: seen
+    free, or, on a completed scan, free by the completion with confidence; never merely
+    unseen).
     A hole's neighbourhood seen free proves only that much: the cup one view looked into has a
     far wall 4-7 cm out that the view never saw, and a line that ends there leads nowhere
     (docs/thresholds.md)."""
@@ -455,7 +468,7 @@ def observed_through_exit(obj: ObjectModel, free: FreeSpace, c: np.ndarray, v: n
         end = np.where(ends.any(axis=2), ends.argmax(axis=2), len(t))  # (P, L)
         asked = np.arange(len(t))[None, None, :] < end[:, :, None]
         free_mask = np.ones(asked.shape, dtype=bool)
-        free_mask[asked] = free.observed_free(samples[asked])
+        free_mask[asked] = free.known_free(samples[asked])
         side = free_mask.all(axis=2)
         at_floor = (end < len(t)) & below[np.arange(len(c))[:, None],
                                           np.arange(d.shape[1])[None], np.minimum(end, len(t) - 1)]

@@ -514,3 +514,49 @@ class RegraspParams:
     """At most this many resting poses are planned for, best first."""
     max_pinches: int = ranged(10, Int(1, 100))
     """At most this many of the fallback's pinches are planned for each resting pose."""
+
+
+#: Completions of a partial scan (:class:`CompletionParams`): ``symmetry`` (a body of
+#: revolution about a fitted axis, :mod:`gbh_drake.core.completion`).
+COMPLETIONS = ("symmetry",)
+
+
+@dataclass
+class CompletionParams:
+    """Shape completion of a partial scan (beyond the paper: its Sec. 4 names shape completion as
+    the remedy for one view; method ``gbh_completed``, :mod:`gbh_drake.core.completion`). The
+    unseen space is classified likely occupied, likely free or uncertain; GbH runs on the scan
+    with the completed surface added, and takes as free what a camera saw free or what the
+    completion calls free with ``confidence`` (the exit proof, the unknown space of a sweep)."""
+
+    method: str = ranged("symmetry", OneOf(COMPLETIONS))
+    """``symmetry``: the body as a surface of revolution about an axis fitted to the scan's
+    normals (or the table's normal), its seen cells voting per ring (r, h) about the axis."""
+    confidence: float = ranged(0.9, Range(0.5, 1.0, lo_open=True, hi_open=True))
+    """An unseen point is likely occupied (free) when the posterior probability of its ring
+    being occupied (free) is at least this: the completed surface is the contour at this level,
+    and only likely-free unseen space proves a hole. Provisional: not yet swept over both object
+    sets (``tools/sweep_oneview.py ... --sweep confidence=...``, docs/one_view.md)."""
+    prior: float = ranged(1.0, Pos(100.0))
+    """Beta pseudo-counts on each side of a ring's votes (1: uniform): a ring needs about
+    ``prior`` x confidence / (1 - confidence) votes of one kind and none of the other to be
+    confident (9 cells at 0.9)."""
+    cell: float = ranged(0.0025, Range(0.001, 0.02, unit="m",
+                                       note="the votes' grid is coarsened to 800 000 cells"))
+    """m: the voting grid's cell and the rings' width in r and h: the TSDF voxel of the scan, so
+    that a wall of two voxels is two rings."""
+    erode: str = ranged("none", OneOf(("none", "coarse", "all")))
+    """Which views' free space a completed scan takes only where a pixel's neighbours agree
+    (``FreeSpace.eroded``), for the completion's votes and the GbH core: ``none`` (the
+    default: every view as it is); ``coarse``, the views whose pixels are wider than ``cell``
+    at the object (the first look's, 5 mm at 0.8 m: their one ray per pixel can pass beside a
+    thin rim and "see through" the wall under it); ``all``. Opt-in until swept over both
+    object sets (``tools/sweep_oneview.py ... --sweep erode=none,coarse``, docs/one_view.md)."""
+    min_explained: float = ranged(0.7, Range(0.0, 1.0))
+    """The completion is made only when at least this fraction of the measured cells lie in
+    rings where they are the majority (the body of revolution explains at least this much of
+    what was seen); else nothing is completed and unseen space stays unknown. Measured on
+    one-view scans of the own set: bodies of revolution with a handle or a spout 0.73-0.98, a
+    box or a bag 0.09-0.32 (a box seen face-on, ray cast without noise: 0.53-0.60, its face a
+    disk about any axis along its normal). Provisional: not yet swept over both object sets
+    (``tools/sweep_oneview.py ... --sweep min_explained=...``, docs/one_view.md)."""

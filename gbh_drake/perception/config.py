@@ -27,6 +27,10 @@ from gbh_drake.core.ranges import (
 #: Viewpoint layouts: ``ring`` (all views at ``elevation_deg``) or ``spiral`` (views spread over
 #: the band of the hemisphere from ``elevation_deg`` to ``elevation_max_deg``).
 LAYOUTS = ("spiral", "ring")
+#: How a one-view scan's view is chosen: ``fixed`` (from ``azimuth_deg``, ``elevation_deg``) or
+#: ``holes`` (the candidate view that sees the first look's candidate holes best,
+#: ``perception.view_choice``).
+VIEW_CHOICES = ("fixed", "holes")
 #: Pixels a scan may render and fuse in all (views x width x height).
 MAX_SCAN_PIXELS = 40_000_000
 #: A camera distance's bounds: what the camera measures.
@@ -75,6 +79,17 @@ class ScanConfig:
     the region the first look framed (the first look saw only part of it): the region is grown
     to the sphere around all the object seen so far, the views re-aimed and backed off to fit it,
     and the scan taken again. 0: never (the warning stays)."""
+
+    view_choice: str = ranged("fixed", OneOf(VIEW_CHOICES))
+    """With one view (``num_views: 1``): ``fixed``, the view from ``azimuth_deg`` and
+    ``elevation_deg`` (the paper's one view); ``holes``, the candidate view that sees the
+    first look's candidate holes best (``perception.view_choice``: a next-best-view score over
+    the fixed view and a spiral of ``view_candidates`` views, each aimed and backed off as the
+    fixed one). Ignored with more than one view."""
+    view_candidates: int = ranged(10, Int(1, 100))
+    """With ``view_choice: holes``: how many candidate views besides the fixed one (a spiral
+    over the band ``elevation_deg``-``elevation_max_deg``, the layout of as many views: for
+    10, the ten-view scan's)."""
 
     # --- When to scan (the Scanner with a scan time and the object's state connected) ---
     still_speed: float = ranged(0.003, Pos(1.0, "m/s"))

@@ -44,6 +44,8 @@ from gbh_drake.perception.depth import valid_depth
 from gbh_drake.perception.fusion import integrate, masked_depths, view_points
 from gbh_drake.perception.noise import sensor_depth
 from gbh_drake.perception.segment import (
+    ROI_MARGIN,
+    ROI_SCALE,
     Segmentation,
     bounding_sphere,
     box_faces_reached,
@@ -51,6 +53,7 @@ from gbh_drake.perception.segment import (
 )
 from gbh_drake.perception.self_filter import robot_masks, without_pixels
 from gbh_drake.perception.table import TablePlane, fit_table_plane
+from gbh_drake.perception.view_choice import chosen_config
 from gbh_drake.perception.viewpoints import (
     camera_poses,
     first_look_poses,
@@ -60,10 +63,6 @@ from gbh_drake.perception.viewpoints import (
 
 trimesh = lazy_module("trimesh")
 
-#: The views' points are read in a cube around the first look's bounding sphere: half side
-#: ROI_SCALE x its radius + ROI_MARGIN (m).
-ROI_SCALE = 1.1
-ROI_MARGIN = 0.03
 #: Views fit the table (when no first look did) to every TABLE_FIT_STRIDE-th row and column's
 #: points: 1.8 mm apart at 0.5 m in 640 x 480 images, several per the fit's 5 mm cells, a
 #: quarter of the points (10 views: about 3 million points otherwise).
@@ -87,8 +86,8 @@ class ScanResult:
     """The workspace box (W): nothing outside it was scanned."""
     timing: dict[str, float] = field(default_factory=dict)
     """Wall-clock seconds of the stages, which add up to the whole scan: ``first_look`` (render
-    and segment), ``render`` (the views), ``segment`` (noise, points, table and clusters),
-    ``fuse`` (TSDF, cut, clean-up), ``cap``."""
+    and segment), ``view_choice`` (with ``view_choice: holes``), ``render`` (the views),
+    ``segment`` (noise, points, table and clusters), ``fuse`` (TSDF, cut, clean-up), ``cap``."""
     empty: bool = False
     message: str = ""
     warnings: list[str] = field(default_factory=list)
@@ -202,6 +201,9 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
                       robot_labels=robot_labels) if config.aim_views else None
     look_s = time.perf_counter() - start
     timing: dict[str, float] = {"first_look": look_s, "render": 0.0}
+    config, choice = chosen_config(look, config)  # one view, chosen (view_choice: holes)
+    if choice is not None:
+        timing["view_choice"] = choice.seconds
     reframes = 0
     while True:
         result, aim, distance = _aimed_scan(query_object, config, p_WT, look, noise_seed, timing,

@@ -31,6 +31,11 @@ ndimage = lazy_module("scipy.ndimage")
 spatial = lazy_module("scipy.spatial")
 
 _CONNECTIVITY = np.ones((3, 3, 3), dtype=bool)
+#: The views' points are read in a cube around the first look's bounding sphere: half side
+#: ROI_SCALE x its radius + ROI_MARGIN (m) (``perception.scan.object_region``; the view
+#: choice's completion of the first look votes in the same region).
+ROI_SCALE = 1.1
+ROI_MARGIN = 0.03
 
 KNOWN_MARGIN = 0.015
 """A cluster is the already known object's if one of its points is this close (m) to a known

@@ -20,7 +20,13 @@ from pydrake.systems.analysis import SimulatorConfig
 from pydrake.systems.sensors import CameraConfig
 from pydrake.visualization import VisualizationConfig
 
-from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams, ScoopParams
+from gbh_drake.core.params import (
+    AntipodalParams,
+    CompletionParams,
+    GbhParams,
+    RegraspParams,
+    ScoopParams,
+)
 from gbh_drake.core.ranges import (
     FilePath,
     Int,
@@ -259,8 +265,9 @@ class Scenario:
     grasp_method: str = ranged("gbh", Registered(method_names, "registered in gbh_drake/method_spec.py"))
     """How grasps are chosen: a registered method (:mod:`gbh_drake.method_spec`): ``gbh`` (the
     paper), ``antipodal`` (the two-straight-finger baseline), ``gbh_fallback`` (GbH, then an
-    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``
-    and ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry)."""
+    antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``,
+    ``gbh_plus`` (GbH, scoop, regrasp, fallback, one retry) and ``gbh_completed`` (GbH on the
+    scan completed by symmetry, ``completion``)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
     scoop: ScoopParams = section(ScoopParams, Relation(
@@ -271,6 +278,9 @@ class Scenario:
     regrasp: RegraspParams = field(default_factory=RegraspParams)
     """The regrasp (methods ``gbh_regrasp``, ``gbh_plus``): how often, which resting poses, how
     many pinches are planned for."""
+    completion: CompletionParams = field(default_factory=CompletionParams)
+    """Shape completion of the scan's unseen side (method ``gbh_completed``, beyond the paper):
+    the completion, its confidence, its grid."""
     pick: PickConfig = section(
         PickConfig, Relation("<=", "robot.hand.max_force", "the fingers' actuators apply at "
                              "most that", field="cage_test_force"),

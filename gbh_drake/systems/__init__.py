@@ -5,6 +5,7 @@ Perception and grasps:
 * :class:`Scanner`: depth views fused by TSDF into the object's mesh (``mesh_W``);
 * :class:`DepthImageScanner`: the same scan from camera streams (depth images and camera poses
   on input ports, real or simulated);
+* :class:`ShapeCompleter`: the scan's unseen side completed by symmetry (beyond the paper);
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
   paper's three stages (hanging structures, hook grasps, the ranked top 10);
 * :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
@@ -25,6 +26,7 @@ Python values travel on ``Value[object]`` ports, which Drake's ``Connect()`` doe
 from gbh_drake.systems.scanner import Scanner, no_scan  # noqa: I001  (dependency order)
 from gbh_drake.systems.depth_image_scanner import DepthImageScanner
 from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.shape_completer import ShapeCompleter
 from gbh_drake.systems.hangability_detector import Hangability, HangabilityDetector
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.grasp_scorer import GraspScorer
@@ -57,6 +59,7 @@ __all__ = [
     "PickAndCarry",
     "PickStatus",
     "Scanner",
+    "ShapeCompleter",
     "Verdict",
     "WristLoad",
     "build_checked",

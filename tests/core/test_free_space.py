@@ -251,3 +251,35 @@ def test_the_exit_proof_ends_at_the_table_only_where_the_table_was_seen(params, 
     found = detect_hangable_structures(front_of(ring, X), q, free_space=fs)
     assert any(abs(s.v[2]) > 0.9 and np.linalg.norm(s.c[:2]) < 0.01 for s in found) \
         == (not floor_plate)
+
+
+def test_an_eroded_view_does_not_see_past_a_thin_rod_beside_its_pixel():
+    """A wall at 1 m and a one-pixel-wide rod at 0.5 m in front of it (one camera at the origin
+    looking along +z_W): a point 0.7 m out in the rod's neighbour pixel is seen free by that
+    pixel's one ray; eroded by one pixel (``FreeSpace.eroded``), it is free only where every
+    neighbour's ray passed it too, so not there, while a point far from the rod stays free.
+    ``coarser_than`` erodes only the views whose pixel is wider than the given footprint."""
+    depth = np.full((H, W), 1.0, np.float32)
+    u_rod = W // 2
+    depth[:, u_rod] = 0.5
+    fs = FreeSpace.from_depth_images([depth], F, F, CX, CY, [np.eye(4)], margin=0.01,
+                                     depth_max=2.0)
+    beside = np.array([(u_rod + 1 + 0.5 - CX) / F, 0.0, 1.0]) * 0.7  # the next pixel, at 0.7 m
+    far = np.array([(5 + 0.5 - CX) / F, 0.0, 1.0]) * 0.7
+    pts = np.stack([beside, far])
+    assert fs.observed_free(pts).tolist() == [True, True]
+    assert fs.eroded().observed_free(pts).tolist() == [False, True]
+    footprint = fs.views[0].footprint(beside)
+    assert footprint == pytest.approx(0.7 / F)
+    assert fs.eroded(coarser_than=(beside, 2 * footprint)).observed_free(pts).tolist() == \
+        [True, True]  # the view is finer than asked: left as it is
+    assert fs.eroded(coarser_than=(beside, 0.5 * footprint)).observed_free(pts).tolist() == \
+        [False, True]
+    # A pixel with no depth (NaN) makes its neighbours unknown too.
+    holey = depth.copy()
+    holey[0, 5] = np.nan
+    near_nan = np.array([(6 + 0.5 - CX) / F, (0 + 0.5 - CY) / F, 1.0]) * 0.7
+    fs2 = FreeSpace.from_depth_images([holey], F, F, CX, CY, [np.eye(4)], margin=0.01,
+                                      depth_max=2.0)
+    assert fs2.observed_free(near_nan[None]).all()
+    assert not fs2.eroded().observed_free(near_nan[None]).any()
