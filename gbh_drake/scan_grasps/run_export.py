@@ -94,7 +94,8 @@ def trial_result(done, scan, X_BW: np.ndarray):
     ranked = value(source.grasps) if source.candidates is not None else []
     report = None
     if hangability is not None and not structures and hangability.object is not None:
-        report = detect_with_report(hangability.object, scenario.gbh, trial.seeds.sampling)[1]
+        report = hangability.report or detect_with_report(hangability.object, scenario.gbh,
+                                                          trial.seeds.sampling)[1]
     table = table_in(scan.table, X_BW) if scan.table is not None else None
     scan_B = dataclasses.replace(scan, mesh_W=_mesh_in(scan.mesh_W, X_BW)) \
         if not np.allclose(X_BW, np.eye(4)) else scan
