@@ -5,7 +5,7 @@ Drawn in B (Meshcat's world) with :mod:`gbh_drake.viz.gbh_meshcat`, as the trial
 the studio draw GbH (colours: :mod:`gbh_drake.viz.palette`): the scanned object (translucent
 blue), the hanging structures (red c, black axis v, hit and missed rays) and the positions the
 detector refused (grey), the ranked grasps (yellow keypoint lines, the best one's solid model in
-green, its flange frame as axes: x red, y green, z blue), the refused candidates that came
+cyan, its flange frame as axes: x red, y green, z blue), the refused candidates that came
 closest to passing (purple), the table (a thin grey slab) and B's own axes at the origin. The
 drawing functions are shared: the studio (:mod:`gbh_drake.studio`) draws a trial's result with
 them, one grasp at a time (:func:`draw_grasp`).
@@ -92,8 +92,8 @@ def draw_refused(meshcat, refused, prefix: str = "gbh", folder: str = "refused")
 
 def draw_grasp(meshcat, grasp, path: str, gripper=HOOK_GRIPPER) -> None:
     """One ranked :class:`~gbh_drake.scan_grasps.result.Grasp` at ``path``: the open gripper at
-    the grasp (green lines and solid model, ``<path>/open``), the gripper closed where it
-    closes (dark green, ``<path>/closed``) and the flange frame at the grasp
+    the grasp (cyan lines and solid model, ``<path>/open``), the gripper closed where it
+    closes (dark cyan, ``<path>/closed``) and the flange frame at the grasp
     (``<path>/flange``)."""
     from gbh_drake.viz.gbh_meshcat import CHOSEN, CLOSED, GRIPPER, draw_gripper
 

@@ -7,10 +7,10 @@ Colours are :mod:`gbh_drake.viz.palette`'s (one home, with the legend that names
   plus four barbs), hit rays red from c_i to the blue hit points H_i, missed rays green (paper
   Fig. 5a); the positions the detector refused as small grey spheres;
 * grasps: the gripper's keypoint polyline (p2-p4-p5-p3-p1 and the hand axis p7-p6) in yellow for
-  every ranked grasp, the chosen one in green with the solid model's boxes, open or closed;
-  refused ones in purple;
-* cameras: their frusta (teal; the first look's paler); points (what the cameras did not see,
-  magenta; what they saw free, pale cyan).
+  every ranked grasp, the chosen one in cyan with the solid model's boxes, open or closed
+  (darker); refused ones in purple;
+* cameras: their frusta (brown; the first look's paler); points (what the cameras did not see,
+  magenta; what they saw free, white).
 
 Everything is drawn in the frame the mesh is given in (Meshcat's world). Paths live under
 ``prefix`` so one call of :func:`clear` removes them.

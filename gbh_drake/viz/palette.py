@@ -5,9 +5,9 @@ The simulated object keeps its own colour (the built-in objects' own, a mesh fil
 :data:`~gbh_drake.modeling.object_asset.MESH_RGBA`); everything drawn over it has a colour of
 its own, far from the others in hue: the scan (translucent blue), the hanging structures (the
 paper's Figs. 4-5: red c, black axis v, red hit and green missed rays, blue contacts H), the
-ranked grasps (yellow lines), the chosen grasp (green, with its solid model), the refused
-grasps (purple), the cameras (teal frusta), the space they did not see (magenta) and the space
-they saw free (pale cyan).
+ranked grasps (yellow lines), the chosen grasp (cyan, with its solid model; darker closed),
+the refused grasps (purple), the cameras (brown frusta), the space they did not see (magenta)
+and the space they saw free (white).
 """
 
 from __future__ import annotations
@@ -25,17 +25,17 @@ AXIS: RGBA = (0.0, 0.0, 0.0, 1.0)
 MISSED: RGBA = (0.1, 0.7, 0.2, 1.0)
 CONTACTS: RGBA = (0.1, 0.3, 0.9, 1.0)
 RANKED: RGBA = (0.95, 0.8, 0.05, 1.0)
-CHOSEN: RGBA = (0.05, 0.75, 0.3, 1.0)
-CHOSEN_SOLID: RGBA = (0.05, 0.75, 0.3, 0.55)
-CLOSED: RGBA = (0.0, 0.45, 0.2, 1.0)
-"""The chosen grasp's gripper closed (darker green)."""
+CHOSEN: RGBA = (0.0, 0.8, 0.85, 1.0)
+CHOSEN_SOLID: RGBA = (0.0, 0.8, 0.85, 0.35)
+CLOSED: RGBA = (0.0, 0.4, 0.5, 1.0)
+"""The chosen grasp's gripper closed (darker cyan)."""
 REFUSED: RGBA = (0.55, 0.2, 0.8, 1.0)
 REFUSED_POSITION: RGBA = (0.35, 0.35, 0.35, 1.0)
 """A hanging position the detector refused (too small, not a through-hole, exit proof)."""
-CAMERA: RGBA = (0.0, 0.55, 0.65, 1.0)
-FIRST_LOOK: RGBA = (0.45, 0.75, 0.8, 1.0)
+CAMERA: RGBA = (0.55, 0.35, 0.1, 1.0)
+FIRST_LOOK: RGBA = (0.8, 0.65, 0.45, 1.0)
 UNSEEN: RGBA = (0.9, 0.15, 0.7, 0.8)
-FREE: RGBA = (0.6, 0.9, 1.0, 0.5)
+FREE: RGBA = (1.0, 1.0, 1.0, 0.6)
 
 
 @dataclass(frozen=True)
