@@ -4,6 +4,7 @@
 #
 #   ./dev.sh run [SCENARIO.yaml] [gbh run options]   run a scenario (default: scenarios/default.yaml)
 #   ./dev.sh test [pytest options]                   lint (ruff) and run the test suite
+#   ./dev.sh docs [mkdocs serve options]             serve the documentation site on 127.0.0.1:8000
 #   ./dev.sh setup                                   only set up (.venv/ at the repository root)
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -66,5 +67,6 @@ case "$cmd" in
   run)   exec "$VENV/bin/gbh" run "$@" ;;
   test)  "$VENV/bin/ruff" check gbh_drake tests bench tools
          exec "$VENV/bin/python" -m pytest "$@" ;;
-  *)     echo "usage: ./dev.sh run|test|setup [args]" >&2; exit 2 ;;
+  docs)  NO_MKDOCS_2_WARNING=1 exec "$VENV/bin/mkdocs" serve --dev-addr 127.0.0.1:8000 "$@" ;;
+  *)     echo "usage: ./dev.sh run|test|docs|setup [args]" >&2; exit 2 ;;
 esac

@@ -56,24 +56,24 @@ def _scenario_arg(parser: argparse.ArgumentParser) -> None:
                              "to the file's folder")
 
 
-def _input_error(error: BaseException) -> str | None:
-    """The one-line message of a known input error, None for anything else (a bug)."""
-    from gbh_drake.outputs import OutputError
+#: Known input errors: (module, class, what the one line says). A module not imported yet
+#: raised none of its errors (its import is not paid for to find out).
+INPUT_ERRORS = (
+    ("gbh_drake.outputs", "OutputError", "cannot write outputs"),
+    ("gbh_drake.scenario", "ScenarioError", "invalid scenario"),
+    ("gbh_drake.objects.mesh_io", "MeshImportError", "invalid mesh"),
+    ("gbh_drake.objects.sets", "ObjectSetError", "invalid object set"),
+    ("gbh_drake.scan_grasps.errors", "GraspsInputError", "invalid input"),
+)
 
-    if isinstance(error, OutputError):
-        return f"cannot write outputs: {error}"
-    scenario = sys.modules.get("gbh_drake.scenario")
-    if scenario is not None and isinstance(error, scenario.ScenarioError):
-        return f"invalid scenario: {error}"
-    mesh_io = sys.modules.get("gbh_drake.objects.mesh_io")
-    if mesh_io is not None and isinstance(error, mesh_io.MeshImportError):
-        return f"invalid mesh: {error}"
-    sets = sys.modules.get("gbh_drake.objects.sets")
-    if sets is not None and isinstance(error, sets.ObjectSetError):
-        return f"invalid object set: {error}"
-    grasps_errors = sys.modules.get("gbh_drake.scan_grasps.errors")
-    if grasps_errors is not None and isinstance(error, grasps_errors.GraspsInputError):
-        return f"invalid input: {error}"
+
+def _input_error(error: BaseException) -> str | None:
+    """The one-line message of a known input error (:data:`INPUT_ERRORS`), None for anything
+    else (a bug)."""
+    for module, name, what in INPUT_ERRORS:
+        loaded = sys.modules.get(module)
+        if loaded is not None and isinstance(error, getattr(loaded, name)):
+            return f"{what}: {error}"
     return None
 
 

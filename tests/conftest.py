@@ -33,6 +33,18 @@ def _work_in_tmp_path(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
 
 
+@pytest.fixture(autouse=True)
+def _methods_registered_by_a_test_stay_in_it(monkeypatch):
+    """A method a test registers (register_method, register_spec) is gone after the test, so
+    no later test (e.g. the generated errors table) sees it."""
+    import sys
+
+    for module, name in (("gbh_drake.method_spec", "_SPECS"), ("gbh_drake.methods", "_REGISTRY")):
+        if module in sys.modules:
+            table = getattr(sys.modules[module], name)
+            monkeypatch.setattr(sys.modules[module], name, dict(table))
+
+
 @pytest.fixture
 def staple_mesh():
     return make_staple()

@@ -256,7 +256,8 @@ def _finished(store: RowStore, tasks, *, warn=None) -> dict:
             done[task.key] = row
     if stale:
         raise ExperimentError(
-            f"{store.path}: {len(stale)} rows were made with other scenarios than this "
+            str(store.path), "", None,
+            f"{len(stale)} rows were made with other scenarios than this "
             f"experiment's (its base, method overrides, pose or seed changed since), e.g. "
             f"{stale[0]}; write to another folder (--out), or move {ROWS_FILE} away to start "
             "over")
