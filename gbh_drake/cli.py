@@ -6,6 +6,10 @@
     gbh grasps INPUT [--table-z Z] [--html FILE] ...   ranked grasps for a mesh, point cloud or
                                                        depth images you have (in the robot's base
                                                        frame)
+    gbh studio [SCENARIO.yaml] [--objects SET.yaml] [--mesh FILE] [--port N]
+                                                       an interactive Meshcat page: choose an
+                                                       object and its pose, scan, detect, step
+                                                       through the grasps, execute one
     gbh diagram [SCENARIO.yaml] [--out DIR]            write the station's and the trial's diagrams
                                                        (default output/diagrams/)
     gbh objects list [--set SET.yaml] [--csv|--json]   an object set: sizes, masses, hangable parts
@@ -37,6 +41,7 @@ from pathlib import Path
 from gbh_drake import SCENARIOS_DIR, __version__, interrupts
 from gbh_drake.experiment import cli as experiment_cli
 from gbh_drake.scan_grasps import cli as grasps_cli
+from gbh_drake.studio import cli as studio_cli
 
 #: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
 #: package's); relative paths in it resolve against its own folder, as in any scenario file.
@@ -209,6 +214,7 @@ def main(argv: list[str] | None = None) -> int:
                        help="also write the scan's depth images (16-bit PNG) and views.yaml "
                             "into <output>/views/ (gbh grasps reads them back)")
     grasps_cli.add_subcommand(sub)  # gbh grasps
+    studio_cli.add_subcommand(sub, _scenario_arg)  # gbh studio
 
     p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
@@ -241,6 +247,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "grasps":
         quiet_drake(verbose=args.verbose)
         return grasps_cli.run_command(args, parser)
+    if args.command == "studio":
+        quiet_drake(verbose=args.verbose)
+        return studio_cli.run_command(args, parser)
     from gbh_drake.scenario import load_scenario
 
     # A mesh's warnings (size, mass, repairs) are said once, in the run's summary (or in the

@@ -313,23 +313,34 @@ def _draw_frames(meshcat: Meshcat, station: Station, frames: Frames) -> None:
 
 
 def _follow(meshcat: Meshcat, asset, frames: Frames, cameras: float = 0.0) -> None:
-    """Frames the object at the start (a narrow lens, from :data:`CAMERA_DIRECTION`,
-    :data:`VIEW_RADII` of its radius away, or far enough to see cameras ``cameras`` m from it)
-    and keeps it there: the scene (``/drake``, where everything is drawn, and the grid) moves
-    back by as much as the object moved, which looks as a camera following it does. (Moving
-    the camera itself turns it: Meshcat's orbit controls keep it looking at their fixed
-    target.)"""
-    lo, hi = np.asarray(asset.mesh.bounds, dtype=float)
-    centre_O, radius = 0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo))
-    distance = float(np.clip(max(VIEW_RADII * radius, CAMERAS_IN_VIEW * cameras), MIN_VIEW,
-                             MAX_VIEW))
+    """Frames the object at the start (:func:`frame`) and keeps it there: the scene (``/drake``,
+    where everything is drawn, and the grid) moves back by as much as the object moved, which
+    looks as a camera following it does. (Moving the camera itself turns it: Meshcat's orbit
+    controls keep it looking at their fixed target.)"""
+    centre_O, radius = extent(asset)
     p = np.array([_centre_W(x, centre_O) for x in frames.object])
-    meshcat.SetCamera(Meshcat.PerspectiveCamera(fov=FOV_DEG, near=0.01, far=100.0))
-    meshcat.SetCameraPose(camera_in_world=p[0] + distance * CAMERA_DIRECTION,
-                          target_in_world=p[0])
+    frame(meshcat, p[0], radius, cameras)
     for t, p_t in zip(frames.t, p, strict=True):
         for path in ("/drake", "/Grid"):
             meshcat.SetTransform(path, RigidTransform(p[0] - p_t), float(t))
+
+
+def frame(meshcat: Meshcat, centre_W, radius: float, cameras: float = 0.0) -> None:
+    """Points Meshcat's camera at ``centre_W`` (3,) through a narrow lens (:data:`FOV_DEG`),
+    from :data:`CAMERA_DIRECTION`, :data:`VIEW_RADII` times ``radius`` (m) away, or far enough
+    to see cameras ``cameras`` m from it (within [:data:`MIN_VIEW`, :data:`MAX_VIEW`])."""
+    centre_W = np.asarray(centre_W, dtype=float)
+    distance = float(np.clip(max(VIEW_RADII * radius, CAMERAS_IN_VIEW * cameras), MIN_VIEW,
+                             MAX_VIEW))
+    meshcat.SetCamera(Meshcat.PerspectiveCamera(fov=FOV_DEG, near=0.01, far=100.0))
+    meshcat.SetCameraPose(camera_in_world=centre_W + distance * CAMERA_DIRECTION,
+                          target_in_world=centre_W)
+
+
+def extent(asset) -> tuple[np.ndarray, float]:
+    """The object's bounding-box centre (3, in O) and the radius (m) of the sphere round it."""
+    lo, hi = np.asarray(asset.mesh.bounds, dtype=float)
+    return 0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo))
 
 
 def _centre_W(x: np.ndarray, centre_O: np.ndarray) -> np.ndarray:

@@ -300,6 +300,17 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
     max_time = trial_duration(trial.scenario) if max_time is None else max_time
     simulator = Simulator(trial.diagram)
     ApplySimulatorConfig(trial.scenario.simulator_config, simulator)
+    simulator.Initialize()
+    return simulator, finish_trial(trial, simulator, max_time)
+
+
+def finish_trial(trial: Trial, simulator: Simulator, max_time: float, *,
+                 stop: Callable[[], bool] | None = None) -> TrialRecord:
+    """Advances ``simulator`` (of ``trial``'s diagram, initialized, in whatever state it is:
+    :func:`simulate_trial`'s from the start, the studio's from its scan) until the machine has
+    finished and the object had ``AFTERMATH`` seconds to come to rest, or ``stop()`` is true,
+    or ``max_time`` (simulated s) is reached; returns the record (wall seconds: this advance).
+    The monitor that stops it stays set on ``simulator``."""
     status_port = trial.pick.GetOutputPort("status")
 
     def monitor(root_context):
@@ -308,11 +319,12 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
         if status.finished and root_context.get_time() >= \
                 status.phase_start[status.mode.value] + AFTERMATH:
             return EventStatus.ReachedTermination(trial.pick, "the pick has finished")
+        if stop is not None and stop():
+            return EventStatus.ReachedTermination(trial.pick, "stopped")
         return EventStatus.Succeeded()
 
     simulator.set_monitor(monitor)
     start = time.perf_counter()
-    simulator.Initialize()
     try:
         simulator.AdvanceTo(max_time)
     except RuntimeError as e:
@@ -331,9 +343,8 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
         else:
             record.outcome, record.success, record.held_by = Outcome.ERROR, False, HeldBy.NONE
             record.reason = f"the simulation failed: {what}; no outcome"
-        return simulator, record
-    wall = time.perf_counter() - start
-    return simulator, make_record(trial, simulator, wall)
+        return record
+    return make_record(trial, simulator, time.perf_counter() - start)
 
 
 @dataclass
