@@ -61,11 +61,11 @@ def run_command(args, parser) -> int:
     if base.simulator_config.target_realtime_rate == 0:
         base.simulator_config.target_realtime_rate = 1.0  # watchable, as gbh run --meshcat
     objects = object_choices(base, args.sets, args.meshes)
-    meshcat = local_meshcat(args.port)
-    session = Session(base, objects, meshcat=meshcat)
+    session = Session(base, objects)
     for index, choice in enumerate(objects):  # a mesh file that cannot be used: exit 2 now
         if choice.config.mesh:
             session.asset(index)
+    meshcat = session.meshcat = local_meshcat(args.port)
     studio = Studio(session, meshcat)
     print(f"gbh studio: {meshcat.web_url()}  (open it in a browser; Ctrl-C ends it)", flush=True)
     try:

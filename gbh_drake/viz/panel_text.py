@@ -18,6 +18,9 @@ WIDTH = 40
 MARK = "\u00b7 "
 #: Appended (repeated) to a line that equals an earlier one: control names are unique.
 _PAD = "\u200b"
+#: Quotes and backslashes as typographic look-alikes: Meshcat's page puts a button's name in a
+#: quoted JavaScript string.
+_QUOTES = str.maketrans({"'": "\u2019", '"': "\u201d", "\\": "/"})
 
 
 class PanelText:
@@ -31,7 +34,7 @@ class PanelText:
         """Replaces the lines shown by ``lines`` (each wrapped to :data:`WIDTH`)."""
         self.clear()
         for line in wrapped(lines):
-            name = MARK + line
+            name = MARK + line.translate(_QUOTES)
             while name in self._names:
                 name += _PAD
             self._meshcat.AddButton(name)

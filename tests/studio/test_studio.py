@@ -5,10 +5,15 @@ tests press them); assertions on the scene tree, the panel's text and the trial'
 
 from __future__ import annotations
 
+import signal
+import subprocess
+import sys
+
 import msgpack
 import numpy as np
 import pytest
 
+from gbh_drake.cli import main
 from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.loader import apply_overrides
 from gbh_drake.studio.choices import DROP, Choices, object_choices, overrides
@@ -100,3 +105,39 @@ def test_scan_detect_slide_to_rank_2_execute_and_reset_from_the_page():
     assert session.simulator.get_context().get_time() == pytest.approx(scanned)
     assert session.stage == "detected" and session.record is None
     assert not any(line.startswith("verdict:") for line in studio.text.lines)
+
+
+def test_gbh_studio_help_says_what_it_does_and_how_to_leave(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["studio", "--help"])
+    assert exit_.value.code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for words in ("Detect", "Execute", "rank slider", "--objects", "--mesh", "--port",
+                  "until Ctrl-C (SIGINT) or SIGTERM (exit 0)", "docs/studio.md"):
+        assert words in out, words
+
+
+@pytest.mark.sim
+def test_a_mesh_file_that_cannot_be_used_exits_2_naming_it(tmp_path, capsys):
+    bad = tmp_path / "cup.obj"
+    bad.write_text("v 0 0 0\n")
+    assert main(["studio", "--mesh", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("gbh: invalid mesh: ") and "cup.obj" in err and "\n" not in err
+
+
+@pytest.mark.sim
+def test_gbh_studio_serves_the_placed_object_until_sigterm_then_exits_0():
+    process = subprocess.Popen([sys.executable, "-m", "gbh_drake.cli", "studio", "--set",
+                                "scan: {num_views: 1}"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    try:
+        url = process.stdout.readline()
+        assert url.startswith("gbh studio: http://localhost:") and "Ctrl-C ends it" in url
+        placed = process.stdout.readline()
+        assert placed.startswith("placed: gbh run --set '{seed: 0, grasp_method: gbh, ")
+        process.send_signal(signal.SIGTERM)
+        assert process.wait(timeout=60) == 0
+    finally:
+        process.kill()
+    assert process.stderr.read() == ""
