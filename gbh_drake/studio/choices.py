@@ -66,7 +66,7 @@ def object_choices(scenario, sets: list[str | Path] = (), meshes: list[str | Pat
     """The objects the studio offers: the scenario's own first, then the built-in set, each
     object of the manifests ``sets``, then the mesh files ``meshes`` (in metres, their z up)."""
     from gbh_drake.objects.catalog import list_objects
-    from gbh_drake.objects.sets import entry_name, load_object_set
+    from gbh_drake.objects.sets import load_object_set
 
     own = _absolute(scenario.object, scenario)
     choices = [ObjectChoice(_label(own), own)]
@@ -74,9 +74,8 @@ def object_choices(scenario, sets: list[str | Path] = (), meshes: list[str | Pat
                 if _label(own) != name]
     for path in sets:
         object_set = load_object_set(path)
-        for entry in object_set.objects:
-            name = entry_name(entry)
-            config = ObjectConfig(set=str(object_set.path), name=name)
+        for name in object_set.names:
+            config = ObjectConfig(set=str(Path(object_set.path).resolve()), name=name)
             choices.append(ObjectChoice(f"{object_set.name}/{name}", config))
     for path in meshes:
         path = Path(path).resolve()

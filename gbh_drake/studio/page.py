@@ -144,8 +144,13 @@ def detection_lines(detection) -> list[str]:
             f"{rule} {removed.get(rule, 0)}" for rule in RULES) +
             f"; {detection.rejections.passed} passed")
     n = sum(o.rule == "" for o in detection.offered)
-    lines.append(f"{n} grasps offered ({detection.clock})" if n else
-                 "no grasp offered: the rank slider shows the refused ones that came closest")
+    if n:
+        lines.append(f"{n} grasps offered ({detection.clock})")
+    elif detection.offered:
+        lines.append("no grasp offered: the rank slider shows the refused ones that came "
+                     "closest")
+    else:
+        lines.append(f"no grasp offered ({detection.clock})")
     return lines
 
 

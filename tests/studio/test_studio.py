@@ -67,6 +67,8 @@ def test_scan_detect_slide_to_rank_2_execute_and_reset_from_the_page():
     assert session.scenario.scan.num_views == 4 and len(session.scan.X_WCs) == 4
     assert meshcat.HasPath("studio/cameras/views/3") and meshcat.HasPath("studio/object")
     assert any(line.startswith("scan: 4 views") for line in studio.text.lines)
+    press(meshcat, "Free space")
+    assert studio.step() == ["Free space"] and meshcat.HasPath("studio/free_space")
 
     press(meshcat, "Detect")
     assert studio.step() == ["Detect"]
@@ -77,6 +79,8 @@ def test_scan_detect_slide_to_rank_2_execute_and_reset_from_the_page():
     assert RANK in meshcat.GetSliderNames()
     assert any("candidates; removed: collision N_c" in line for line in studio.text.lines)
     assert studio.rank == 0 and meshcat.HasPath("studio/grasp/open/fingers")
+    assert meshcat.HasPath("studio/near/0")  # the refused candidates nearest to it
+    assert any(line.startswith("near (") and "refused by " in line for line in studio.text.lines)
 
     meshcat.SetSliderValue(RANK, 1)
     assert studio.step() == [RANK] and studio.rank == 1
@@ -141,3 +145,49 @@ def test_gbh_studio_serves_the_placed_object_until_sigterm_then_exits_0():
     finally:
         process.kill()
     assert process.stderr.read() == ""
+
+
+def test_the_objects_offered_are_the_scenarios_the_built_in_set_a_manifests_and_mesh_files(
+        tmp_path):
+    import trimesh
+
+    from gbh_drake import REPO_ROOT
+    from gbh_drake.objects.catalog import list_objects
+    from gbh_drake.objects.sets import load_object_set
+
+    mesh = tmp_path / "cup.obj"
+    trimesh.creation.box([0.05, 0.05, 0.08]).export(mesh)
+    manifest = REPO_ROOT / "scenarios" / "object_sets" / "own.yaml"
+    objects = object_choices(Scenario(), [manifest], [mesh])
+    labels = [o.label for o in objects]
+    own = load_object_set(manifest)
+    assert labels[0] == "mug_classic" and labels.count("mug_classic") == 1
+    assert set(list_objects()) <= set(labels)
+    assert [f"{own.name}/{n}" for n in own.names] == labels[-1 - len(own.names):-1]
+    assert objects[-2].config.set == str(manifest.resolve())
+    assert labels[-1] == "cup.obj" and objects[-1].config.mesh == str(mesh.resolve())
+
+
+@pytest.mark.sim
+def test_a_mesh_file_chosen_with_the_object_slider_without_structure_has_nothing_to_execute(
+        tmp_path):
+    import trimesh
+
+    mesh = tmp_path / "block.obj"
+    trimesh.creation.box([0.05, 0.05, 0.08]).export(mesh)
+    meshcat = local_meshcat()
+    base = apply_overrides(Scenario(), "{scan: {num_views: 1}}")
+    objects = object_choices(base, meshes=[mesh])
+    studio = Studio(Session(base, objects, meshcat=meshcat), meshcat, say=lambda _: None)
+    meshcat.SetSliderValue("object", len(objects) - 1)
+    assert studio.step() == ["object"]
+    assert any("changed: Reset or Scan places it" in line for line in studio.text.lines)
+    press(meshcat, "Execute")  # places, scans and detects first
+    assert studio.step() == ["Execute"]
+    session = studio.session
+    assert session.scenario.object.mesh == str(mesh.resolve()) and session.record is None
+    assert session.detection.result.none.outcome == "no_hangable_structure"
+    assert RANK not in meshcat.GetSliderNames()
+    lines = studio.text.lines
+    assert lines[0].startswith("block.obj: ") and "no grasp offered (" in " ".join(lines)
+    assert any(line.startswith("nothing to execute: the method offered") for line in lines)
