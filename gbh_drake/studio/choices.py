@@ -17,7 +17,7 @@ its footprint's centre then).
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -57,8 +57,6 @@ class Choices:
     method: str = "gbh"
     preset: str = ""
     seed: int = 0
-    extra: dict = field(default_factory=dict)
-    """Nothing the controls set (room for a caller's own)."""
 
 
 def object_choices(scenario, sets: list[str | Path] = (), meshes: list[str | Path] = ()
