@@ -51,6 +51,7 @@ fingers over the place position.
 from __future__ import annotations
 
 import copy
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -119,6 +120,28 @@ class _State(CopiedShallowly):
     """The ``scan_request`` output: [n, x, y, z] (n: scans asked for since the first)."""
 
 
+def _check_arguments(*, config, hand, settle_time, period, ground_clearance, max_retries,
+                     scan_height) -> None:
+    """:class:`PickAndCarry`'s arguments, each named in a ``TypeError``/``ValueError`` (a
+    diagram of one's own builds it by hand, without a scenario's checks)."""
+    if not isinstance(config, PickConfig):
+        raise TypeError(f"PickAndCarry: config must be a PickConfig, got {type(config).__name__}")
+    if not isinstance(hand, HandConfig):
+        raise TypeError(f"PickAndCarry: hand must be a HandConfig, got {type(hand).__name__}")
+    for name, value, low in (("settle_time", settle_time, 0.0), ("period", period, None),
+                             ("ground_clearance", ground_clearance, 0.0),
+                             ("scan_height", scan_height, None)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value):
+            raise TypeError(f"PickAndCarry: {name} must be a finite number (s or m), got {value!r}")
+        if (low is not None and value < low) or (name == "period" and value <= 0):
+            raise ValueError(f"PickAndCarry: {name} must be "
+                             f"{'positive' if name == 'period' else 'at least 0'}, got {value!r}")
+    if isinstance(max_retries, bool) or not isinstance(max_retries, (int, np.integer)) \
+            or max_retries < 0:
+        raise ValueError(f"PickAndCarry: max_retries must be an integer >= 0, got {max_retries!r}")
+
+
 class PickAndCarry(LeafSystem):
     """Plans and executes one pick (see the module docstring).
 
@@ -180,6 +203,9 @@ class PickAndCarry(LeafSystem):
         :attr:`~gbh_drake.method_spec.MethodSpec.tiers`; the first must be ``grasps``);
         ``gripper``: the hook gripper's geometry (the variant the station runs)."""
         super().__init__()
+        _check_arguments(config=config, hand=hand, settle_time=settle_time, period=period,
+                         ground_clearance=ground_clearance, max_retries=max_retries,
+                         scan_height=scan_height)
         self._directives = list(directives)
         self._config = config
         self._hand = hand

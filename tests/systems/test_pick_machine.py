@@ -23,3 +23,25 @@ def test_the_machine_declares_one_input_per_port_of_its_tiers():
     with pytest.raises(ValueError, match="tiers must start with grasps"):
         PickAndCarry(s.station_directives(), s.pick, s.robot.hand, settle_time=0.3,
                      tiers=(Tier.FALLBACK,))
+
+
+@pytest.mark.parametrize("argument, value, error", [
+    ("settle_time", float("nan"), "settle_time must be a finite number"),
+    ("period", 0.0, "period must be positive"),
+    ("ground_clearance", -0.01, "ground_clearance must be at least 0"),
+    ("max_retries", 1.5, "max_retries must be an integer"),
+    ("scan_height", "0.06", "scan_height must be a finite number"),
+])
+def test_a_machine_built_by_hand_names_its_bad_argument(argument, value, error):
+    """Before any model is parsed: a diagram of one's own builds the machine without a
+    scenario's checks."""
+    s = Scenario()
+    kwargs = {"settle_time": 0.3, argument: value}
+    with pytest.raises((TypeError, ValueError), match=error):
+        PickAndCarry(s.station_directives(), s.pick, s.robot.hand, **kwargs)
+
+
+def test_a_machine_without_a_pick_config_says_so():
+    s = Scenario()
+    with pytest.raises(TypeError, match="config must be a PickConfig, got dict"):
+        PickAndCarry(s.station_directives(), {}, s.robot.hand, settle_time=0.3)
