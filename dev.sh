@@ -29,6 +29,12 @@ setup_system() {
     as_root apt-get update -qq
     as_root apt-get install -y -qq graphviz
   fi
+  # Chromium opens the studio's page in the browser test (tests/studio/test_studio_browser.py).
+  if ! command -v chromium >/dev/null 2>&1; then
+    echo "dev.sh: installing Chromium from Debian"
+    as_root apt-get update -qq
+    as_root apt-get install -y -qq chromium
+  fi
 }
 
 setup_venv() {

@@ -31,7 +31,7 @@ def run_trial(scenario_or_path: Scenario | str | Path | None = None, *,
     a :class:`~gbh_drake.scenario.Scenario` built in code (checked first); ``overrides``: YAML
     text (a str, or bytes read from a file: decoded as UTF-8), or several applied in order, on
     top, as ``gbh run --set`` (a relative path in them is relative to the current folder);
-    ``meshcat``: a ``pydrake.geometry.Meshcat`` to draw and record the trial in (its scene is
+    ``meshcat``: a ``pydrake.geometry.Meshcat`` to draw the trial in as it runs (its scene is
     cleared first), or None. Raises :class:`~gbh_drake.scenario.ScenarioError` for a bad
     scenario or overrides (a value of the wrong type too), TypeError for a ``meshcat`` that is
     not one."""
@@ -51,4 +51,5 @@ def run_trial(scenario_or_path: Scenario | str | Path | None = None, *,
         scenario = apply_overrides(scenario, overrides, scenario.source_path or "<in memory>")
     else:
         scenario = load_scenario(scenario_or_path, overrides=overrides)
-    return record_trial(scenario, meshcat=meshcat, keep_replay=False).record
+    return record_trial(scenario, meshcat=meshcat, keep_replay=False,
+                        live=meshcat is not None).record

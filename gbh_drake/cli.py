@@ -1,11 +1,15 @@
 """The ``gbh`` command line.
 
-    gbh run [SCENARIO.yaml] [--meshcat [--port N]] [--set YAML] [--save-views]
+    gbh run [SCENARIO.yaml] [--meshcat [--port N] [--keep-open S]] [--set YAML] [--save-views]
                                                        simulate a scenario (default: the packaged
                                                        scenarios/default.yaml)
     gbh grasps INPUT [--table-z Z] [--html FILE] ...   ranked grasps for a mesh, point cloud or
                                                        depth images you have (in the robot's base
                                                        frame)
+    gbh studio [SCENARIO.yaml] [--objects SET.yaml] [--mesh FILE] [--port N]
+                                                       an interactive Meshcat page: choose an
+                                                       object and its pose, scan, detect, step
+                                                       through the grasps, execute one
     gbh diagram [SCENARIO.yaml] [--out DIR]            write the station's and the trial's diagrams
                                                        (default output/diagrams/)
     gbh objects list [--set SET.yaml] [--csv|--json]   an object set: sizes, masses, hangable parts
@@ -37,6 +41,7 @@ from pathlib import Path
 from gbh_drake import SCENARIOS_DIR, __version__, interrupts
 from gbh_drake.experiment import cli as experiment_cli
 from gbh_drake.scan_grasps import cli as grasps_cli
+from gbh_drake.studio import cli as studio_cli
 
 #: What ``gbh run`` and ``gbh diagram`` read without a file (the checkout's or the installed
 #: package's); relative paths in it resolve against its own folder, as in any scenario file.
@@ -196,14 +201,20 @@ def main(argv: list[str] | None = None) -> int:
     p_run = sub.add_parser("run", help="simulate a scenario and write its Meshcat replay")
     _scenario_arg(p_run)
     p_run.add_argument("--meshcat", action="store_true",
-                       help="serve the live Meshcat view (its URL is printed) and wait for "
-                            "Enter before exiting")
+                       help="serve the live Meshcat view (its URL is printed), then the replay "
+                            "there, and keep it open until Enter or Ctrl-C (SIGINT) or SIGTERM "
+                            "(in any process: without a terminal, stdin's end waits for the "
+                            "signal)")
+    p_run.add_argument("--keep-open", type=float, default=None, metavar="SECONDS",
+                       help="with --meshcat: keep the view open this many seconds after the "
+                            "run instead (Ctrl-C ends it sooner)")
     p_run.add_argument("--port", type=int, default=None,
                        help="the live Meshcat server's port (default: the first free from 7000)")
     p_run.add_argument("--save-views", action="store_true",
                        help="also write the scan's depth images (16-bit PNG) and views.yaml "
                             "into <output>/views/ (gbh grasps reads them back)")
     grasps_cli.add_subcommand(sub)  # gbh grasps
+    studio_cli.add_subcommand(sub, _scenario_arg)  # gbh studio
 
     p_diag = sub.add_parser("diagram", help="write the station's and the trial's Graphviz diagrams")
     _scenario_arg(p_diag)
@@ -226,6 +237,9 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     if args.command == "run" and args.port is not None and not 0 < args.port < 65536:
         parser.error(f"--port {args.port}: a port is 1-65535")
+    if args.command == "run" and args.keep_open is not None and (
+            not args.meshcat or not 0 <= args.keep_open < float("inf")):
+        parser.error(f"--keep-open {args.keep_open}: seconds >= 0, with --meshcat")
     if args.command == "objects":
         return _objects(args)
     if args.command in experiment_cli.COMMANDS:
@@ -233,6 +247,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "grasps":
         quiet_drake(verbose=args.verbose)
         return grasps_cli.run_command(args, parser)
+    if args.command == "studio":
+        quiet_drake(verbose=args.verbose)
+        return studio_cli.run_command(args, parser)
     from gbh_drake.scenario import load_scenario
 
     # A mesh's warnings (size, mass, repairs) are said once, in the run's summary (or in the
@@ -244,7 +261,8 @@ def main(argv: list[str] | None = None) -> int:
         scenario = load_scenario(args.scenario, overrides=args.overrides)
         quiet_drake(verbose=args.verbose)
         if args.command == "run":
-            return _run(scenario, live=args.meshcat, port=args.port, save_views=args.save_views)
+            return _run(scenario, live=args.meshcat, port=args.port, save_views=args.save_views,
+                        keep_open=args.keep_open)
         return _diagram(scenario, Path(args.out))
     finally:
         objects_log.setLevel(level)
@@ -259,24 +277,23 @@ def quiet_drake(*, verbose: bool = False) -> None:
     logging.getLogger("drake").setLevel(logging.INFO if verbose else logging.WARNING)
 
 
-def _run(scenario, *, live: bool, port: int | None = None, save_views: bool = False) -> int:
+def _run(scenario, *, live: bool, port: int | None = None, save_views: bool = False,
+         keep_open: float | None = None) -> int:
     from gbh_drake.run import run
+    from gbh_drake.viz.meshcat_server import keep_open as keep_serving
     from gbh_drake.viz.meshcat_server import local_meshcat
 
-    # The replay is recorded through Meshcat; its server's URL is said only for a live view.
+    # The replay is drawn in Meshcat after the run; its server's URL is said only for a live
+    # view (the trial is then drawn as it runs, and the replay replaces it).
     meshcat = local_meshcat(port if live else None)
     if live:
-        print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)")
+        print(f"Meshcat: {meshcat.web_url()}  (open it now to watch live)", flush=True)
         if scenario.simulator_config.target_realtime_rate == 0:
             scenario.simulator_config.target_realtime_rate = 1.0  # watchable speed
-    summary = run(scenario, meshcat=meshcat, save_views=save_views)
-    print(summary.to_text())
-    if live and sys.stdin.isatty():
-        try:  # the run is complete: leaving the live view is not an interruption
-            input("Press Enter to exit (the Meshcat page keeps the recording until then) ")
-        except (EOFError, KeyboardInterrupt):
-            interrupts.forget()
-            print()
+    summary = run(scenario, meshcat=meshcat, save_views=save_views, live=live)
+    print(summary.to_text(), flush=True)
+    if live:  # the run is complete: leaving the view is not an interruption
+        keep_serving(meshcat.web_url(), keep_open)
     # A trial whose physics failed before its verdict has no outcome: say so by the exit code.
     return 1 if summary.record.outcome == "error" else 0
 

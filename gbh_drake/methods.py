@@ -39,15 +39,14 @@ import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import DiagramBuilder, OutputPort, System
-from pydrake.systems.primitives import ConstantValueSource
 
 from gbh_drake.core.gripper import GRIPPERS
 from gbh_drake.method_spec import MethodSpec, Tier, method_spec, register_spec
 from gbh_drake.scenario import Scenario
 from gbh_drake.seeds import Seeds
 from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
+from gbh_drake.systems.grasp_list import GraspList
 from gbh_drake.systems.grasp_scorer import GraspScorer
 from gbh_drake.systems.grasp_search import GraspSearchReport
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
@@ -84,6 +83,8 @@ class GraspSource:
     hanging_structures: OutputPort | None = None
     candidates: OutputPort | None = None
     systems: dict[str, System] = field(default_factory=dict)
+    method_tiers: list[GraspTier] | None = None
+    """The method's own tiers when given grasps replaced them (:class:`GivenGrasps`)."""
 
     @property
     def grasps(self) -> OutputPort:
@@ -315,7 +316,10 @@ class GbhPlus(GraspMethod):
 class GivenGrasps(GraspMethod):
     """Executes ``grasps`` (each with ``X_WG`` and ``kind``), through the diagram of ``method``
     (default GbH: its scan analysis still runs and is recorded), instead of its own grasps: a
-    grasp of your own through the same planner, physics and judge (one tier: these grasps)."""
+    grasp of your own through the same planner, physics and judge (one tier: these grasps).
+    The method's own tiers stay in the source (``method_tiers``); the given grasps come from a
+    :class:`~gbh_drake.systems.grasp_list.GraspList` (``systems["given_grasps"]``), which a
+    context may hold others in."""
 
     def __init__(self, grasps: Sequence, method: GraspMethod | None = None):
         self.method = method or Gbh()
@@ -324,9 +328,9 @@ class GivenGrasps(GraspMethod):
 
     def add_systems(self, builder, *, scenario, seeds, scan) -> GraspSource:
         source = self.method.add_systems(builder, scenario=scenario, seeds=seeds, scan=scan)
-        given = _add(builder, source.systems, "given_grasps",
-                     ConstantValueSource(AbstractValue.Make(self.grasps)))
-        source.tiers = [GraspTier(Tier.GRASPS, given.get_output_port())]
+        given = _add(builder, source.systems, "given_grasps", GraspList(self.grasps))
+        source.method_tiers, source.tiers = source.tiers, [
+            GraspTier(Tier.GRASPS, given.get_output_port())]
         return source
 
 

@@ -1,8 +1,9 @@
 """``gbh run``: one scenario, simulated, with its outputs written to its folder.
 
-The steps of :func:`run`: build the trial diagram (:mod:`gbh_drake.trial`), record it in
-Meshcat, simulate until the pick-and-carry machine has finished (task ``pick``) or for the
-settle time (task ``settle``), then write ``replay.html`` (a self-contained Meshcat recording),
+The steps of :func:`run`: build the trial diagram (:mod:`gbh_drake.trial`), simulate until the
+pick-and-carry machine has finished (task ``pick``) or for the settle time (task ``settle``),
+draw its replay in Meshcat from the poses recorded (:mod:`gbh_drake.replay`), then write
+``replay.html`` (a self-contained Meshcat recording),
 ``summary.yaml`` (the :class:`~gbh_drake.trial.TrialRecord`) and ``scenario.yaml`` (the
 resolved scenario, file plus overrides, so that ``gbh run <folder>/scenario.yaml`` repeats the
 run) into the scenario's output folder, all or nothing (:mod:`gbh_drake.outputs`); a pick also
@@ -94,11 +95,12 @@ def _touching(touching: dict[str, list[str]]) -> str:
 
 
 def run(scenario: Scenario, *, meshcat: Meshcat | None = None,
-        save_views: bool = False) -> RunSummary:
+        save_views: bool = False, live: bool = False) -> RunSummary:
     """Simulates ``scenario`` and writes its outputs (see the module docstring); a pick also
     writes its scan and GbH's ranked grasps in the robot's base frame (``scan.ply``,
     ``grasps.json``) and, with ``save_views``, the views' depth images (``views/``:
-    :mod:`gbh_drake.scan_grasps.run_export`).
+    :mod:`gbh_drake.scan_grasps.run_export`). The replay is drawn in ``meshcat`` (default: a
+    server of its own) after the trial; ``live``: the trial is drawn there as it runs too.
 
     The output folder is checked and locked before anything is built (a folder that is a file,
     not writable, on a full disk or in use by another run raises
@@ -108,7 +110,7 @@ def run(scenario: Scenario, *, meshcat: Meshcat | None = None,
     # Check and lock the output folder before anything is built.
     with RunOutputs(scenario.output_path()) as outputs:
         # Build the trial diagram, simulate it, record it (with its Meshcat replay).
-        done = record_trial(scenario, meshcat=meshcat or local_meshcat())
+        done = record_trial(scenario, meshcat=meshcat or local_meshcat(), live=live)
         # What the run did, in words.
         summary = RunSummary(scenario.source_path or "<in memory>", scenario.task, done.record,
                              str(outputs.path("replay.html")), _drift(done))

@@ -13,8 +13,9 @@ systems: GbH's ``HangabilityDetector -> GraspSynthesizer -> GraspScorer``, the
 when it has none. :func:`simulate_trial` advances the simulator until the machine has finished
 (plus :data:`AFTERMATH` for the object to come to rest) and returns a :class:`TrialRecord`:
 what was seen, chosen, refused and judged (the monitor's verdict, copied), and how long each
-stage took. :func:`record_trial` does both and records a Meshcat replay: the one way ``gbh run``
-and the experiment's workers run a trial.
+stage took. :func:`record_trial` does both and draws its Meshcat replay afterwards, from the body
+poses recorded during the trial (:mod:`gbh_drake.replay`): the one way ``gbh run`` and the
+experiment's workers run a trial.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from gbh_drake.method_spec import Tier
 from gbh_drake.methods import GivenGrasps, GraspMethod, GraspSource, method_named
 from gbh_drake.modeling.names import ARM, GRIPPER
 from gbh_drake.modeling.object_asset import ObjectAsset
+from gbh_drake.replay import PoseLog, add_pose_log, draw_replay, replay_page
 from gbh_drake.scenario import Scenario
 from gbh_drake.scenario.loader import require_scenario
 from gbh_drake.seeds import Seeds, derive_seeds
@@ -53,7 +55,8 @@ AFTERMATH = 0.5
 #: How Drake's message starts when SAP fails on a step (the trial then ends with a record:
 #: ``error`` before the cage test is over, the verdict with a warning after it).
 SOLVER_FAILED = "The SAP solver failed to converge"
-#: Where a replay's camera starts: the work area from the front right (orbit it in the browser).
+#: Where a live view's camera starts: the work area from the front right (orbit it in the
+#: browser; a replay is framed on the object: :mod:`gbh_drake.replay`).
 REPLAY_CAMERA = {"camera_in_world": [1.3, -1.0, 0.8], "target_in_world": [0.45, 0.0, 0.15]}
 
 
@@ -71,6 +74,8 @@ class Trial:
     monitor: CageMonitor
     seeds: Seeds
     scenario: Scenario
+    poses: PoseLog | None = None
+    """The arm's, gripper's and object's states as recorded for the replay."""
 
 
 @dataclass
@@ -166,12 +171,15 @@ class TrialRecord:
 
 def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
                 asset: ObjectAsset | None = None, grasps: list | None = None,
-                method: GraspMethod | None = None) -> Trial:
-    """The trial diagram of ``scenario`` (see the module docstring). ``asset`` replaces the
+                method: GraspMethod | None = None, draw_grasps: bool = True) -> Trial:
+    """The trial diagram of ``scenario`` (see the module docstring). ``meshcat``: the station is
+    drawn there as it runs, and with ``draw_grasps`` what GbH saw and chose too (the
+    ``GraspVisualizer``, once planned). ``asset`` replaces the
     scenario's object; ``method`` its grasp method (default: the registered one it names);
     ``grasps`` (each with ``X_WG`` and ``kind``) are executed instead of the method's own
     (:class:`~gbh_drake.methods.GivenGrasps`: a grasp of your own, through the same planner,
-    physics and judge). A ``scenario`` field or an argument of the wrong type raises
+    physics and judge). The arm's, gripper's and object's states are recorded for the replay
+    (``Trial.poses``). A ``scenario`` field or an argument of the wrong type raises
     :class:`~gbh_drake.scenario.ScenarioError` or TypeError naming it; the scenario's ranges
     and relations are :func:`~gbh_drake.scenario.validate_scenario`'s (``load_scenario`` and
     ``run_trial`` check them)."""
@@ -236,7 +244,10 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
     builder.Connect(pick.GetOutputPort("status"), monitor.GetInputPort("pick_status"))
     builder.Connect(source.search, monitor.GetInputPort("grasp_search"))
 
-    if meshcat is not None:
+    # The replay's record: the moving bodies' states at its frame rate.
+    poses = add_pose_log(builder, station, scenario.replay_fps)
+
+    if meshcat is not None and draw_grasps:
         viz = builder.AddNamedSystem("grasp_visualizer",
                                      GraspVisualizer(meshcat, params=scenario.gbh))
         builder.Connect(scan, viz.GetInputPort("scan"))
@@ -249,7 +260,7 @@ def build_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
 
     diagram = build_checked(builder)
     diagram.set_name("gbh_trial")
-    return Trial(diagram, station, scanner, method, source, pick, monitor, seeds, scenario)
+    return Trial(diagram, station, scanner, method, source, pick, monitor, seeds, scenario, poses)
 
 
 def _require_common(function: str, meshcat, asset) -> None:
@@ -297,6 +308,17 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
     max_time = trial_duration(trial.scenario) if max_time is None else max_time
     simulator = Simulator(trial.diagram)
     ApplySimulatorConfig(trial.scenario.simulator_config, simulator)
+    simulator.Initialize()
+    return simulator, finish_trial(trial, simulator, max_time)
+
+
+def finish_trial(trial: Trial, simulator: Simulator, max_time: float, *,
+                 stop: Callable[[], bool] | None = None) -> TrialRecord:
+    """Advances ``simulator`` (of ``trial``'s diagram, initialized, in whatever state it is:
+    :func:`simulate_trial`'s from the start, the studio's from its scan) until the machine has
+    finished and the object had ``AFTERMATH`` seconds to come to rest, or ``stop()`` is true,
+    or ``max_time`` (simulated s) is reached; returns the record (wall seconds: this advance).
+    The monitor that stops it stays set on ``simulator``."""
     status_port = trial.pick.GetOutputPort("status")
 
     def monitor(root_context):
@@ -305,11 +327,12 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
         if status.finished and root_context.get_time() >= \
                 status.phase_start[status.mode.value] + AFTERMATH:
             return EventStatus.ReachedTermination(trial.pick, "the pick has finished")
+        if stop is not None and stop():
+            return EventStatus.ReachedTermination(trial.pick, "stopped")
         return EventStatus.Succeeded()
 
     simulator.set_monitor(monitor)
     start = time.perf_counter()
-    simulator.Initialize()
     try:
         simulator.AdvanceTo(max_time)
     except RuntimeError as e:
@@ -328,9 +351,8 @@ def simulate_trial(trial: Trial, *, max_time: float | None = None
         else:
             record.outcome, record.success, record.held_by = Outcome.ERROR, False, HeldBy.NONE
             record.reason = f"the simulation failed: {what}; no outcome"
-        return simulator, record
-    wall = time.perf_counter() - start
-    return simulator, make_record(trial, simulator, wall)
+        return record
+    return make_record(trial, simulator, time.perf_counter() - start)
 
 
 @dataclass
@@ -348,39 +370,54 @@ class TrialRun:
 
 def record_trial(scenario: Scenario, *, meshcat: Meshcat | None = None,
                  asset: ObjectAsset | None = None,
-                 keep_replay: Callable[[TrialRecord], bool] | bool = True) -> TrialRun:
+                 keep_replay: Callable[[TrialRecord], bool] | bool = True,
+                 live: bool = False) -> TrialRun:
     """Builds, simulates and records one trial of ``scenario``: the one way a trial is run
-    (``gbh run``, the experiment's workers). With ``meshcat`` (whose scene and recording are
-    cleared first: a worker reuses one) the run is recorded at ``scenario.replay_fps`` and kept
-    as HTML when ``keep_replay`` is true or returns true for the record."""
+    (``gbh run``, the experiment's workers). With ``meshcat`` (whose scene, recording and
+    controls are cleared first: a worker reuses one), the replay is drawn there after the
+    trial, from the body poses recorded during it (:mod:`gbh_drake.replay`), when
+    ``keep_replay`` is true or returns true for the record, and kept as HTML (``replay_html``).
+    ``live``: the trial is also drawn in ``meshcat`` while it runs (the station's visualisers
+    and what GbH saw and chose), at a cost to its speed; the replay then replaces it."""
     require_scenario(scenario, "record_trial")
     _require_common("record_trial", meshcat, asset)
     if not (callable(keep_replay) or isinstance(keep_replay, bool)):
         raise TypeError(argument_problem("record_trial", "keep_replay", "True, False or a "
                                          "function of the record", keep_replay))
+    if live and meshcat is None:
+        raise TypeError(argument_problem("record_trial", "meshcat", "a Meshcat to draw the "
+                                         "live trial in (live=True)", meshcat))
     start = time.perf_counter()
     if meshcat is not None:  # a clean scene for this trial
         meshcat.Delete()
         meshcat.DeleteRecording()
         meshcat.DeleteAddedControls()
-    trial = build_trial(scenario, meshcat=meshcat, asset=asset)
+    trial = build_trial(scenario, meshcat=meshcat if live else None, asset=asset)
     built = time.perf_counter()
-    if meshcat is not None:
+    if live:
         meshcat.SetCameraPose(**REPLAY_CAMERA)
-        meshcat.StartRecording(frames_per_second=scenario.replay_fps)
     simulator, record = simulate_trial(trial)
     simulated = time.perf_counter()
     html = None
-    if meshcat is not None:
-        meshcat.StopRecording()
-        if keep_replay(record) if callable(keep_replay) else keep_replay:
-            meshcat.PublishRecording()
-            html = meshcat.StaticHtml()
-        meshcat.DeleteRecording()
+    if meshcat is not None and (keep_replay(record) if callable(keep_replay) else keep_replay):
+        drawn = draw_replay(meshcat, trial, simulator.get_context(), record)
+        html = replay_page(meshcat, record, drawn, _why(trial, simulator, record))
     done = time.perf_counter()
     return TrialRun(trial, simulator, record, html, {"build": built - start,
                                                      "simulate": simulated - built,
                                                      "replay": done - simulated})
+
+
+def _why(trial: Trial, simulator: Simulator, record: TrialRecord) -> str:
+    """The record's reason; for ``no_hangable_structure``, what the detector saw too (as ``gbh
+    grasps`` says it)."""
+    from gbh_drake.scan_grasps.result import no_structure_message
+
+    port = trial.source.hanging_structures
+    if record.outcome != Outcome.NO_HANGABLE_STRUCTURE or port is None:
+        return record.reason
+    report = _port_value(port, simulator.get_context()).report
+    return record.reason if report is None else no_structure_message(report)
 
 
 def _value(system, port: str, context):

@@ -22,14 +22,19 @@ from gbh_drake.core.grasp_synthesis import synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import (
     active_free_space,
-    detect_hangable_structures,
     detect_with_report,
     unknown_floor,
 )
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel, poisson_disk_samples, prepare_object
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import GbhInputError, GbhResult, GraspCandidate, HangingStructure
+from gbh_drake.core.results import (
+    GbhInputError,
+    GbhResult,
+    GraspCandidate,
+    HangabilityReport,
+    HangingStructure,
+)
 from gbh_drake.core.scoring import is_copy, rank_grasps, score_grasps
 
 trimesh = lazy_module("trimesh")
@@ -40,9 +45,19 @@ def detect(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0
     """Stage 1 (paper Sec. 2.2): the prepared object (samples from ``seed``, CoM, ray scene,
     ``free_space``: what the cameras saw free, if known) and its hanging structures. Raises
     GbhInputError for unusable input."""
+    obj, structures, _ = detect_reported(mesh, params, seed, free_space)
+    return obj, structures
+
+
+def detect_reported(mesh: trimesh.Trimesh | ObjectModel, params: GbhParams, seed: int = 0,
+                    free_space: FreeSpace | None = None
+                    ) -> tuple[ObjectModel, list[HangingStructure], HangabilityReport]:
+    """:func:`detect` and what the detector saw and refused on the way (the
+    :class:`~gbh_drake.core.results.HangabilityReport`: the same computation, kept)."""
     _check_arguments("detect", params, seed, free_space)
     obj = prepare_object(mesh, params, seed, free_space)
-    return obj, detect_hangable_structures(obj, params, seed)
+    structures, report = detect_with_report(obj, params, seed)
+    return obj, structures, report
 
 
 def synthesize(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,

@@ -123,21 +123,62 @@ def removed_by(candidates: list[GraspCandidate], params: GbhParams
 
 def _closest(best: GraspCandidate, rule: str, params: GbhParams) -> str:
     """``best``, the candidate ``rule`` removed that came nearest to passing it, in words."""
+    return f"closest: {refusal_words(best, rule, params)}"
+
+
+def refusal_words(candidate: GraspCandidate, rule: str, params: GbhParams) -> str:
+    """Why ``rule`` (one of :data:`RULES`) removed ``candidate``, in words (``"a vertical grasp
+    2.3 mm above the table, 0.7 mm short of the 3.0 mm clearance"``)."""
     if rule == "table clearance":
-        d_mm, need_mm = best.ground_distance * 1e3, params.ground_clearance * 1e3
+        d_mm, need_mm = candidate.ground_distance * 1e3, params.ground_clearance * 1e3
         where = f"{-d_mm:.1f} mm below the table" if d_mm < 0 else \
             f"{d_mm:.1f} mm above the table"
-        return (f"closest: a {best.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
+        return (f"a {candidate.kind} grasp {where}, {need_mm - d_mm:.1f} mm short of the "
                 f"{need_mm:.1f} mm clearance")
     if rule == "rod clearance":
-        return (f"closest: a {best.kind} grasp whose rods or bar come nearer than "
-                f"{params.rod_clearance * 1e3:.1f} mm to the surface ({best.rod_contacts} "
-                "triangles or samples)")
+        return (f"a {candidate.kind} grasp whose rods or bar come nearer than "
+                f"{params.rod_clearance * 1e3:.1f} mm to the surface "
+                f"({candidate.rod_contacts} triangles or samples)")
     if rule == "closing sweep":
-        return (f"closest: a {best.kind} grasp with {best.n_sweep_collisions} points in its "
+        return (f"a {candidate.kind} grasp with {candidate.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")
-    return (f"closest: a {best.kind} grasp with {best.n_collisions} points inside the open "
+    return (f"a {candidate.kind} grasp with {candidate.n_collisions} points inside the open "
             f"gripper, p_c = {params.p_c}")
+
+
+@dataclass
+class Refused:
+    """A refused candidate, the rule that removed it (one of :data:`RULES`) and why, in words."""
+
+    candidate: GraspCandidate
+    rule: str
+    words: str
+
+
+#: Metres a turn of one radian counts as in :func:`nearest_refused`'s distance between grasps
+#: (10 deg ~ 9 mm: the contacts of a loop are 10 deg apart, its grasps a few mm).
+ANGLE_WEIGHT = 0.05
+
+
+def nearest_refused(candidates: list[GraspCandidate], params: GbhParams, X_WG: np.ndarray,
+                    k: int = 3) -> list[Refused]:
+    """The ``k`` refused candidates nearest to the gripper pose ``X_WG`` (4, 4, W): by the
+    distance between the gripper origins (m) plus :data:`ANGLE_WEIGHT` times the angle between
+    the orientations (rad), each with the rule that removed it. For showing what was refused
+    around one grasp."""
+    rule, _ = removed_by(candidates, params)
+    refused = np.flatnonzero(rule >= 0)
+    if len(refused) == 0 or k <= 0:
+        return []
+    X = np.asarray(X_WG, dtype=float)
+    poses = np.stack([np.asarray(candidates[i].X_WG, dtype=float) for i in refused])
+    distance = np.linalg.norm(poses[:, :3, 3] - X[:3, 3], axis=1)
+    cos = (np.einsum("nij,ij->n", poses[:, :3, :3], X[:3, :3]) - 1.0) / 2.0
+    angle = np.arccos(np.clip(cos, -1.0, 1.0))
+    order = np.lexsort((refused, distance + ANGLE_WEIGHT * angle))[:k]
+    return [Refused(candidates[i], ALL_RULES[rule[i]],
+                    refusal_words(candidates[i], ALL_RULES[rule[i]], params))
+            for i in refused[order]]
 
 
 def closest_rejected(candidates: list[GraspCandidate], params: GbhParams,

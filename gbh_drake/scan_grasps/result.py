@@ -143,8 +143,7 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
     if empty_message:
         none = NoGrasp("empty_scan", empty_message)
     elif not structures_W:
-        none = NoGrasp("no_hangable_structure", "no hangable structure found" + (
-            f": {hangability.summary()}" if hangability is not None else ""))
+        none = NoGrasp("no_hangable_structure", no_structure_message(hangability))
     elif not ranked_W:
         rejections = count_rejections(candidates_W, params)
         none = NoGrasp("no_grasp_found", no_grasp_message(len(candidates_W), len(structures_W),
@@ -158,6 +157,13 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
         params, int(seed), [structure_in(s, X) for s in structures_W],
         [grasp(rank + 1, g) for rank, g in enumerate(ranked_W)], refused, none, hangability,
         len(candidates_W), list(notes or []), list(warnings or []), scan=scan_B)
+
+
+def no_structure_message(report: HangabilityReport | None) -> str:
+    """Why there is no hanging structure, in words: what the detector saw (its report's
+    summary), when it says."""
+    return "no hangable structure found" + (f": {report.summary()}" if report is not None
+                                            else "")
 
 
 def structure_in(s: HangingStructure, X_BW: np.ndarray) -> HangingStructure:

@@ -72,15 +72,29 @@ def trial_export(done) -> dict:
 
 
 def trial_result(done, scan, X_BW: np.ndarray):
-    """The :class:`~gbh_drake.scan_grasps.result.GraspsResult` of a trial: GbH's structures,
-    candidates and ranked grasps as the trial's systems made them, in B."""
+    """The :class:`~gbh_drake.scan_grasps.result.GraspsResult` of a finished trial (a
+    ``TrialRun``): :func:`grasps_result`, with the run's scenario, seed, method, the rank it
+    executed and GbH's seconds."""
+    record, scenario = done.record, done.trial.scenario
+    result = grasps_result(done.trial, done.simulator.get_context(), scan, X_BW)
+    executed = record.grasp_rank + 1 if record.grasp_source == "grasps" else 0
+    result.extra = {"scenario": result.input_path, "seed": int(scenario.seed),
+                    "method": scenario.grasp_method, "executed_rank": int(executed)}
+    result.timings = {"gbh": float(record.timings.get("grasps", 0.0))}
+    return result
+
+
+def grasps_result(trial, context, scan, X_BW: np.ndarray):
+    """The :class:`~gbh_drake.scan_grasps.result.GraspsResult` of ``trial`` (a
+    :class:`~gbh_drake.trial.Trial`) in its root ``context``: GbH's structures, candidates and
+    ranked grasps as the trial's systems made them (the method's own, also when given grasps
+    were executed instead), in B (``X_BW``: the identity keeps them in W)."""
     from gbh_drake.core.hangability import detect_with_report
     from gbh_drake.core.scoring import score_grasps
     from gbh_drake.perception.scan import ScanResult
     from gbh_drake.perception.unseen import scan_unseen
     from gbh_drake.scan_grasps.result import make_result
 
-    trial, context, record = done.trial, done.simulator.get_context(), done.record
     source, scenario = trial.source, trial.scenario
 
     def value(port):
@@ -91,10 +105,12 @@ def trial_result(done, scan, X_BW: np.ndarray):
     # The synthesizer's candidates, scored (the scorer scores copies of them).
     candidates = [copy.copy(g) for g in value(source.candidates) or []]
     score_grasps(candidates, scenario.gbh)
-    ranked = value(source.grasps) if source.candidates is not None else []
+    ranked = value((source.method_tiers or source.tiers)[0].grasps) \
+        if source.candidates is not None else []
     report = None
     if hangability is not None and not structures and hangability.object is not None:
-        report = detect_with_report(hangability.object, scenario.gbh, trial.seeds.sampling)[1]
+        report = hangability.report or detect_with_report(hangability.object, scenario.gbh,
+                                                          trial.seeds.sampling)[1]
     table = table_in(scan.table, X_BW) if scan.table is not None else None
     scan_B = dataclasses.replace(scan, mesh_W=_mesh_in(scan.mesh_W, X_BW)) \
         if not np.allclose(X_BW, np.eye(4)) else scan
@@ -112,10 +128,6 @@ def trial_result(done, scan, X_BW: np.ndarray):
         notes=notes, warnings=list(scan.warnings),
         unseen_B=_points_in(scan_unseen(scan), X_BW) if ranked else None,
         empty_message=scan.message if isinstance(scan, ScanResult) and scan.empty else "")
-    executed = record.grasp_rank + 1 if record.grasp_source == "grasps" else 0
-    result.extra = {"scenario": result.input_path, "seed": int(scenario.seed),
-                    "method": scenario.grasp_method, "executed_rank": int(executed)}
-    result.timings = {"gbh": float(record.timings.get("grasps", 0.0))}
     return result
 
 

@@ -9,7 +9,9 @@ Perception and grasps:
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
   paper's three stages (hanging structures, hook grasps, the ranked top 10);
 * :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
-* :class:`GraspSearchReport`: why a method offered no grasp (for the monitor).
+* :class:`GraspSearchReport`: why a method offered no grasp (for the monitor);
+* :class:`GraspList`: grasps given from outside, held in the context (executed by
+  :class:`~gbh_drake.methods.GivenGrasps`).
 
 Execution and judging:
 
@@ -37,6 +39,7 @@ from gbh_drake.systems.pick_and_carry import PickAndCarry
 from gbh_drake.systems.cage_monitor import CageMonitor
 from gbh_drake.messages import GraspSearch, HeldBy, Mode, Outcome, PickStatus, Verdict
 from gbh_drake.systems.grasp_search import GraspSearchReport, explain_no_grasp
+from gbh_drake.systems.grasp_list import GraspList
 from gbh_drake.systems.grasp_visualizer import GraspVisualizer
 from gbh_drake.systems.ports import build_checked, check_connections
 
@@ -45,6 +48,7 @@ __all__ = [
     "AntipodalGraspSampler",
     "CageMonitor",
     "DepthImageScanner",
+    "GraspList",
     "GraspScorer",
     "GraspSearch",
     "GraspSearchReport",

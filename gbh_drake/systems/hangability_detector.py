@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.object_model import ObjectModel
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.pipeline import detect
-from gbh_drake.core.results import GbhInputError, HangingStructure
+from gbh_drake.core.pipeline import detect_reported
+from gbh_drake.core.results import GbhInputError, HangabilityReport, HangingStructure
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
 from gbh_drake.systems.stage import AbstractStage
@@ -19,12 +19,14 @@ trimesh = lazy_module("trimesh")
 @dataclass
 class Hangability:
     """The detector's output: the prepared object (samples, CoM, and the scan's free space when
-    the input was a scan; None when the input was unusable), its hanging structures (in W) and
-    a message when there are none."""
+    the input was a scan; None when the input was unusable), its hanging structures (in W), a
+    message when there are none, and what the detector saw and refused on the way (None when it
+    did not run)."""
 
     object: ObjectModel | None = None
     structures: list[HangingStructure] = field(default_factory=list)
     message: str = "no input yet"
+    report: HangabilityReport | None = None
 
 
 class HangabilityDetector(AbstractStage):
@@ -63,7 +65,8 @@ class HangabilityDetector(AbstractStage):
         mesh = value.mesh_W if isinstance(value, ScanResult) else value
         free_space = value.free_space if isinstance(value, ScanResult) else None
         try:
-            obj, structures = detect(mesh, self.params, self.seed, free_space)
+            obj, structures, report = detect_reported(mesh, self.params, self.seed, free_space)
         except GbhInputError as e:
             return Hangability(None, [], f"unusable mesh: {e}")
-        return Hangability(obj, structures, "" if structures else "no hangable structure found")
+        return Hangability(obj, structures, "" if structures else "no hangable structure found",
+                           report)

@@ -638,10 +638,7 @@ class PickAndCarry(LeafSystem):
             return setup[0]
 
         def plan_grasp(tier: Tier, rank: int, grasp) -> PickPlan | Refusal:
-            bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
-            min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
-            return plan_pick(get_setup(), grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift,
-                             pinch_W=_pinch_point(grasp))
+            return self._plan_grasp(get_setup(), q_start, rank, grasp)
 
         def reach(tier: Tier, rank: int, grasp) -> Refusal | None:
             bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
@@ -651,7 +648,8 @@ class PickAndCarry(LeafSystem):
             return plan_regrasp(get_setup(), X_WG, pose, rank, q_start, s.q_home)
 
         choice = choose(
-            self._offers(context, self._tiers_left(s)), plan_grasp=plan_grasp, plan_regrasp=plan_regrasp_,
+            self._offers(context, self._tiers_left(s)), plan_grasp=plan_grasp,
+            plan_regrasp=plan_regrasp_,
             is_plan=lambda result: isinstance(result, PickPlan | RegraspPlan),
             max_grasps=self._config.max_grasps, max_pinches=self._regrasp.max_pinches,
             regrasp_allowed=len(s.status.regrasps) < self._regrasp.max_regrasps,
@@ -675,6 +673,27 @@ class PickAndCarry(LeafSystem):
         st.grasp_c_W = _structure_centre(choice.grasp)
         return (choice.plan, float(getattr(choice.grasp, "score", float("nan"))),
                 choice.tier is Tier.FALLBACK)
+
+    def plan_grasp(self, context, grasp, rank: int = 0, setup: PickSetup | None = None
+                   ) -> PickPlan | Refusal:
+        """Plans ``grasp`` (with ``X_WG`` and ``kind``) as PLAN would, from the measured arm on
+        the scan in ``context`` (this system's), without executing it: the plan, or the
+        :class:`~gbh_drake.planning.pick.Refusal` that says why the planner would not execute
+        it. ``setup``: this scan's planning models (:meth:`pick_setup`; made when None)."""
+        setup = self.pick_setup(context) if setup is None else setup
+        return self._plan_grasp(setup, self._arm_state.Eval(context)[:7], rank, grasp)
+
+    def pick_setup(self, context) -> PickSetup:
+        """The planning models and points for the scan in ``context`` (this system's)."""
+        return self._setup(self._scan.Eval(context))
+
+    def _plan_grasp(self, setup: PickSetup, q_start: np.ndarray, rank: int, grasp
+                    ) -> PickPlan | Refusal:
+        """One grasp planned from ``q_start``: the bar set by its kind (hooks deploy it)."""
+        bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
+        min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
+        return plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift,
+                         pinch_W=_pinch_point(grasp))
 
     def _offers(self, context, tiers: Sequence[Tier]) -> list[Offer]:
         """The grasps of ``tiers`` (the machine's, in its order), evaluated when :func:`choose`

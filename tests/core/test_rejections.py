@@ -62,3 +62,32 @@ def test_the_closest_refused_candidates_passed_the_most_rules():
                                   _candidate(0, 0, 0.01))
     assert closest_rejected([n_c, sweep, lower, ok, low], params, k=3) == [low, lower, sweep]
     assert closest_rejected([ok], params) == []
+
+
+def _posed(n_c, n_s, height, p, yaw_deg=0.0):
+    g = _candidate(n_c, n_s, height)
+    c, s = np.cos(np.radians(yaw_deg)), np.sin(np.radians(yaw_deg))
+    g.X_WG = np.eye(4)
+    g.X_WG[:2, :2] = [[c, -s], [s, c]]
+    g.X_WG[:3, 3] = p
+    return g
+
+
+def test_the_nearest_refused_candidates_are_the_nearest_in_pose_with_their_rule():
+    """Refused candidates are ordered by distance plus ANGLE_WEIGHT x angle from the grasp;
+    passed ones are never listed; each comes with its rule and the words that say why."""
+    from gbh_drake.core.rejections import ANGLE_WEIGHT, nearest_refused
+
+    params = GbhParams(p_c=1, p_sweep=1, ground_clearance=0.003)
+    near = _posed(3, 0, 0.1, [0.01, 0, 0])                 # N_c, 1 cm away
+    turned = _posed(0, 2, 0.1, [0.005, 0, 0], yaw_deg=20)  # the sweep, 5 mm but turned 20 deg
+    far = _posed(0, 0, 0.001, [0.05, 0, 0])                # the table, 5 cm away
+    ok = _posed(0, 0, 0.01, [0.0, 0, 0])                    # passed: not listed
+    found = nearest_refused([far, turned, ok, near], params, np.eye(4), k=3)
+    assert [r.candidate for r in found] == [near, turned, far]
+    assert 0.01 < 0.005 + ANGLE_WEIGHT * np.radians(20) < 0.05  # (the turned one: second)
+    assert [r.rule for r in found] == ["collision N_c", "closing sweep", "table clearance"]
+    assert found[0].words == "a parallel grasp with 3 points inside the open gripper, p_c = 1"
+    assert "1.0 mm above the table, 2.0 mm short of the 3.0 mm clearance" in found[2].words
+    assert nearest_refused([ok], params, np.eye(4)) == []
+    assert len(nearest_refused([far, turned, near], params, np.eye(4), k=1)) == 1

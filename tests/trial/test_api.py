@@ -1,6 +1,8 @@
 """``gbh_drake.run_trial``: the one-call API returns the record ``gbh run`` writes."""
 
+import numpy as np
 import pytest
+from replay_pages import fetched, tracks
 
 import gbh_drake
 from gbh_drake import SCENARIOS_DIR
@@ -27,6 +29,30 @@ def test_run_trial_returns_the_same_record_as_gbh_run_for_the_default_scenario(t
     assert record.success and record.held_by == "cage"
     assert _comparable(record) == _comparable(summary.record)
     assert not (tmp_path / "output").exists()
+    _check_the_replay((tmp_path / "out" / "replay.html").read_text(), summary.record)
+
+
+def _check_the_replay(page: str, record):
+    """The run's replay (drawn after it, gbh_drake/replay.py): its title says the verdict, the
+    legend names what is drawn, the view follows the mug to where it was carried, the ranked
+    and chosen grasps show from the plan until the gripper closes, and it fetches nothing."""
+    assert "mug_classic · gbh, 10 views · SUCCESS (cage) · grasp #1 parallel" in page
+    for key in ("object (mug_classic)", "scan (fused views)", "ranked grasps",
+                "chosen grasp (open)", "chosen grasp (closed)"):
+        assert f"{key}</div>" in page, key
+    animation = tracks(page)
+    moved = np.array([k["value"] for k in animation["/drake"][".position"]])
+    carried = -moved[-1]  # the scene moves back by as much as the mug moved
+    assert np.linalg.norm(carried[:2] - (np.array(record.place[:2]) - record.pose[:2])) < 0.05
+    assert np.allclose(animation["/Grid"][".position"][-1]["value"], moved[-1])
+    fps = 16.0
+    for path in ("/drake/gbh/grasps", "/drake/gbh/chosen"):
+        shown = animation[path][".visible"]
+        on = [k["time"] / fps for k in shown if k["value"]]
+        off = [k["time"] / fps for k in shown if not k["value"]]
+        assert on and abs(on[0] - record.phases["plan"]) <= 1 / fps, path
+        assert abs(off[-1] - record.phases["close"]) <= 1 / fps, path
+    assert fetched(page) == []
 
 
 def test_run_trial_takes_a_scenario_built_in_code_with_overrides():
