@@ -167,8 +167,9 @@ class HookGripperGeometry:
 
     # ---- keypoints --------------------------------------------------------------------------
     def keypoints_G(self, q: float | None = None) -> dict[str, np.ndarray]:
-        """Keypoints p1..p7 and pM in frame G for finger position ``q`` (default: fully open)."""
-        q = self.q_open if q is None else self.check_opening(q)
+        """Keypoints p1..p7 and pM in frame G for finger position ``q`` (default: fully open;
+        below :attr:`q_closed` only with the bar retracted, as a pinch closes)."""
+        q = self.q_open if q is None else self.check_opening(q, bar_retracted=q < self.q_closed)
         lf, lh = self.finger_length, self.bar_length
         hand_back = -2.0 * self.hand_half_extents[2]
         p = {
