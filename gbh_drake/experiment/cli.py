@@ -46,6 +46,11 @@ def add_subcommands(sub) -> None:
                    help="YAML applied over the experiment file, e.g. --set 'trials: 1' (may be "
                         "repeated: applied in order); a relative path in it (output_dir, base) "
                         "is relative to the current folder, one in the file to its folder")
+    p.add_argument("--reuse", action="append", default=[], metavar="FOLDER",
+                   help="another experiment's folder: its rows of the same trials with the "
+                        "same scenarios (object, pose, seed, method overrides) are copied in "
+                        "instead of running them again (may be repeated); the rows keep their "
+                        "commit, which the report lists")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     p = sub.add_parser("report", help="rebuild an experiment's summary.md, CSVs and plots "
@@ -115,7 +120,7 @@ def _run_experiment(args: argparse.Namespace) -> int:
         interrupts.check()
         result = run_experiment(experiment, out=Path(args.out) if args.out else None,
                                 workers=args.workers, ray_address=args.ray,
-                                progress=not args.no_progress)
+                                progress=not args.no_progress, reuse=tuple(args.reuse))
         interrupts.check()
     except ExperimentError as e:
         _say(f"invalid experiment: {e}")

@@ -49,6 +49,7 @@ from gbh_drake.experiment.config import (
 )
 from gbh_drake.experiment.engines import local_results, ray_results
 from gbh_drake.experiment.report import EXPERIMENT_FILE, RUNS_FILE, read_runs, write_report
+from gbh_drake.experiment.reuse import reuse_rows
 from gbh_drake.experiment.rows import (
     DEFAULT_PROTOCOL,
     ROWS_FILE,
@@ -100,14 +101,16 @@ def replay_name(row: dict) -> str:
 
 
 def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: int = 1,
-                   ray_address: str = "", progress: bool = True, log=print) -> ExperimentRun:
+                   ray_address: str = "", progress: bool = True, log=print,
+                   reuse: tuple = ()) -> ExperimentRun:
     """Runs the trials of ``experiment`` not yet in its folder (``out`` or its ``output_dir``);
     see the module docstring. ``workers``: local worker processes (or the CPUs of a ``local``
     Ray); ``ray_address``: run on Ray at that address (``local``, ``auto`` or a cluster's
     address) whatever the experiment's ``engine``; empty: where the experiment says (``engine:
     ray``: Ray at its ``ray_address``, else local workers). The engine changes no row: a folder
-    resumes whatever ran it. Raises :class:`ExperimentError` when the folder holds rows of other
-    scenarios."""
+    resumes whatever ran it. ``reuse``: other experiments' folders whose rows of the same trials
+    and scenarios are taken instead of running them (:mod:`gbh_drake.experiment.reuse`).
+    Raises :class:`ExperimentError` when the folder holds rows of other scenarios."""
     require("run_experiment", "experiment", experiment, Experiment,
             "an Experiment (gbh_drake.experiment.config.load_experiment(path))")
     require("run_experiment", "out", out, (str, os.PathLike, type(None)), "a folder's path or None")
@@ -122,6 +125,7 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
         store = RowStore(folder)
         done = _finished(store, tasks, warn=log)
+        reuse_rows(folder, store, tasks, done, reuse, log=log)
         read_runs(folder, warn=log, repair=True)  # a damaged log refuses before any trial runs
         pending = [t for t in tasks if t.key not in done]
         _write_definition(folder, experiment, scenarios)

@@ -185,3 +185,33 @@ def test_rows_of_other_scenarios_are_not_resumed(first_run, tmp_path, capsys):
                  "--out", str(copy), "--no-progress"]) == 2
     assert "made with other scenarios" in capsys.readouterr().err
     assert RowStore(copy).load() == RowStore(folder).load()  # untouched
+
+
+def test_reuse_copies_the_same_trials_of_another_folder(first_run, tmp_path, capsys):
+    """Another experiment that shares trials with the first run (the box, one trial, its
+    antipodal method as it was and its gbh-1 with another d2): ``--reuse`` copies the shared
+    trial's row (and its replay) unchanged, refuses the trial whose scenario differs and runs
+    it; an own folder or a folder without rows is refused naming it."""
+    folder, by_key, _ = first_run
+    methods = ("methods: [{name: antipodal, overrides: {grasp_method: antipodal, scan: "
+               "{num_views: 1}}}, {name: gbh-1, overrides: {grasp_method: gbh, scan: "
+               "{num_views: 1}, gbh: {d2: 0.004}}}]")
+    out = tmp_path / "shared"
+    args = ["experiment", str(SHORT), "--set", "objects: [box]", "--set", "trials: 1",
+            "--set", methods, "--out", str(out), "--no-progress"]
+    assert main([*args, "--reuse", str(folder)]) == 0
+    said = capsys.readouterr().out
+    commit = by_key[("box", "antipodal", 0, "stable")]["commit"][:12]
+    assert f"reused 1 trials from {folder} (1 at {commit}); 1 trials there ran other " \
+           "scenarios: not reused" in said
+    assert "1 trials run, 1 found done" in said
+    rows = {row_key(r): r for r in RowStore(out).load()}
+    assert rows[("box", "antipodal", 0, "stable")] == by_key[("box", "antipodal", 0, "stable")]
+    replay = rows[("box", "antipodal", 0, "stable")]["replay"]
+    assert not replay or (out / replay).read_bytes() == (folder / replay).read_bytes()
+    assert rows[("box", "gbh-1", 0, "stable")]["scenario_digest"] != \
+        by_key[("box", "gbh-1", 0, "stable")]["scenario_digest"]  # run here
+    assert main([*args, "--reuse", str(out)]) == 2
+    assert "--reuse names the experiment's own folder" in capsys.readouterr().err
+    assert main([*args, "--reuse", str(tmp_path / "nothing")]) == 2
+    assert f"{tmp_path / 'nothing'}: no trials.jsonl here" in capsys.readouterr().err
