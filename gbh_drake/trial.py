@@ -100,6 +100,8 @@ class TrialRecord:
     scan_faces: int = 0
     scan_message: str = ""
     scan_warnings: list[str] = field(default_factory=list)
+    """The warnings of the scan GbH ran on: the Scanner's and, for ``gbh_completed``, the shape
+    completion's."""
     n_structures: int = 0
     """Hanging structures GbH found (0 for a method without GbH)."""
     n_candidates: int = 0
@@ -436,6 +438,8 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
     status: PickStatus = _value(trial.pick, "status", context)
     verdict: Verdict = _value(trial.monitor, "verdict", context)
     scan = _value(trial.scanner, "mesh_W", context)
+    completer = source.systems.get("shape_completer")
+    gbh_scan = _value(completer, "completed_mesh_W", context) if completer is not None else scan
     hangability = _port_value(source.hanging_structures, context) \
         if source.hanging_structures is not None else None
     structures = hangability.structures if hangability is not None else []
@@ -467,7 +471,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         outcome=verdict.outcome, success=verdict.success, reason=verdict.reason,
         held_by=verdict.held_by,
         scan_faces=len(scan.mesh_W.faces), scan_message=scan.message,
-        scan_warnings=list(getattr(scan, "warnings", [])),
+        scan_warnings=list(getattr(gbh_scan, "warnings", [])),  # the completion's too
         n_structures=len(structures), n_candidates=n_candidates,
         n_ranked=len(offered), n_grasps_offered=status.n_grasps,
         rejected_by=dict(getattr(search, "rejected_by", {}) or {}),
