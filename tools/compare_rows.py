@@ -6,7 +6,8 @@
 A trial is (object, method, trial index) of one protocol (``--protocol``, default ``stable``;
 rows without one are ``stable``); its result is the outcome and, for a success, whether a cage
 or a pinch held it. Prints, as Markdown, the successes per method before and after, then one
-line per changed trial with both reasons, gained successes first, and where it changed:
+line per changed trial with both results, gained successes first, the rank of the grasp each
+run executed, and where it changed:
 ``upstream`` when the two runs chose different grasps (the settled pose, the scan or GbH
 differed), ``physics`` when they executed the same grasp and the simulation of the pick
 differed.
@@ -62,6 +63,14 @@ def where(before: dict, after: dict) -> str:
     return "physics" if executed and choice(before) == choice(after) else "upstream"
 
 
+def rank(row: dict) -> str:
+    """The rank of the grasp the trial executed last (0: GbH's or the sampler's best), or '-'
+    when none was executed. A ranking that changes which grasps follow the best (GbH's
+    distinct grasps) can change a trial's verdict only where a rank above 0 was tried."""
+    value = (row.get("record") or {}).get("grasp_rank")
+    return "-" if value is None or value < 0 else str(value)
+
+
 def paired(before: dict[tuple, dict], after: dict[tuple, dict], pairs: list[tuple[str, str]]
            ) -> tuple[dict[tuple, dict], dict[tuple, dict]]:
     """``before`` and ``after`` (rows by (object, method, trial)) restricted to the methods of
@@ -93,17 +102,19 @@ def compare(before: dict[tuple, dict], after: dict[tuple, dict]) -> list[str]:
     changed.sort(key=lambda k: (not after[k]["success"] or before[k]["success"],
                                 bool(after[k]["success"]) or not before[k]["success"], k))
     lines += ["", f"{len(changed)} of {len(common)} trials changed:", "",
-              "| object | method | trial | before | after | where | reason after |",
-              "|---|---|---|---|---|---|---|"]
+              "| object | method | trial | before | after | where | rank | reason after |",
+              "|---|---|---|---|---|---|---|---|"]
     for k in changed:
         reason = after[k]["reason"].replace("|", "/")
         lines.append(f"| {k[0]} | {k[1]} | {k[2]} | {result(before[k])} | {result(after[k])} | "
-                     f"{where(before[k], after[k])} | {reason} |")
+                     f"{where(before[k], after[k])} | {rank(before[k])} > {rank(after[k])} | "
+                     f"{reason} |")
     if changed:
         counts = Counter(where(before[k], after[k]) for k in changed)
         lines += ["", f"where: {counts.get('upstream', 0)} changed upstream (the runs chose "
                   f"different grasps: {', '.join(CHOICE)} differ; a different settled pose or "
-                  f"scan), {counts.get('physics', 0)} in the physics of the same grasp."]
+                  f"scan), {counts.get('physics', 0)} in the physics of the same grasp; "
+                  "rank: the executed grasp's rank before > after ('-': none executed)."]
     missing = sorted(set(before) ^ set(after))
     if missing:
         lines += ["", f"{len(missing)} trials are in only one of the runs."]

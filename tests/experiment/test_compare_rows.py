@@ -22,6 +22,8 @@ def test_where_a_trial_changed():
     assert compare_rows.where(row("success"), row("not_lifted")) == "physics"
     assert compare_rows.where(row("success"), row("not_lifted", rank=1)) == "upstream"
     assert compare_rows.where(row("success"), row("success", structures=3)) == "upstream"
+    assert compare_rows.rank(row("success", rank=3)) == "3"
+    assert compare_rows.rank(row("no_grasp_found", rank=-1)) == "-"
     # No grasp executed in either run: what was offered or planned differed, not a pick.
     assert compare_rows.where(row("no_reachable_grasp", rank=-1),
                               row("no_grasp_found", rank=-1)) == "upstream"
@@ -36,7 +38,8 @@ def test_only_changed_trials_are_listed_with_where_they_changed():
     assert "| gbh-10 | 3 | 2 | 1 | 0 | 1 | 1/0 |" in lines
     assert "1 of 3 trials changed:" in lines
     changed = [line for line in lines if line.startswith("| mug |") or line.startswith("| can |")]
-    assert changed == ["| mug | gbh-10 | 0 | success [cage] | not_lifted | physics | not_lifted |"]
+    assert changed == ["| mug | gbh-10 | 0 | success [cage] | not_lifted | physics | 0 > 0 | "
+                       "not_lifted |"]
     assert any(line.startswith("where: 0 changed upstream") and "1 in the physics" in line
                for line in lines)
 
