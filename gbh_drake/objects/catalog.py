@@ -20,6 +20,7 @@ object's stable resting poses.
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -116,14 +117,20 @@ def list_objects() -> list[str]:
 
 def make_object(name: str, **params) -> ObjectSpec:
     """Build the object ``name`` (parameters override the builder's defaults: numbers, or a
-    list of numbers for a box's ``size``). Deterministic. Raises KeyError for an unknown name,
-    TypeError for a name or parameter of the wrong type."""
+    list of numbers for a box's ``size``; lengths in m and masses in kg are positive, angles
+    ``*_deg`` any finite number). Deterministic. Raises KeyError for an unknown name, TypeError
+    for a name or parameter of the wrong type or a parameter the object does not have,
+    ValueError for a length or mass that is not positive or parameters that give no solid (a
+    wall as thick as the radius)."""
     require("make_object", "name", name, str, "an object's name (gbh objects list)")
     for key, value in params.items():
         values = value if isinstance(value, list | tuple) else [value]
         if not values or not all(is_number(v) and math.isfinite(v) for v in values):
             raise TypeError(argument_problem("make_object", key, "a finite number (or a list "
                                              "of them)", value))
+        if not key.endswith("_deg") and not all(v > 0 for v in values):
+            raise ValueError(argument_problem("make_object", key, "positive (a length in m or "
+                                              "a mass in kg)", value))
     if name in _EXTERNAL:
         if params:
             raise TypeError(f"object {name!r} takes no parameters")
@@ -133,7 +140,18 @@ def make_object(name: str, **params) -> ObjectSpec:
         return spec
     if name not in _BUILDERS:
         raise KeyError(f"unknown object {name!r}; known: {', '.join(list_objects())}")
-    return finish(name, _BUILDERS[name](**params))
+    accepted = inspect.signature(_BUILDERS[name]).parameters
+    for key in params:
+        if key not in accepted:
+            raise TypeError(f"make_object(): object {name!r} has no parameter {key!r}; its "
+                            f"parameters: {', '.join(accepted)}")
+    try:
+        return finish(name, _BUILDERS[name](**params))
+    except ValueError as e:  # manifold3d: an invalid construction
+        given = ", ".join(f"{k}={v!r}" for k, v in params.items())
+        raise ValueError(f"make_object(): {name!r} with {given or 'its defaults'} gives no "
+                         f"solid ({e}): a wall as thick as the radius, a hole larger than its "
+                         "part?") from None
 
 
 def finish(name: str, design: Design) -> ObjectSpec:

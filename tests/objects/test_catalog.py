@@ -81,6 +81,9 @@ def test_parameters_change_the_object():
                                               "(or a list of them), got nan (a float)"),
     ("box", {"size": (0.07, "0.1", 0.16)}, "make_object(): size: expected a finite number (or a "
                                            "list of them), got (0.07, '0.1', 0.16) (a tuple)"),
+    ("mug_classic", {"handle": 0.03}, "make_object(): object 'mug_classic' has no parameter "
+                                      "'handle'; its parameters: radius, height, wall, reach, "
+                                      "mass"),
 ])
 def test_make_object_names_an_argument_of_the_wrong_type(name, params, message):
     with pytest.raises(TypeError) as info:
@@ -88,3 +91,24 @@ def test_make_object_names_an_argument_of_the_wrong_type(name, params, message):
     assert str(info.value) == message
     with pytest.raises(KeyError, match="unknown object 'mug_clasic'"):  # (a name: as before)
         make_object("mug_clasic")
+
+
+@pytest.mark.parametrize(("name", "params", "message"), [
+    ("mug_classic", {"radius": -0.01}, "make_object(): radius: expected positive (a length in m "
+                                       "or a mass in kg), got -0.01 (a float)"),
+    ("mug_classic", {"mass": 0}, "make_object(): mass: expected positive (a length in m or a mass "
+                                 "in kg), got 0 (an int)"),
+    ("box", {"size": [0.1, -0.1, 0.1]}, "make_object(): size: expected positive (a length in m or "
+                                        "a mass in kg), got [0.1, -0.1, 0.1] (a list)"),
+    ("mug_classic", {"wall": 0.05}, "make_object(): 'mug_classic' with wall=0.05 gives no solid "
+                                    "(invalid manifold: Error.InvalidConstruction): a wall as "
+                                    "thick as the radius, a hole larger than its part?"),
+])
+def test_make_object_refuses_parameters_that_make_no_object(name, params, message):
+    """A negative radius or mass built a sliver with a density of 31 t/m^3 or below zero, and a
+    wall thicker than the radius failed inside manifold3d: each is refused naming the
+    parameter; an angle may be negative."""
+    with pytest.raises(ValueError) as info:
+        make_object(name, **params)
+    assert str(info.value) == message
+    assert make_object("frying_pan", tilt_deg=-12.0).density > 0
