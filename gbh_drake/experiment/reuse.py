@@ -51,9 +51,10 @@ def reuse_rows(folder: Path, store: RowStore, tasks: Iterable, done: dict, sourc
             store.append(row)
             done[key] = row
             commits[row.get("commit") or "?"] += 1
-        taken += sum(commits.values())
-        at = ", ".join(f"{n} at {c[:12]}" for c, n in sorted(commits.items()))
-        log(f"reused {sum(commits.values())} trials from {source}" + (f" ({at})" if at else "")
+        n = sum(commits.values())
+        taken += n
+        at = ", ".join(f"{k} at {c[:12]}" for c, k in sorted(commits.items()))
+        log(f"reused {n} trials from {source}" + (f" ({at})" if at else "")
             + (f"; {other} trials there ran other scenarios: not reused" if other else ""))
     return taken
 

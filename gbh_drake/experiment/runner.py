@@ -125,8 +125,8 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         tasks = make_tasks(experiment, commit=git_commit(), scenarios=scenarios)
         store = RowStore(folder)
         done = _finished(store, tasks, warn=log)
-        reuse_rows(folder, store, tasks, done, reuse, log=log)
         read_runs(folder, warn=log, repair=True)  # a damaged log refuses before any trial runs
+        reuse_rows(folder, store, tasks, done, reuse, log=log)
         pending = [t for t in tasks if t.key not in done]
         _write_definition(folder, experiment, scenarios)
         engine = (f"Ray ({ray_address}" + (f", {workers} CPUs)" if ray_address == "local"
