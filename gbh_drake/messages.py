@@ -74,11 +74,15 @@ class Attempt:
     :data:`~gbh_drake.systems.pick_and_carry.EMPTY_LOAD`)."""
     time: float
     """Simulated time (s) the lift ended."""
+    R_WG: np.ndarray | None = None
+    """(3, 3) the open gripper's orientation at the grasp (None: not known)."""
 
     def as_dict(self) -> dict:
         """Plain numbers and lists (a record's ``attempts`` entry)."""
         return {"kind": self.kind, "rank": int(self.rank), "score": float(self.score),
                 "source": self.source, "p_WG": np.asarray(self.p_WG, dtype=float).tolist(),
+                "R_WG": None if self.R_WG is None else
+                np.asarray(self.R_WG, dtype=float).tolist(),
                 "c_W": None if self.c_W is None else np.asarray(self.c_W, dtype=float).tolist(),
                 "load": float(self.load), "time": float(self.time)}
 
@@ -122,6 +126,10 @@ class PickStatus:
     skipped: int = 0
     """Grasps skipped on retries for lying within the machine's
     :data:`~gbh_drake.systems.pick_and_carry.TRIED_RADIUS` of a failed one."""
+    second_passes: int = 0
+    """Retries whose plan, nothing else being left, went back over the skipped grasps and
+    skipped only those at a failed grasp's own pose (:func:`~gbh_drake.planning.choice.choose`'s
+    ``skip_again``)."""
 
     @property
     def phase(self) -> str:

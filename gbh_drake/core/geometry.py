@@ -49,6 +49,13 @@ def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.arccos(np.clip(np.sum(a * b, axis=-1), -1.0, 1.0))
 
 
+def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> float:
+    """The angle (deg, in [0, 180]) of the rotation from ``R_a`` to ``R_b`` (3, 3): that of
+    R_a^T R_b."""
+    R = np.asarray(R_a, dtype=float).T @ np.asarray(R_b, dtype=float)
+    return float(np.degrees(np.arccos(np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0))))
+
+
 def poses_from_axes(y_W: np.ndarray, z_W: np.ndarray, p_WO: np.ndarray) -> np.ndarray:
     """(n, 4, 4) poses X_WG with +y_G, +z_G along ``y_W``, ``z_W`` (n, 3) and origin ``p_WO``.
 

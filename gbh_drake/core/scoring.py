@@ -60,7 +60,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gbh_drake.core.geometry import angle_between, unit
+from gbh_drake.core.geometry import angle_between, rotation_angle, unit
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import PARALLEL, GraspCandidate, HangingStructure
 
@@ -145,6 +145,4 @@ def is_copy(g: GraspCandidate, other: GraspCandidate, params: GbhParams) -> bool
         return False
     if np.linalg.norm(g.X_WG[:3, 3] - other.X_WG[:3, 3]) >= params.distinct_distance:
         return False
-    R = g.X_WG[:3, :3].T @ other.X_WG[:3, :3]
-    cos = np.clip(0.5 * (np.trace(R) - 1.0), -1.0, 1.0)
-    return bool(np.degrees(np.arccos(cos)) < params.distinct_angle_deg)
+    return rotation_angle(g.X_WG[:3, :3], other.X_WG[:3, :3]) < params.distinct_angle_deg

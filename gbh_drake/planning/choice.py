@@ -15,7 +15,11 @@ The :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` machine calls it at 
 
 After lifts that came away empty (beyond the paper: a method with retries), which tiers the
 next PLAN may try is :func:`tiers_after_empty_lifts`: every tier while the retries last, then
-the tiers after the one whose grasp came away empty last, until none is left.
+the tiers after the one whose grasp came away empty last, until none is left. A retry skips
+the grasps near the failed one (the caller's ``skip``: the same hanging structure); when that
+leaves nothing to plan, a second pass (``skip_again``) skips only the failed grasp's own pose
+and its neighbours (a key ring lying flat has one structure: a scoop from another side may
+hold where the first slipped off), rather than ending the trial with grasps untried.
 
 **The cut by reach** (beyond the paper): with ``reach``, a cheap check (the IK of the grasp
 pose from the measured arm, the first step of planning it) runs first, and a grasp the arm
@@ -31,6 +35,9 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+
+from gbh_drake.core.geometry import rotation_angle
 from gbh_drake.method_spec import Tier
 
 
@@ -65,13 +72,16 @@ class Choice:
     offer_seconds: float = 0.0
     grasp_seconds: list[float] = field(default_factory=list)
     regrasp_note: str = ""
+    second_pass: bool = False
+    """A second pass ran (``skip_again``): the first planned nothing and skipped grasps."""
 
 
 def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Callable | None = None,
            is_plan: Callable[[object], bool], max_grasps: int, max_pinches: int = 0,
            regrasp_allowed: bool = True, skip: Callable[[object], bool] = lambda grasp: False,
            check: Callable[[Tier, Sequence], None] = lambda tier, grasps: None,
-           reach: Callable[[Tier, int, object], object | None] | None = None) -> Choice:
+           reach: Callable[[Tier, int, object], object | None] | None = None,
+           skip_again: Callable[[object], bool] | None = None) -> Choice:
     """The first plannable grasp of ``offers``, tier by tier (see the module docstring).
 
     ``plan_grasp(tier, rank, grasp)`` and ``plan_regrasp(rank, X_WG, pose)`` return a plan
@@ -80,7 +90,34 @@ def choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Calla
     kind; ``regrasp_allowed`` false passes over a regrasp tier (the object was regrasped often
     enough); ``check(tier, grasps)`` may refuse an offer that cannot be executed (raise);
     ``reach(tier, rank, grasp)``: None when the arm reaches the grasp, else its refusal, kept
-    in order; such a grasp does not count toward ``max_grasps`` (module docstring)."""
+    in order; such a grasp does not count toward ``max_grasps`` (module docstring).
+    ``skip_again``: when nothing could be planned and ``skip`` ruled grasps out, a second pass
+    over the grasp tiers (no regrasp) skips only what it rules out (module docstring: a retry's
+    second pass); its refusals follow the first pass's."""
+    choice = _choose(offers, plan_grasp=plan_grasp, plan_regrasp=plan_regrasp,
+                     is_plan=is_plan, max_grasps=max_grasps, max_pinches=max_pinches,
+                     regrasp_allowed=regrasp_allowed, skip=skip, check=check, reach=reach)
+    if choice.plan is not None or not choice.skipped or skip_again is None:
+        return choice
+    again = _choose([o for o in offers if o.tier is not Tier.REGRASP], plan_grasp=plan_grasp,
+                    plan_regrasp=None, is_plan=is_plan, max_grasps=max_grasps, max_pinches=0,
+                    regrasp_allowed=False, skip=skip_again, check=check, reach=reach)
+    choice.plan, choice.tier, choice.rank, choice.grasp = \
+        again.plan, again.tier, again.rank, again.grasp
+    choice.refusals += again.refusals
+    choice.unreached += again.unreached
+    choice.offer_seconds += again.offer_seconds
+    choice.grasp_seconds += again.grasp_seconds
+    choice.second_pass = True
+    return choice
+
+
+def _choose(offers: Sequence[Offer], *, plan_grasp: Callable, plan_regrasp: Callable | None,
+            is_plan: Callable[[object], bool], max_grasps: int, max_pinches: int,
+            regrasp_allowed: bool, skip: Callable[[object], bool],
+            check: Callable[[Tier, Sequence], None],
+            reach: Callable[[Tier, int, object], object | None] | None) -> Choice:
+    """One pass of :func:`choose` over ``offers``."""
     choice = Choice()
     for offer in offers:
         if offer.tier is Tier.REGRASP:
@@ -137,6 +174,20 @@ def tiers_after_empty_lifts(tiers: Sequence[Tier], failed: Sequence[Tier],
         return tiers
     last = failed[-1]
     return tiers[tiers.index(last) + 1:] if last in tiers else ()
+
+
+def at_failed_pose(attempts: Sequence, grasp, radius: float, angle_deg: float) -> bool:
+    """Whether ``grasp`` (``X_WG``, ``kind``) lies where one of ``attempts`` (each with
+    ``kind``, ``p_WG`` and ``R_WG``, W) came away empty: the same kind, origins within
+    ``radius`` (m), turned by less than ``angle_deg`` (an attempt without ``R_WG``: by any
+    angle). A retry's second pass skips these (:func:`choose`'s ``skip_again``)."""
+    X_WG = np.asarray(grasp.X_WG, dtype=float)
+    for a in attempts:
+        if str(a.kind) != str(grasp.kind) or np.linalg.norm(X_WG[:3, 3] - a.p_WG) > radius:
+            continue
+        if a.R_WG is None or rotation_angle(a.R_WG, X_WG[:3, :3]) < angle_deg:
+            return True
+    return False
 
 
 def _try(choice: Choice, result, is_plan, tier: Tier, rank: int, grasp) -> bool:

@@ -382,7 +382,9 @@ def conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,
         w.verdict.reason += (
             f" (a retry: {n} earlier grasp{'s' if n > 1 else ''} came away empty"
             + (f"; {status.skipped} grasps near {'them' if n > 1 else 'it'} skipped"
-               if status.skipped else "") + ")")
+               if status.skipped else "")
+            + ("; nothing else left, those at other poses tried" if status.second_passes
+               else "") + ")")
 
 
 def _conclude(w: _Watch, status: PickStatus, cfg: MonitorConfig,

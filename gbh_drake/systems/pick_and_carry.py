@@ -41,7 +41,9 @@ new scan's grasps; at most ``RegraspParams.max_regrasps`` times. With ``max_retr
 since the approach came away empty: the fingers open, the arm goes home, the Scanner is asked
 for a new scan of where the object was, and PLAN plans anew, skipping the grasps of the hanging
 structure that failed (without a structure: those of the same kind where it was; both within
-:data:`TRIED_RADIUS`); the failed attempts are kept in the status (:class:`Attempt`). Once
+:data:`TRIED_RADIUS`), and when that leaves nothing to plan, going back over them and skipping
+only the failed pose's neighbours (:data:`TRIED_ANGLE_DEG`); the failed attempts are kept in
+the status (:class:`Attempt`). Once
 the retries are used up, a further empty lift goes on to the tiers after the failed grasp's
 (:func:`~gbh_drake.planning.choice.tiers_after_empty_lifts`: a fallback pinch still follows
 two empty hooks), until no tier is left. CLOSE drives the
@@ -73,7 +75,7 @@ from gbh_drake.method_spec import Tier
 from gbh_drake.modeling.names import TABLE
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.perception.unseen import scan_unseen
-from gbh_drake.planning.choice import Offer, choose, tiers_after_empty_lifts
+from gbh_drake.planning.choice import Offer, at_failed_pose, choose, tiers_after_empty_lifts
 from gbh_drake.planning.model import HandPose, PlanningModel, parse_robot
 from gbh_drake.planning.pick import (
     PickPlan,
@@ -101,6 +103,11 @@ EMPTY_LOAD = 0.2
 #: this close to a failed one's (same kind), are skipped: what came away empty from an object
 #: that barely moved would come away empty again.
 TRIED_RADIUS = 0.02
+#: deg: when a retry's plan finds nothing else, it goes back over the skipped grasps and skips
+#: only those of a failed grasp's kind within :data:`TRIED_RADIUS` of its origin and turned by
+#: less than this from it: the failed pose and its neighbouring contacts' (GbH's turned
+#: approaches land on contacts 10 deg apart), not the structure's other sides.
+TRIED_ANGLE_DEG = 20.0
 
 
 @dataclass
@@ -423,7 +430,7 @@ class PickAndCarry(LeafSystem):
         st.attempts = [*st.attempts, Attempt(
             kind=str(st.plan.kind), rank=st.plan.rank, score=st.score, source=st.source,
             p_WG=np.asarray(st.grasp_X_WG, dtype=float)[:3, 3].copy(), c_W=st.grasp_c_W,
-            load=gained, time=t)]
+            load=gained, time=t, R_WG=np.asarray(st.grasp_X_WG, dtype=float)[:3, :3].copy())]
         st.plan, st.score, st.fallback, st.source, st.grasp_X_WG, st.grasp_c_W = \
             None, float("nan"), False, "", None, None
         s.q_hold, s.arm = np.asarray(sample(s.arm, t)[0], dtype=float), None
@@ -654,11 +661,14 @@ class PickAndCarry(LeafSystem):
             max_grasps=self._config.max_grasps, max_pinches=self._regrasp.max_pinches,
             regrasp_allowed=len(s.status.regrasps) < self._regrasp.max_regrasps,
             skip=lambda grasp: bool(s.status.attempts) and self._tried(s, grasp),
+            skip_again=lambda grasp: at_failed_pose(s.status.attempts, grasp, TRIED_RADIUS,
+                                                    TRIED_ANGLE_DEG),
             check=lambda tier, grasps: _check_grasps(tier.value, grasps),
             reach=reach if self._config.reach_check else None)
         st = s.status
         st.n_grasps += choice.n_offered
         st.skipped += choice.skipped
+        st.second_passes += int(choice.second_pass)
         st.grasps_seconds += choice.offer_seconds
         st.grasp_seconds = [*st.grasp_seconds, *choice.grasp_seconds]
         st.refusals = [*st.refusals, *choice.refusals]

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gbh_drake.method_spec import Tier
-from gbh_drake.planning.choice import Offer, choose, tiers_after_empty_lifts
+from gbh_drake.planning.choice import Offer, at_failed_pose, choose, tiers_after_empty_lifts
 
 
 @dataclass
@@ -194,3 +194,59 @@ def test_the_reach_check_still_stops_after_max_grasps_planned():
                     reach=lambda tier, rank, grasp: None if rank % 2 else ("unreached", rank))
     assert [entry[1] for entry in log] == list(range(1, 20, 2))  # ten planned, odd ranks
     assert choice.unreached == 10
+
+
+def _turned(deg: float, p=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """A pose turned by ``deg`` about z, at ``p``."""
+    a = np.radians(deg)
+    X = np.eye(4)
+    X[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+    X[:3, 3] = p
+    return X
+
+
+def test_a_retry_with_nothing_left_goes_back_over_the_skipped_grasps_but_not_the_failed_pose():
+    """gbh+ on a key ring lying flat: its scoop came away empty, and every scoop of the ring's one
+    structure was skipped on the retry. Rather than ending untried, a second pass skips only the
+    failed pose (and its neighbours) and plans a scoop from another side; the regrasp tier is
+    not offered again."""
+    log, seen = [], []
+    plan_grasp, plan_regrasp = planner({"s0", "s1", "s2"}, log)
+    scoops = [Grasp("s0", _turned(0.0), "scoop"), Grasp("s1", _turned(10.0, (0.005, 0, 0)),
+                                                         "scoop"),
+              Grasp("s2", _turned(90.0, (0.01, 0, 0)), "scoop")]
+    offers = [Offer(Tier.GRASPS, lambda: []), Offer(Tier.SCOOP, lambda: scoops),
+              Offer(Tier.REGRASP, evaluated(["p0"], seen, Tier.REGRASP), poses=lambda: [])]
+    failed = [type("A", (), {"kind": "scoop", "p_WG": np.zeros(3), "R_WG": np.eye(3)})()]
+    choice = choose(offers, plan_grasp=plan_grasp, plan_regrasp=plan_regrasp, is_plan=is_plan,
+                    max_grasps=10, skip=lambda grasp: True,
+                    skip_again=lambda grasp: at_failed_pose(failed, grasp, 0.02, 20.0))
+    assert choice.plan == ("plan", "s2") and choice.tier is Tier.SCOOP and choice.second_pass
+    assert choice.skipped == 3 and choice.n_offered == 3  # the first pass's, counted once
+    assert [name for *_, name in log] == ["s2"]  # s0 (the failed pose), s1 (10 deg) skipped
+    assert seen == [Tier.REGRASP]  # the regrasp was offered once, in the first pass
+
+
+def test_no_second_pass_when_the_first_planned_or_skipped_nothing():
+    plan_grasp, _ = planner({"a1"}, [])
+    offers = [Offer(Tier.GRASPS, lambda: [Grasp("a0"), Grasp("a1")])]
+    planned = choose(offers, plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10,
+                     skip=lambda grasp: grasp.name == "a0", skip_again=lambda grasp: False)
+    assert planned.plan == ("plan", "a1") and not planned.second_pass
+    log = []
+    plan_grasp, _ = planner(set(), log)
+    none = choose(offers, plan_grasp=plan_grasp, is_plan=is_plan, max_grasps=10,
+                  skip_again=lambda grasp: False)
+    assert none.plan is None and not none.second_pass and len(log) == 2
+
+
+@pytest.mark.parametrize(("p", "deg", "kind", "near"), [
+    ((0.0, 0.0, 0.0), 0.0, "scoop", True),
+    ((0.019, 0.0, 0.0), 19.0, "scoop", True),
+    ((0.021, 0.0, 0.0), 0.0, "scoop", False),  # farther than the radius
+    ((0.0, 0.0, 0.0), 21.0, "scoop", False),  # turned more than the angle
+    ((0.0, 0.0, 0.0), 0.0, "antipodal", False),  # another kind
+])
+def test_at_failed_pose_is_position_and_turn_of_the_same_kind(p, deg, kind, near):
+    failed = [type("A", (), {"kind": "scoop", "p_WG": np.zeros(3), "R_WG": np.eye(3)})()]
+    assert at_failed_pose(failed, Grasp("g", _turned(deg, p), kind), 0.02, 20.0) is near

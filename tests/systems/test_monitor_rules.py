@@ -202,6 +202,12 @@ def test_nothing_left_after_a_retry_says_so():
     assert w.verdict.outcome == Outcome.NO_REACHABLE_GRASP
     assert w.verdict.reason == ("no grasp left to try (a retry: 1 earlier grasp came away empty; "
                                 "3 grasps near it skipped)")
+    again = observe(_Watch(), PickStatus(mode=Mode.NO_REACHABLE_GRASP, attempts=[failed],
+                                         skipped=3, second_passes=1),
+                    Observation(t=0.01, p_WO=[0.5, 0, 0], low=0.0, gripper=set(), table=True,
+                                hand=CLOSED, squeeze=0.0), CFG)
+    assert again.verdict.reason.endswith(
+        "3 grasps near it skipped; nothing else left, those at other poses tried)")
 
 
 def test_without_the_objects_mesh_the_fingers_decide_and_say_so():
