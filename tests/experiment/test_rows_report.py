@@ -291,7 +291,7 @@ def test_reference_experiment_as_csv(tmp_path):
     assert not trials.duplicated(["object", "method", "trial", "protocol"]).any()
     assert ((trials.cause == "") == trials.success).all()
     hangable_failures = sum(not r["success"] and not r["is_control"] for r in data.rows)
-    assert cause_counts(data).to_numpy().sum() == hangable_failures == 315
+    assert cause_counts(data).to_numpy().sum() == hangable_failures == 314
     table = table1_frame(data).set_index(["protocol", "method"])
     gbh10 = table.loc[("stable", "gbh-10")]
     assert (gbh10.trials, gbh10.successes) == (95, 57)
