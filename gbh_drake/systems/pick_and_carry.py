@@ -333,7 +333,10 @@ class PickAndCarry(LeafSystem):
             self._move(s, Mode.REGRASP_APPROACH, t, [q_now, *plan.transfer[1:]])
             return
         if plan is None:
-            none = s.status.n_grasps == 0
+            # No grasp at all, or a re-scan that holds no object (it left the scene after an
+            # empty lift): the grasp search says why (an empty scan), not "none could be
+            # planned".
+            none = s.status.n_grasps == 0 or self._scan.Eval(context).empty
             self._enter(s, Mode.NO_GRASP if none else Mode.NO_REACHABLE_GRASP, t)
             return
         s.status.plan, s.status.score, s.status.fallback = plan, score, fallback

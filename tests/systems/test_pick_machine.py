@@ -45,3 +45,32 @@ def test_a_machine_without_a_pick_config_says_so():
     s = Scenario()
     with pytest.raises(TypeError, match="config must be a PickConfig, got dict"):
         PickAndCarry(s.station_directives(), {}, s.robot.hand, settle_time=0.3)
+
+
+@pytest.mark.sim
+def test_a_rescan_that_holds_no_object_ends_in_no_grasp_not_in_nothing_plannable():
+    """After an empty lift the object may have left the scene (a ball squeezed out of a pinch):
+    the re-scan is empty, and the machine ends in NO_GRASP, so that the grasp search's reason
+    (an empty scan) is the verdict's, not "no grasp left to try"."""
+    import copy
+
+    import numpy as np
+
+    from gbh_drake.perception.scan import ScanResult
+
+    s = Scenario()
+    machine = PickAndCarry(s.station_directives(), s.pick, s.robot.hand, settle_time=0.3,
+                           max_retries=1)
+    context = machine.CreateDefaultContext()
+    machine.GetInputPort("scan").FixValue(context, ScanResult.empty_result("nothing there"))
+    machine.GetInputPort("grasps").FixValue(context, [])
+    machine.GetInputPort("panda.state").FixValue(context, np.zeros(14))
+    machine.GetInputPort("hook_gripper.state").FixValue(context, np.zeros(6))
+    machine.GetInputPort("hook_gripper.load").FixValue(context, np.zeros(3))
+    state = context.get_mutable_abstract_state(0)
+    st = copy.copy(state.get_value())
+    st.status = copy.copy(st.status)
+    st.status.mode, st.status.n_grasps = Mode.PLAN, 5  # grasps were offered before the re-scan
+    state.set_value(st)
+    machine.AFTER[Mode.PLAN](machine, context, st, 1.0)
+    assert st.status.mode == Mode.NO_GRASP
