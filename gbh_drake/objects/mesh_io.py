@@ -46,6 +46,9 @@ from gbh_drake.core.ranges import is_number
 from gbh_drake.objects.plausibility import extent_warnings
 
 log = logging.getLogger(__name__)
+#: (path, warning) pairs already logged by this process (each load still keeps its warnings in
+#: ``mesh.metadata["gbh_warnings"]``, which records and listings read).
+_LOGGED: set[tuple[str, str]] = set()
 
 SUPPORTED_SUFFIXES = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
 #: Volumes (m^3) at or below this count as zero (a 1 mm cube is 1e-9 m^3).
@@ -116,7 +119,9 @@ def load_mesh_file(path, scale: float = 1.0) -> trimesh.Trimesh:
         raise fail(f"could not be repaired ({type(exc).__name__}: {exc})", exc) from None
     warnings += extent_warnings(mesh, scale=scale)
     for w in warnings:
-        log.warning("%s: %s", path, w)
+        if (str(path), w) not in _LOGGED:  # once per process: a task list loads a mesh often
+            _LOGGED.add((str(path), w))
+            log.warning("%s: %s", path, w)
     mesh.metadata["gbh_warnings"] = warnings
     mesh.metadata["source_path"] = str(path)
     return mesh

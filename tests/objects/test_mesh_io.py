@@ -81,6 +81,20 @@ def test_open_mesh_is_accepted_with_a_warning():
     assert any("not watertight" in w for w in mesh.metadata["gbh_warnings"])
 
 
+def test_a_meshs_warning_is_logged_once_per_process_and_kept_by_every_load(tmp_path, caplog):
+    """An experiment's task list loads a mesh several times: the log says it once, and each
+    load still carries the warning (records and listings read it)."""
+    import shutil
+
+    path = tmp_path / "mug.obj"  # a path of its own: not logged by another test before
+    shutil.copy(pybullet_mug_path(), path)
+    caplog.set_level("WARNING", logger="gbh_drake.objects.mesh_io")
+    meshes = [load_mesh_file(path) for _ in range(3)]
+    logged = [r for r in caplog.records if "not watertight" in r.getMessage()]
+    assert len(logged) == 1 and str(path) in logged[0].getMessage()
+    assert all(any("not watertight" in w for w in m.metadata["gbh_warnings"]) for m in meshes)
+
+
 @pytest.mark.parametrize("path", [None, 3, b"/x.obj"])
 def test_a_path_that_is_not_a_path_is_named(path):
     from gbh_drake.objects import load_mesh_object
