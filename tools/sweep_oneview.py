@@ -2,7 +2,8 @@
 
 For every trial scanned by ``tools/oneview_scans.py`` (the view GbH-1 takes, the first look,
 every candidate view), GbH's three stages run on one scan per variant, and per variant the
-script counts over all trials (as ``tools/sweep_thresholds.py`` does):
+script counts over the trials of each set (each scans folder given: the own set's and the
+external set's) and, with several, over all of them (as ``tools/sweep_thresholds.py`` does):
 
 * ``part found``: trials with a hanging structure on a true hangable part (c within half the
   part's clear diameter + 2 cm of its centre), of the trials of objects with parts;
@@ -87,7 +88,8 @@ def _trial_task(args):
     params, seed = record["gbh"], record["seed"]
     config, look = record["scan_config"], record["look"]
     key = Path(path).stem.split("__")
-    base = {"object": key[0], "protocol": key[1], "trial": int(key[2]),
+    base = {"set": Path(path).parent.parent.name, "object": key[0], "protocol": key[1],
+            "trial": int(key[2]),
             "control": record["control"], "has_parts": bool(record["parts"])}
     rows = []
     chosen_index, choice_s = 0, 0.0
@@ -124,20 +126,27 @@ def _trial_task(args):
 
 
 def table(rows: list[dict], name: str = "value") -> list[str]:
-    """The Markdown table of the rows: one line per (variant, value)."""
+    """The Markdown table of the rows: one line per (variant, value) and set (the scans'
+    folder), and with more than one set one for all of them (``all``)."""
     import statistics
 
-    lines = [f"| variant | {name} | part found | top on part | top on a false part | false "
-             "structures | controls with a grasp | view moved | median GbH s |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = [f"| variant | {name} | set | part found | top on part | top on a false part | "
+             "false structures | controls with a grasp | view moved | median GbH s |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    sets = sorted({r.get("set", "") for r in rows})
     groups: dict = {}
     for r in rows:
-        groups.setdefault((r["variant"], json.dumps(r["value"])), []).append(r)
-    for (variant, value), group in groups.items():
+        for s in ([r.get("set", ""), "all"] if len(sets) > 1 else [r.get("set", "")]):
+            groups.setdefault((r["variant"], json.dumps(r["value"]), s), []).append(r)
+    order = [*sets, "all"]
+    for (variant, value, set_name), group in sorted(
+            groups.items(), key=lambda kv: (VARIANTS.index(kv[0][0]), kv[0][1],
+                                            order.index(kv[0][2]))):
         parts = [r for r in group if r["has_parts"]]
         ctrl = [r for r in group if r["control"]]
         lines.append(
-            f"| {variant} | {value} | {sum(r['part_found'] for r in parts)}/{len(parts)} | "
+            f"| {variant} | {value} | {set_name} | "
+            f"{sum(r['part_found'] for r in parts)}/{len(parts)} | "
             f"{sum(r['top_on_part'] for r in parts)}/{len(parts)} | "
             f"{sum(r['top_false'] for r in parts)}/{len(parts)} | "
             f"{sum(r['false'] for r in group)} | {sum(r['ranked'] > 0 for r in ctrl)}/{len(ctrl)}"
