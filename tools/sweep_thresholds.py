@@ -230,7 +230,10 @@ def _table(rows: list[dict], controls: set[tuple[str, str]]) -> list[str]:
                   "| value | method | set | part found | grasp on part | top on part | top on a "
                   "false part | false structures | controls hit | median s |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
-        for (p, value, method, s), group in by.items():
+        first = list(dict.fromkeys(k[:3] for k in by))  # each value's rows: per set, then all
+        for (p, value, method, s), group in sorted(
+                by.items(), key=lambda kv: (first.index(kv[0][:3]),
+                                            groups.index(kv[0][3]) if kv[0][3] in groups else 0)):
             if p != param or s not in groups:
                 continue
             is_control = [(_set_of(r), r["key"][0]) in controls for r in group]
