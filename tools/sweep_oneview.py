@@ -139,8 +139,9 @@ def table(rows: list[dict], name: str = "value") -> list[str]:
         for s in ([r.get("set", ""), "all"] if len(sets) > 1 else [r.get("set", "")]):
             groups.setdefault((r["variant"], json.dumps(r["value"]), s), []).append(r)
     order = [*sets, "all"]
+    values = list(dict.fromkeys(k[1] for k in groups))  # as swept, not as text sorts them
     for (variant, value, set_name), group in sorted(
-            groups.items(), key=lambda kv: (VARIANTS.index(kv[0][0]), kv[0][1],
+            groups.items(), key=lambda kv: (VARIANTS.index(kv[0][0]), values.index(kv[0][1]),
                                             order.index(kv[0][2]))):
         parts = [r for r in group if r["has_parts"]]
         ctrl = [r for r in group if r["control"]]
