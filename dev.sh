@@ -71,8 +71,10 @@ setup_meshes
 case "$cmd" in
   setup) ;;
   run)   exec "$VENV/bin/gbh" run "$@" ;;
+  # pytest-xdist: one worker per core (at most 4), each test file whole on one worker
+  # (tests/conftest.py schedules them; -n 0 runs in this process).
   test)  "$VENV/bin/ruff" check gbh_drake tests bench tools
-         exec "$VENV/bin/python" -m pytest "$@" ;;
+         exec "$VENV/bin/python" -m pytest -n auto --maxprocesses 4 --dist loadfile "$@" ;;
   docs)  NO_MKDOCS_2_WARNING=1 exec "$VENV/bin/mkdocs" serve --dev-addr 127.0.0.1:8000 "$@" ;;
   *)     echo "usage: ./dev.sh run|test|docs|setup [args]" >&2; exit 2 ;;
 esac

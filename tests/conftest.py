@@ -58,8 +58,29 @@ def scenario(tmp_path) -> Scenario:
     return s
 
 
+#: The test files that start a Ray or look for one on this machine (``--ray local``, a cluster,
+#: ``--ray auto``): under pytest-xdist they share one worker, one after another, since ``auto``
+#: finds any Ray of the machine, a sibling worker's too.
+RAY_FILES = ("tests/experiment/test_run.py", "tests/experiment/test_ray_cluster.py",
+             "tests/input/test_ray_faults.py")
+
+
 def pytest_collection_modifyitems(items):
     """A trial is a simulation too: ``-m "not sim"`` leaves out every ``trial`` test."""
     for item in items:
         if item.get_closest_marker("trial") and not item.get_closest_marker("sim"):
             item.add_marker(pytest.mark.sim)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``./dev.sh test``'s workers (pytest-xdist) take whole test files, as ``--dist loadfile``
+    (a file's module fixtures once), and the :data:`RAY_FILES` together as one unit."""
+    from xdist.scheduler import LoadFileScheduling
+
+    class FilesAndRay(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return "ray" if path in RAY_FILES else path
+
+    return FilesAndRay(config, log)
