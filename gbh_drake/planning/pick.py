@@ -78,9 +78,16 @@ SLIDE_VOXEL = 0.5
 SLIDE_NOTE = 0.01
 #: IK restarts for the grasp pose (from the measured arm; the reach check's too).
 GRASP_IK_RESTARTS = 3
-#: IK tolerances (m, rad) of the grasp and closed poses solved again when the close collides
-#: (:func:`plan_pick`): a tenth of the usual ones.
+#: IK tolerances (m, rad) of the poses where the rods meet the object: the grasp, the closed
+#: pose and the descent's waypoints (:func:`precise_ik`): a tenth of the usual ones (1 mm,
+#: 0.01 rad), whose slack SNOPT spends to the bound (the solution sits at the tolerance box's
+#: corner: 1.7 mm and 0.57 deg off, 1.2-3 mm at the rods' tips, against an 8 mm rod's 1.5 mm
+#: clearance in an 11 mm slot).
 TIGHT_IK = (1e-4, 1e-3)
+#: Spacing (m) of the descent's waypoints from the approach pose to the grasp along the approach
+#: axis (:func:`descent_path`): one joint move over the 10 cm bows off the line by up to 4 mm;
+#: the sag of a joint move grows with the square of its length, so over 2 cm it is ~0.2 mm.
+INSERT_STEP = 0.02
 
 
 @dataclass
@@ -130,6 +137,9 @@ class PickPlan:
     carry: list[np.ndarray] = field(default_factory=list)
     """The carry's waypoints (rad, 7 each), ``lift`` to ``carry``: the two ends, or Cartesian
     waypoints at the lift height where the straight joint move would dip (:func:`carry_path`)."""
+    descent: list[np.ndarray] = field(default_factory=list)
+    """The insert's waypoints (rad, 7 each), ``approach`` to ``grasp``, every
+    :data:`INSERT_STEP` along the approach axis (:func:`descent_path`)."""
     carry_low: float = float("nan")
     """The lowest height (W z, m) of the hook point along the carry (checked by forward
     kinematics every :data:`CARRY_CHECK_STEP` rad); the lift height is ``hook_W[2] + lift``."""
@@ -213,10 +223,11 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     object is (the contacts' midpoint; default: between the rods' tips, :data:`PINCH_DEPTH`
     short of them). Without ``setup.far`` the transfer is a straight move.
 
-    The grasp and closed poses are solved to the IK's usual tolerance (1 mm, 0.01 rad); when
-    the close near the table then collides, they are solved again ``tight``
-    (:data:`TIGHT_IK`) before the grasp is refused: the IK's slack, up to 2-3 mm at the
-    fingertips, is as large as the grasp's table clearance (3 mm) less the planner's padding."""
+    The grasp and closed poses are solved to :data:`TIGHT_IK` (:func:`precise_ik`), where
+    that fails to the IK's usual tolerance (1 mm, 0.01 rad); when the close near the table
+    then collides, they are solved again ``tight`` (no loose fallback) before the grasp is
+    refused: the IK's slack, up to 2-3 mm at the fingertips, is as large as the grasp's table
+    clearance (3 mm) less the planner's padding."""
     cfg = setup.config
     if min_lift > cfg.min_lift:
         cfg = dataclasses.replace(cfg, min_lift=min(min_lift, cfg.max_lift))
@@ -246,10 +257,11 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = ik(X_WG, q_start, open_hand, restarts=GRASP_IK_RESTARTS, precise=tight)
+    q["grasp"] = precise_ik(setup.near, X_WG, q_start, open_hand, GRASP_IK_RESTARTS,
+                            loose=not tight)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
-    q["closed"] = ik(X_closed, q["grasp"], closed_hand, precise=tight)
+    q["closed"] = precise_ik(setup.near, X_closed, q["grasp"], closed_hand, loose=not tight)
     if q["closed"] is None:
         return refuse("ik", "closed")
 
@@ -386,11 +398,13 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     transfer = approach_transfer(setup, X_WG, q["grasp"], open_hand, q_start, check)
     if isinstance(transfer, str):
         return refuse(transfer, "transfer" if transfer == "planner" else "grasp")
+    transfer, descent = transfer
     q["approach"] = transfer[-1]
     place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
         X_closed.inverse().multiply(hook_W))  # the hook point at the release
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
-                    keep_straight_rod, carry=carry, carry_low=carry_low, lift_needed=need,
+                    keep_straight_rod, carry=carry, descent=descent, carry_low=carry_low,
+                    lift_needed=need,
                     lift_unseen=need_unseen if len(setup.unseen_W) else float("nan"),
                     drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
                     slide=rest.slide if rest else 0.0,
@@ -420,36 +434,66 @@ def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float,
     return float(clearance - (float(rest.contact_W[2]) - reach))
 
 
+def precise_ik(model: PlanningModel, X: RigidTransform, seed, hand: HandPose, restarts: int = 0,
+               *, loose: bool = True) -> np.ndarray | None:
+    """Arm joint positions (7,) that put G at ``X`` to :data:`TIGHT_IK`; where that fails and
+    ``loose``, to the IK's usual tolerance; None when neither reaches it."""
+    q = model.ik(X, seed, hand, restarts=restarts, position_tolerance=TIGHT_IK[0],
+                 angle_tolerance=TIGHT_IK[1])
+    if q is None and loose:
+        q = model.ik(X, seed, hand, restarts=restarts)
+    return q
+
+
+def descent_path(model: PlanningModel, X_WG: RigidTransform, q_grasp: np.ndarray,
+                 distance: float, hand: HandPose) -> list[np.ndarray] | None:
+    """The insert's waypoints (rad, 7 each) from the pre-grasp pose ``distance`` (m) back along
+    -z_G to the grasp at ``X_WG`` (arm at ``q_grasp``), every :data:`INSERT_STEP` on that line,
+    each solved by :func:`precise_ik` from the one after it (no restarts: one arm branch, no
+    swing between them); None where a waypoint has no IK."""
+    approach_W = X_WG.rotation().col(2)
+    steps = max(1, int(np.ceil(distance / INSERT_STEP - 1e-9)))
+    path = [np.asarray(q_grasp, dtype=float)]
+    for d in np.linspace(0.0, distance, steps + 1)[1:]:
+        q = precise_ik(model, shifted(X_WG, -d * approach_W), path[-1], hand)
+        if q is None:
+            return None
+        path.append(q)
+    return path[::-1]
+
+
 def approach_transfer(setup: PickSetup, X_WG: RigidTransform, q_grasp: np.ndarray,
                       open_hand: HandPose, q_start: np.ndarray, check: PlanningModel | None = None
-                      ) -> list[np.ndarray] | str:
+                      ) -> tuple[list[np.ndarray], list[np.ndarray]] | str:
     """The transfer from ``q_start`` to the approach pose of the grasp at ``X_WG`` (arm at
-    ``q_grasp`` there): the pre-grasp pose backed off along -z_G from ``approach_distance``
-    in :data:`APPROACH_STEP` steps until it is clear of the object's hull (``setup.far``) and
-    its descent is free (``check``, default ``setup.near``), reached by RRT-Connect (a straight
-    move without ``setup.far``). Returns the waypoints (``q_start`` first, the approach last),
-    or why there is none: ``approach`` (no clear, reachable pre-grasp pose) or ``planner``."""
+    ``q_grasp`` there) and the descent from there to the grasp (:func:`descent_path`): the
+    pre-grasp pose backed off along -z_G from ``approach_distance`` in :data:`APPROACH_STEP`
+    steps until it is clear of the object's hull (``setup.far``) and its descent is free
+    (``check``, default ``setup.near``), reached by RRT-Connect (a straight move without
+    ``setup.far``). Returns the transfer's waypoints (``q_start`` first, the approach last)
+    and the descent's (the approach first, ``q_grasp`` last), or why there are none:
+    ``approach`` (no clear, reachable pre-grasp pose) or ``planner``."""
     cfg = setup.config
     check = check or setup.near
-    approach_W = X_WG.rotation().col(2)
     distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
     blocked = "approach"
     for distance in distances if setup.far is not None else distances[:1]:
-        q_approach = setup.near.ik(shifted(X_WG, -distance * approach_W), q_grasp, open_hand,
-                                   restarts=1)
-        if q_approach is None:
+        descent = descent_path(setup.near, X_WG, q_grasp, float(distance), open_hand)
+        if descent is None:
             blocked = "approach"
             continue
+        q_approach = descent[0]
         if setup.far is None:
-            return [np.asarray(q_start, dtype=float), q_approach]
-        if not check.edge_free(q_approach, q_grasp, open_hand):
+            return [np.asarray(q_start, dtype=float), q_approach], descent
+        if not all(check.edge_free(a, b, open_hand)
+                   for a, b in zip(descent[:-1], descent[1:], strict=True)):
             continue
         if not setup.far.free(q_approach, open_hand):
             continue
         transfer = plan_rrt_connect(setup.far, q_start, q_approach, open_hand, seed=setup.seed,
                                     max_iterations=cfg.planner_iterations)
         if transfer is not None:
-            return transfer
+            return transfer, descent
         blocked = "planner"
     return blocked
 

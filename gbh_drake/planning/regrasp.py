@@ -71,6 +71,8 @@ class RegraspPlan:
     place_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """(3,) m: the centre of the object's footprint where it is set down (the re-scan's aim)."""
     lift: float = 0.0
+    descent: list[np.ndarray] = field(default_factory=list)
+    """The insert's waypoints, ``approach`` to ``grasp`` (:func:`~gbh_drake.planning.pick.descent_path`)."""
 
 
 def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: int,
@@ -153,8 +155,9 @@ def plan_regrasp(setup: PickSetup, X_WG: np.ndarray, pose: RegraspPose, rank: in
         transfer = approach_transfer(setup, X, q["grasp"], open_hand, q_start)
         if isinstance(transfer, str):
             return refuse(transfer, "transfer" if transfer == "planner" else "grasp")
+        transfer, descent = transfer
         q["approach"] = transfer[-1]
         return RegraspPlan(rank, pose, float(yaw), transfer, q, move,
-                           X_place.GetAsMatrix4(), place_W, lift)
+                           X_place.GetAsMatrix4(), place_W, lift, descent)
     return refusal
 

@@ -16,6 +16,9 @@ from pydrake.trajectories import PiecewisePolynomial
 VELOCITY_SCALE = 0.35
 #: Franka's joint velocity limits (rad/s).
 FRANKA_V_MAX = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])
+#: The insert, approach to grasp (the rods go in beside the object): its velocity scale and
+#: least duration (s).
+INSERT_VELOCITY_SCALE, INSERT_MIN_DURATION = 0.15, 1.0
 
 
 def segment_duration(q_a, q_b, *, velocity_scale: float = VELOCITY_SCALE,
@@ -84,3 +87,19 @@ def polyline_path(waypoints: Sequence[np.ndarray], t0: float, *,
     velocities = np.gradient(samples, times, axis=1)
     velocities[:, 0] = velocities[:, -1] = 0.0
     return PiecewisePolynomial.CubicHermite(times, samples, velocities)
+
+
+def insert_path(descent: Sequence[np.ndarray], t0: float,
+                press: np.ndarray | None = None) -> PiecewisePolynomial:
+    """The insert through ``descent`` (rad, 7 each: the approach first, the grasp last; the
+    plan's waypoints along the approach axis) from ``t0`` (s): along its straight joint
+    segments without stopping (:func:`polyline_path`), at :data:`INSERT_VELOCITY_SCALE`, at
+    least :data:`INSERT_MIN_DURATION` s; with ``press`` (a scoop's), on down to it as one
+    segment more, the trajectory's last (its duration is the press's)."""
+    path = polyline_path(descent, t0, velocity_scale=INSERT_VELOCITY_SCALE,
+                         min_duration=INSERT_MIN_DURATION)
+    if press is not None:
+        path.ConcatenateInTime(joint_path([descent[-1], press], path.end_time(),
+                                          velocity_scale=INSERT_VELOCITY_SCALE,
+                                          min_duration=INSERT_MIN_DURATION))
+    return path

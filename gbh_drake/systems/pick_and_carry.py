@@ -86,7 +86,13 @@ from gbh_drake.planning.pick import (
     release_path,
 )
 from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
-from gbh_drake.planning.trajectories import joint_path, linear_move, polyline_path, sample
+from gbh_drake.planning.trajectories import (
+    insert_path,
+    joint_path,
+    linear_move,
+    polyline_path,
+    sample,
+)
 from gbh_drake.scenario.schema import HandConfig, PickConfig
 from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
@@ -346,9 +352,9 @@ class PickAndCarry(LeafSystem):
 
     # The regrasp: pick with a pinch, turn, set down, let go, go home, re-scan.
     def _after_regrasp_approach(self, context, s: _State, t: float) -> None:
-        q = s.status.regrasps[-1].q
-        self._move(s, Mode.REGRASP_INSERT, t, [q["approach"], q["grasp"]],
-                   velocity_scale=0.15, min_duration=1.0)
+        plan = s.status.regrasps[-1]
+        self._enter(s, Mode.REGRASP_INSERT, t,
+                    arm=insert_path(plan.descent or [plan.q["approach"], plan.q["grasp"]], t))
 
     def _after_regrasp_insert(self, context, s: _State, t: float) -> None:
         g = self._gripper
@@ -472,10 +478,10 @@ class PickAndCarry(LeafSystem):
     def _after_approach(self, context, s: _State, t: float) -> None:
         s.load_free = float(self._load.Eval(context)[2])
         plan = s.status.plan
-        waypoints = [plan.q["approach"], plan.q["grasp"]]
-        if plan.kind == GraspKind.SCOOP:  # on down until the table pushes back (_during_insert)
-            waypoints.append(self._press_pose(plan))
-        self._move(s, Mode.INSERT, t, waypoints, velocity_scale=0.15, min_duration=1.0)
+        # A scoop goes on down until the table pushes back (_during_insert).
+        press = self._press_pose(plan) if plan.kind == GraspKind.SCOOP else None
+        self._enter(s, Mode.INSERT, t, arm=insert_path(
+            plan.descent or [plan.q["approach"], plan.q["grasp"]], t, press))
 
     def _press_pose(self, plan: PickPlan) -> np.ndarray:
         """The arm where a scoop's press ends at the latest: ``press_depth`` below the grasp."""

@@ -82,25 +82,65 @@ def test_the_plan_reports_a_short_lift_and_the_carry_dip():
     assert text.endswith("(the hanging object needs a 0.45 m lift)")
 
 
-def test_a_tight_plan_places_the_grasp_within_a_tenth_of_a_millimetre(model):
-    """``plan_pick(tight=True)`` (what a close that collides near the table is solved again
-    with): the grasp and closed poses within :data:`TIGHT_IK`, where the usual IK may leave 1 mm."""
+def _ring_plan(model, **kwargs):
+    """A parallel grasp of a ring 6 cm above the table, planned from home: (X_WG, plan)."""
     from gbh_drake.core.results import PARALLEL
-    from gbh_drake.planning.pick import TIGHT_IK, PickSetup, plan_pick
+    from gbh_drake.planning.pick import PickSetup, plan_pick
 
     scenario = Scenario()
     ring = np.array([[0.55 + 0.02 * np.cos(a), 0.0, 0.06 + 0.02 * np.sin(a)]
                      for a in np.linspace(0, 2 * np.pi, 40, endpoint=False)])
     setup = PickSetup(model, None, ring, ring.mean(axis=0), scenario.pick, 0)
     X = RigidTransform(DOWN, [0.55, 0.0, 0.08 + HOOK_GRIPPER.finger_length]).GetAsMatrix4()
-    q_home = np.asarray(scenario.robot.q_home)
-    plans = [plan_pick(setup, X, PARALLEL, 0, q_home, tight=tight) for tight in (False, True)]
-    assert all(isinstance(p, PickPlan) for p in plans), plans
+    return X, plan_pick(setup, X, PARALLEL, 0, np.asarray(scenario.robot.q_home), **kwargs)
+
+
+@pytest.mark.parametrize("tight", [False, True])
+def test_the_grasp_is_planned_within_a_tenth_of_a_millimetre(model, tight):
+    """The grasp and closed poses are solved to :data:`TIGHT_IK` (the usual IK's 1 mm and
+    0.01 rad are spent to the bound by SNOPT: 1.7 mm, 0.57 deg); ``tight=True`` (a close that
+    collides near the table is solved again so) without the loose fallback."""
+    from gbh_drake.planning.pick import TIGHT_IK
+
+    X, plan = _ring_plan(model, tight=tight)
+    assert isinstance(plan, PickPlan), plan
+    X_G = model.X_WG(plan.q["grasp"], HandPose(HOOK_GRIPPER.q_open))
+    # (SNOPT's feasibility tolerance: a thousandth of the bound)
+    assert np.linalg.norm(X_G.translation() - X[:3, 3]) <= 1.001 * TIGHT_IK[0] * np.sqrt(3)
+    assert X_G.rotation().InvertAndCompose(RotationMatrix(X[:3, :3])).ToAngleAxis().angle() \
+        <= 1.001 * TIGHT_IK[1]
+
+
+def _off_line(model, qs, X) -> np.ndarray:
+    """Distances (m) of G at the arm configurations ``qs`` from the approach line of ``X``."""
+    axis, p = X[:3, 2], X[:3, 3]
+    d = np.array([model.X_WG(q, HandPose(HOOK_GRIPPER.q_open)).translation() - p for q in qs])
+    return np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
+
+
+def test_the_rods_go_in_along_the_approach_axis(model):
+    """The insert runs through waypoints every :data:`INSERT_STEP` on the approach line, and the
+    trajectory between them stays on it within a few tenths of a millimetre, where one joint
+    move from the approach pose to the grasp bows off it by millimetres."""
+    from gbh_drake.planning.pick import INSERT_STEP, TIGHT_IK
+    from gbh_drake.planning.trajectories import insert_path
+
+    X, plan = _ring_plan(model)
+    assert isinstance(plan, PickPlan), plan
+    descent = plan.descent
+    np.testing.assert_array_equal(descent[0], plan.q["approach"])
+    np.testing.assert_array_equal(descent[-1], plan.q["grasp"])
     open_hand = HandPose(HOOK_GRIPPER.q_open)
-    errors = [np.linalg.norm(model.X_WG(p.q["grasp"], open_hand).translation() - X[:3, 3])
-              for p in plans]
-    assert errors[1] <= TIGHT_IK[0] * np.sqrt(3) + 1e-9
-    assert errors[0] <= 1e-3 * np.sqrt(3) + 1e-9
+    heights = [model.X_WG(q, open_hand).translation()[2] for q in descent]
+    assert len(descent) - 1 == int(np.ceil(Scenario().pick.approach_distance / INSERT_STEP))
+    assert np.all(np.diff(heights) < 0) and np.all(-np.diff(heights) <= INSERT_STEP + 1e-6)
+    assert _off_line(model, descent, X).max() <= 2 * TIGHT_IK[0]
+    path = insert_path(descent, 0.0)
+    along = [sample(path, t)[0] for t in np.linspace(0.0, path.end_time(), 200)]
+    straight = joint_path([descent[0], descent[-1]], 0.0)
+    one_move = [sample(straight, t)[0] for t in np.linspace(0.0, straight.end_time(), 200)]
+    bow, sag = _off_line(model, along, X).max(), _off_line(model, one_move, X).max()
+    assert bow < 5e-4 and bow < sag / 4, (bow, sag)
 
 
 @pytest.mark.parametrize(("height", "turns_over"), [(0.05, True), (0.20, False)])
