@@ -185,9 +185,10 @@ def vertical_grasp_poses(
     round the straight rod in the hole; turn 0 is the paper's pose, n2 along unit(c - h)).
 
     ``points`` (N, 3) is the object's point cloud in W. For each h (eqs. 1-3):
-    q1 = h + d1 u; Q = the points in the gripper's plane (|x_G| <= slice_half_width) between the
-    open rods when the straight rod passes q1, within one finger length of q1 along the finger
-    (farther points cannot be caged), plus h itself; q_f = argmax over Q of (q - q1) . z;
+    q1 = h + d1 u (``d1_centred``: d1 no more than |c - h|); Q = the points in the gripper's
+    plane (|x_G| <= slice_half_width) between the open rods when the straight rod passes q1,
+    within one finger length of q1 along the finger (farther points cannot be caged), plus h
+    itself; q_f = argmax over Q of (q - q1) . z;
     q2 = its projection on the line q1 + t z; p2 (open gripper) at q2 + t_2 z with
     t_2 = :func:`vertical_tip_offset` (rod_width/2 + cage_clearance + d2; the paper's q_m is
     t_2 = d2, see the module docstring). z is the straight finger's direction, i.e. v or the
@@ -198,7 +199,10 @@ def vertical_grasp_poses(
     lf, q_open = gripper.finger_length, gripper.q_open
     p_G2 = gripper.keypoints_G(q_open)["p2"]
     u = unit(c - H)
-    q1 = H + params.d1 * u
+    d1 = np.full(len(H), params.d1)
+    if params.d1_centred:  # no farther than the hole's centre, at least half a rod from h
+        d1 = np.clip(np.linalg.norm(c - H, axis=1), 0.5 * gripper.rod_width, params.d1)
+    q1 = H + d1[:, None] * u
     points32 = np.asarray(points, dtype=np.float32)
     X, hs = [], []
     directions = finger_directions(structure.v, g, params.p_theta, params.snap_tilt_max_deg)
@@ -212,7 +216,7 @@ def vertical_grasp_poses(
         in_Q = np.abs(x) <= params.slice_half_width
         in_Q &= (y <= 0.0) & (y >= -2.0 * q_open) & (np.abs(zc) <= lf)
         height = np.where(in_Q, zc, -np.inf).max(axis=1)
-        height = np.maximum(height, -params.d1 * np.sum(u * z, axis=1))  # h itself is in Q
+        height = np.maximum(height, -d1 * np.sum(u * z, axis=1))  # h itself is in Q
         q_m = q1 + (height + vertical_tip_offset(params, gripper))[:, None] * z
         X_WG[:, :3, 3] = q_m - X_WG[:, :3, :3] @ p_G2
         X.append(X_WG)

@@ -156,6 +156,12 @@ class GbhParams:
     single pose points away from the robot or into the table. [0]: the paper's poses only."""
     d1: float = ranged(0.01, NonNeg(0.1, "m"))
     """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
+    d1_centred: bool = False
+    """Ours: a vertical grasp's straight rod no farther from h than the hole's centre c, q_1 =
+    h + min(d1, |c - h|) unit(c - h) (at least half a rod from h): in a hole narrower than
+    2 d1 the paper's rod crosses the centre and stands against the far side (a frying pan's
+    11 mm slot: the 8 mm rod's axis 1 mm from the far edge), here it stands in the middle. Off
+    (the paper's eq. 1) until measured on both object sets (docs/robustness.md)."""
     d2: float = ranged(0.0, Range(-0.05, 0.05, unit="m"))
     """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view.
     Added on top of ``cage_clearance`` (see grasp_synthesis: the paper's p2 is a point of a

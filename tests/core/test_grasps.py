@@ -420,3 +420,32 @@ def test_a_closed_handles_top_ten_are_ten_distinct_grasps(mug, mug_result, param
                  for i, a in enumerate(plain))
     assert copies > 0, "the ranking without de-duplication has no copies: the test shows nothing"
     assert GbhParams().with_preset("paper").distinct_distance == 0.0
+
+
+def test_centred_d1_stands_the_straight_rod_in_the_middle_of_a_narrow_hole(params):
+    """A ring with a 13 mm hole (|c - h| 6.5 mm, under the paper's d1 = 1 cm): the paper's
+    vertical grasp stands the straight rod's axis 3.5 mm past the centre, 3 mm from the far
+    side, so the 8 mm rod cuts into it; ``d1_centred`` stands it on the hole's axis, and more
+    vertical grasps pass the collision count."""
+    from gbh_shapes import _to_trimesh, _torus
+
+    small = _to_trimesh(_torus(0.0105, 0.004))
+    paper = plan_grasps(small, params)
+    centred = plan_grasps(small, dataclasses.replace(params, d1_centred=True))
+    s = paper.structures[0]
+    assert np.linalg.norm(s.c - paper.candidates[0].h) < params.d1  # a narrow hole
+    offsets = {}
+    for name, result in (("paper", paper), ("centred", centred)):
+        off = []
+        for g in result.candidates:
+            if g.kind != VERTICAL or g.turn_deg != 0:
+                continue
+            z, p2 = g.X_WG[:3, 2], keypoints_W(g.X_WG)["p2"]
+            d = s.c - p2  # the hole's axis is vertical; the straight rod along z
+            off.append(np.linalg.norm(d - (d @ z) * z))
+        offsets[name] = np.asarray(off)
+    assert offsets["centred"].max() < 1.5e-3  # on the axis (c is the fitted centre)
+    assert offsets["paper"].min() > 2e-3
+    free = {name: sum(g.kind == VERTICAL and g.n_collisions < params.p_c for g in r.candidates)
+            for name, r in (("paper", paper), ("centred", centred))}
+    assert free["centred"] > free["paper"], free
