@@ -156,12 +156,13 @@ class GbhParams:
     single pose points away from the robot or into the table. [0]: the paper's poses only."""
     d1: float = ranged(0.01, NonNeg(0.1, "m"))
     """*paper*, metres: q_1 = h + d1 unit(c - h) (eq. 1)."""
-    d1_centred: bool = False
+    d1_centred: bool = True
     """Ours: a vertical grasp's straight rod no farther from h than the hole's centre c, q_1 =
     h + min(d1, |c - h|) unit(c - h) (at least half a rod from h): in a hole narrower than
     2 d1 the paper's rod crosses the centre and stands against the far side (a frying pan's
-    11 mm slot: the 8 mm rod's axis 1 mm from the far edge), here it stands in the middle. Off
-    (the paper's eq. 1) until measured on both object sets (docs/robustness.md)."""
+    11 mm slot: the 8 mm rod's axis 1 mm from the far edge), here it stands in the middle.
+    Geometry, measured on both object sets (docs/robustness.md); preset ``paper``: False (eq. 1
+    as written)."""
     d2: float = ranged(0.0, Range(-0.05, 0.05, unit="m"))
     """*paper*, metres: q_m = q_2 + d2 v (eq. 3). 0 for 10-view scans, 0.005 for one view.
     Added on top of ``cage_clearance`` (see grasp_synthesis: the paper's p2 is a point of a
@@ -354,15 +355,16 @@ class GbhParams:
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free, the
-#: top ten ranked without de-duplication). ``robust``: the provisional rules of issue 42 on at
-#: their provisional values, opt-in until swept over both object sets (docs/robustness.md): the
-#: hang's slide in the score, four hanging positions per cluster, the rods' 2.5 mm clearance,
-#: the best 40 grasps ranked (the planner tries the ten best the arm reaches).
+#: top ten ranked without de-duplication, eq. 1's d1 past a narrow hole's centre). ``robust``:
+#: the provisional rules of issue 42 on at their provisional values, opt-in until swept over
+#: both object sets (docs/robustness.md): the hang's slide in the score, four hanging positions
+#: per cluster, the rods' 2.5 mm clearance, the best 40 grasps ranked (the planner tries the
+#: ten best the arm reaches).
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "distinct_distance": 0.0, "distinct_angle_deg": 0.0},
+              "distinct_distance": 0.0, "distinct_angle_deg": 0.0, "d1_centred": False},
     "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
                "top_k": 40},
 }

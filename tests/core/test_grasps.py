@@ -430,7 +430,7 @@ def test_centred_d1_stands_the_straight_rod_in_the_middle_of_a_narrow_hole(param
     from gbh_shapes import _to_trimesh, _torus
 
     small = _to_trimesh(_torus(0.0105, 0.004))
-    paper = plan_grasps(small, params)
+    paper = plan_grasps(small, dataclasses.replace(params, d1_centred=False))
     centred = plan_grasps(small, dataclasses.replace(params, d1_centred=True))
     s = paper.structures[0]
     assert np.linalg.norm(s.c - paper.candidates[0].h) < params.d1  # a narrow hole
