@@ -257,11 +257,15 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
     q: dict[str, np.ndarray] = {}
-    q["grasp"] = precise_ik(setup.near, X_WG, q_start, open_hand, GRASP_IK_RESTARTS,
-                            loose=not tight)
+    if cfg.precise_insert:
+        q["grasp"] = precise_ik(setup.near, X_WG, q_start, open_hand, GRASP_IK_RESTARTS,
+                                loose=not tight)
+    else:
+        q["grasp"] = ik(X_WG, q_start, open_hand, restarts=GRASP_IK_RESTARTS, precise=tight)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
-    q["closed"] = precise_ik(setup.near, X_closed, q["grasp"], closed_hand, loose=not tight)
+    q["closed"] = precise_ik(setup.near, X_closed, q["grasp"], closed_hand, loose=not tight) \
+        if cfg.precise_insert else ik(X_closed, q["grasp"], closed_hand, precise=tight)
     if q["closed"] is None:
         return refuse("ik", "closed")
 
@@ -446,12 +450,17 @@ def precise_ik(model: PlanningModel, X: RigidTransform, seed, hand: HandPose, re
 
 
 def descent_path(model: PlanningModel, X_WG: RigidTransform, q_grasp: np.ndarray,
-                 distance: float, hand: HandPose) -> list[np.ndarray] | None:
+                 distance: float, hand: HandPose, precise: bool = True) -> list[np.ndarray] | None:
     """The insert's waypoints (rad, 7 each) from the pre-grasp pose ``distance`` (m) back along
     -z_G to the grasp at ``X_WG`` (arm at ``q_grasp``), every :data:`INSERT_STEP` on that line,
     each solved by :func:`precise_ik` from the one after it (no restarts: one arm branch, no
-    swing between them); None where a waypoint has no IK."""
+    swing between them); None where a waypoint has no IK. Not ``precise``
+    (``pick.precise_insert`` false): the pre-grasp pose to the usual tolerance (one restart)
+    and the grasp, one joint move."""
     approach_W = X_WG.rotation().col(2)
+    if not precise:
+        q = model.ik(shifted(X_WG, -distance * approach_W), q_grasp, hand, restarts=1)
+        return None if q is None else [q, np.asarray(q_grasp, dtype=float)]
     steps = max(1, int(np.ceil(distance / INSERT_STEP - 1e-9)))
     path = [np.asarray(q_grasp, dtype=float)]
     for d in np.linspace(0.0, distance, steps + 1)[1:]:
@@ -478,7 +487,8 @@ def approach_transfer(setup: PickSetup, X_WG: RigidTransform, q_grasp: np.ndarra
     distances = np.arange(cfg.approach_distance, cfg.max_approach_distance + 1e-9, APPROACH_STEP)
     blocked = "approach"
     for distance in distances if setup.far is not None else distances[:1]:
-        descent = descent_path(setup.near, X_WG, q_grasp, float(distance), open_hand)
+        descent = descent_path(setup.near, X_WG, q_grasp, float(distance), open_hand,
+                               cfg.precise_insert)
         if descent is None:
             blocked = "approach"
             continue

@@ -123,6 +123,11 @@ class PickConfig:
                                             "up to this"),))
     """The pre-grasp pose backs off in 5 cm steps up to this distance (m) until the gripper is
     clear of the scanned object's convex hull."""
+    precise_insert: bool = True
+    """The grasp, closed and descent poses solved to 0.1 mm and 0.001 rad (the IK's usual 1 mm
+    and 0.01 rad only where that fails) and the insert through waypoints every 2 cm on the
+    approach line (docs/robustness.md). False: the usual tolerance and one joint move from the
+    pre-grasp pose, as before 2026-12-04 (the executed hand 1-3 mm off the plan)."""
     lift_clearance: float = ranged(0.05, NonNeg(0.5, "m"), relations=(
         Relation("<", "max_lift", "the object's lowest point rises no more than the gripper: "
                                   "the clearance could never be reached"),))
