@@ -39,7 +39,13 @@ The sampler (after ``GenerateAntipodalGraspCandidate`` of Russ Tedrake's ``manip
    the object's points inside the bar-retracted solid model swept along the descent (the open
    gripper moving ``approach_distance`` along ``+z_G`` to X_WG) and then along the closing (each
    rod from ``q_open`` to ``contact_tolerance`` short of its contact): material the hand would
-   pass through or that the rods would touch before A and B. Keep ``N_c < p_c``.
+   pass through or that the rods would touch before A and B. Keep ``N_c < p_c``. With
+   ``narrow_pregrasp`` (beyond the course, whose hand always opens fully; GraspNet's grasps
+   carry their width) a pinch that fails fully open is counted again with the hand opened
+   less, down to the contacts plus ``opening_margin`` (:func:`pregrasp_openings`): the rod
+   that goes down inside a ring lying flat, or beside a handle, no longer lands on the far
+   side of the hole or the body behind it. The widest clear opening is the grasp's
+   ``q_pregrasp``.
 
 The cost (lower is better), per candidate, in the course's spirit (``GraspCandidateCost``:
 ``cost = 20 R_WG[2, 1] - sum_points (n . x_G)^2``, where the WSG's +y is its approach and +x its
@@ -70,11 +76,11 @@ closing axis)::
   cost: a pinch above the CoM before one beside or below it.
 
 Execution: retract the bar (bar joint at ``gripper.bar_retracted_angle = -pi/2``), open the
-fingers to ``q_pregrasp`` (= ``q_open``), reach ``X_WG`` along ``+z_G``, close with a force limit
-toward ``gripper.q_closed_retracted`` (rods touching); contact is expected at ``q``. ``X_WG @
-diag(-1, -1, 1, 1)`` (half a turn about ``z_G``) is the same grasp with the rods swapped, and the
-solid model with the bar retracted is symmetric under it: :func:`flipped` gives it, for a
-planner that cannot reach the first.
+fingers to ``q_pregrasp`` (``q_open``, or less with ``narrow_pregrasp``), reach ``X_WG`` along
+``+z_G``, close with a force limit toward ``gripper.q_closed_retracted`` (rods touching);
+contact is expected at ``q``. ``X_WG @ diag(-1, -1, 1, 1)`` (half a turn about ``z_G``) is
+the same grasp with the rods swapped, and the solid model with the bar retracted is symmetric
+under it: :func:`flipped` gives it, for a planner that cannot reach the first.
 """
 
 # No ``from __future__ import annotations`` here: Drake's yaml_load_typed reads
@@ -101,6 +107,9 @@ ANTIPODAL = GraspKind.ANTIPODAL
 _CHUNK_POINTS = 400_000
 #: m: the exit ray starts this far inside the surface at A, so that it does not hit A's face.
 _RAY_START = 2e-4
+#: Openings tried per pinch with ``narrow_pregrasp``: fully open, then evenly narrower down to
+#: the contacts plus the opening margin (three: the widest clear one is kept).
+PREGRASP_STEPS = 3
 
 
 @dataclass(eq=False)
@@ -361,21 +370,48 @@ def _swept_boxes(q_lo: np.ndarray, q_hi: np.ndarray, gripper: HookGripperGeometr
 
 
 # ---- step 6: collision count, lazily in cost order ---------------------------------------------------
+def pregrasp_openings(q: np.ndarray, params: AntipodalParams,
+                      gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:
+    """(M, K) finger positions (m) to approach each pinch with, widest first: ``q_open``, then
+    with ``params.narrow_pregrasp`` :data:`PREGRASP_STEPS` - 1 more, evenly down to the contact
+    opening ``q`` (M,) plus ``params.opening_margin`` (the room :func:`_contact_pairs` already
+    keeps between the rods and the contacts)."""
+    q = np.asarray(q, dtype=float).reshape(-1)
+    if not params.narrow_pregrasp:
+        return np.full((len(q), 1), gripper.q_open)
+    narrowest = np.minimum(q + params.opening_margin, gripper.q_open)
+    t = np.linspace(0.0, 1.0, PREGRASP_STEPS)
+    return gripper.q_open + (narrowest - gripper.q_open)[:, None] * t[None, :]
+
+
 def _rank_collision_free(obj: ObjectModel, pairs: dict[str, np.ndarray],
                          cand: dict[str, np.ndarray], params: AntipodalParams,
                          gripper: HookGripperGeometry, counts: dict[str, int]
                          ) -> list[AntipodalGrasp]:
     """Count N_c in cost order, chunk by chunk, until top_k collision-free grasps are found (the
-    cost does not depend on N_c, so this is the top_k of counting them all)."""
+    cost does not depend on N_c, so this is the top_k of counting them all). Each pinch is
+    counted with the hand open at each of its :func:`pregrasp_openings`, widest first, and
+    keeps the widest that is clear (``cand["q_hi"]`` is set to it)."""
     points = np.asarray(obj.points, dtype=np.float32)
     M = len(cand["X"])
     step = max(8, _CHUNK_POINTS // max(len(points), 1))
     ranked: list[AntipodalGrasp] = []
     evaluated = 0
+    openings = pregrasp_openings(pairs["q"][cand["pair"]], params, gripper)
     for k in range(0, M, step):
         sl = slice(k, min(k + step, M))
-        n_c = count_in_swept_model(points, cand["X"][sl], cand["q_lo"][sl], cand["q_hi"][sl],
-                                   gripper, params.collision_margin, params.approach_distance)
+        n_c = np.full(sl.stop - sl.start, np.iinfo(np.int64).max)
+        for j in range(openings.shape[1]):
+            todo = np.flatnonzero(n_c >= params.p_c)
+            if len(todo) == 0:
+                break
+            rows = np.arange(sl.start, sl.stop)[todo]
+            n_j = count_in_swept_model(points, cand["X"][rows], cand["q_lo"][rows],
+                                       openings[rows, j], gripper, params.collision_margin,
+                                       params.approach_distance)
+            n_c[todo] = np.minimum(n_c[todo], n_j)
+            clear = todo[n_j < params.p_c]
+            cand["q_hi"][sl.start + clear] = openings[sl.start + clear, j]
         evaluated = sl.stop
         for j in np.flatnonzero(n_c < params.p_c):
             ranked.append(_grasp(pairs, cand, k + int(j), int(n_c[j]), params))

@@ -418,7 +418,14 @@ class AntipodalParams:
     """m: the hand may be backed off along -z_G (to clear the supporting surface) until the
     contacts are this close to the tips, no closer."""
     opening_margin: float = ranged(0.003, NonNeg(0.04, "m"))
-    """m: the contact opening q must be at most q_open minus this (room to open around it)."""
+    """m: the contact opening q must be at most q_open minus this (room to open around it);
+    with ``narrow_pregrasp`` also the least room the approach keeps around the contacts."""
+    narrow_pregrasp: bool = True
+    """Beyond the course (whose hand always opens fully; GraspNet's grasps carry a width): a
+    pinch whose fully open hand meets material is tried again with the fingers opened less,
+    down to the contacts plus ``opening_margin`` (:func:`~gbh_drake.core.antipodal.
+    pregrasp_openings`), and approached so: a rod inside a ring lying flat no longer lands on
+    its far side. False: the hand always approaches fully open (the baseline of before)."""
     min_width: float = ranged(0.001, NonNeg(0.08, "m"))
     """m: thinner material between the contacts is not pinched."""
     friction_coefficient: float = ranged(0.4, Pos(10.0))

@@ -32,7 +32,7 @@ pick, the place, the re-scan and the hook.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -121,10 +121,12 @@ def pinches_for_pose(mesh_W: trimesh.Trimesh, pose: RegraspPose, params: Antipod
     once it stands in ``pose``: the antipodal sampler's best pinches of the mesh moved into the
     pose (``params``, the sampler's ``seed``; its table rule there), moved back by the pose's
     inverse motion, kept where the gripper clears the table by ``clearance`` (m) here too (the
-    same pinch, from the other side: the object lies otherwise), best first."""
+    same pinch, from the other side: the object lies otherwise), best first. The regrasp
+    approaches fully open (its pinches are poses only): ``narrow_pregrasp`` is off here."""
     M = np.asarray(pose.X_WnewWnow, dtype=float)
     try:
-        grasps = sample_antipodal_grasps(mesh_W.copy().apply_transform(M), params, rng=seed)
+        grasps = sample_antipodal_grasps(mesh_W.copy().apply_transform(M),
+                                         replace(params, narrow_pregrasp=False), rng=seed)
     except GbhInputError:
         return []
     back = np.linalg.inv(M)

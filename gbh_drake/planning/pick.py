@@ -158,6 +158,9 @@ class PickPlan:
     """The loop's side the object is predicted to rest on (``bar``, ...; "": the hook point)."""
     notes: list[str] = field(default_factory=list)
     """What the plan could not do as it should: a lift short of the need, a carry that dips."""
+    opening: float = float("nan")
+    """m: one finger's position for the approach and the insert (the gripper's ``q_open``, or
+    a pinch's narrower ``q_pregrasp``); nan in a plan made without it: ``q_open``."""
 
     @property
     def lift_short(self) -> float:
@@ -215,13 +218,16 @@ def reach_refusal(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int,
 
 def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start: np.ndarray,
               bar: float = 0.0, min_lift: float = 0.0, *, tight: bool = False,
-              pinch_W: np.ndarray | None = None) -> PickPlan | Refusal:
+              pinch_W: np.ndarray | None = None, opening: float | None = None
+              ) -> PickPlan | Refusal:
     """The plan that picks with the open gripper at ``X_WG`` (4, 4) starting from the arm at
     ``q_start`` (7,), or the reason it cannot (see the module docstring). ``bar`` (rad): the
     bar's angle during the pick; ``min_lift`` (m): a lift this grasp needs at least, besides
     the config's ``min_lift``; ``pinch_W`` (3,): for a pinch, a point on its axis where the
     object is (the contacts' midpoint; default: between the rods' tips, :data:`PINCH_DEPTH`
-    short of them). Without ``setup.far`` the transfer is a straight move.
+    short of them); ``opening`` (m): each finger's position for the approach and the insert
+    (default the gripper's ``q_open``; a pinch's ``q_pregrasp``). Without ``setup.far`` the
+    transfer is a straight move.
 
     The grasp and closed poses are solved to :data:`TIGHT_IK` (:func:`precise_ik`), where
     that fails to the IK's usual tolerance (1 mm, 0.01 rad); when the close near the table
@@ -242,8 +248,9 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     check = setup.table_level if kind == GraspKind.SCOOP and setup.table_level is not None \
         else setup.near
     q_closed = g.q_closed if hook else 0.5 * g.rod_width
-    open_hand, closed_hand = HandPose(g.q_open, bar), HandPose(q_closed, bar)
-    shift = (g.q_open - g.q_closed) if keep_straight_rod else 0.0
+    opening = g.q_open if opening is None else float(np.clip(opening, q_closed, g.q_open))
+    open_hand, closed_hand = HandPose(opening, bar), HandPose(q_closed, bar)
+    shift = (opening - g.q_closed) if keep_straight_rod else 0.0
     X_closed = RigidTransform(R, X_WG.translation() + shift * closing_W)
 
     def refuse(reason: str, where: str = "", detail: str = "") -> Refusal:
@@ -394,7 +401,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     a, b, hand, hand_b):
                 if name in ("descend", "close") and not tight:
                     again = plan_pick(setup, X_WG.GetAsMatrix4(), kind, rank, q_start, bar,
-                                      min_lift, tight=True, pinch_W=pinch_W)
+                                      min_lift, tight=True, pinch_W=pinch_W,
+                                      opening=opening)
                     if isinstance(again, PickPlan):
                         return again
                 return refuse("collision", name)
@@ -412,7 +420,7 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                     lift_unseen=need_unseen if len(setup.unseen_W) else float("nan"),
                     drop=rest.drop if rest else 0.0, support=rest.support if rest else "",
                     slide=rest.slide if rest else 0.0,
-                    notes=notes)
+                    notes=notes, opening=opening)
 
 
 def unseen_lift(unseen_W: np.ndarray, rest: LoopRest | None, clearance: float,

@@ -347,6 +347,8 @@ class PickAndCarry(LeafSystem):
             return
         s.status.plan, s.status.score, s.status.fallback = plan, score, fallback
         s.command[2] = plan.bar
+        if plan.opening < self._gripper.q_open:  # a narrower pinch: the fingers close to it
+            s.command[:2] = [plan.opening, self._hand.force]  # on the way (nan: fully open)
         q_now = self._arm_state.Eval(context)[:7]
         self._move(s, Mode.APPROACH, t, [q_now, *plan.transfer[1:]])
 
@@ -519,7 +521,8 @@ class PickAndCarry(LeafSystem):
         # Hooks: close to the loop's closure (q_closed), squeezing with the force whatever stops
         # the fingers first; pinches: until the rods touch (the material stops them first).
         q_stop = g.q_closed if GraspKind(plan.kind).hooks else 0.5 * g.rod_width
-        duration = (g.q_open - q_stop) / self._hand.speed
+        opening = plan.opening if plan.opening < g.q_open else g.q_open  # nan: fully open
+        duration = (opening - q_stop) / self._hand.speed
         s.command[:2] = [q_stop, self._hand.force]
         q_to = plan.q["closed"]
         if plan.kind == GraspKind.SCOOP:
@@ -712,7 +715,7 @@ class PickAndCarry(LeafSystem):
         bar = BAR_DEPLOYED if GraspKind(grasp.kind).hooks else BAR_RETRACTED
         min_lift = self._scoop.min_lift if grasp.kind == GraspKind.SCOOP else 0.0
         return plan_pick(setup, grasp.X_WG, grasp.kind, rank, q_start, bar, min_lift,
-                         pinch_W=_pinch_point(grasp))
+                         pinch_W=_pinch_point(grasp), opening=getattr(grasp, "q_pregrasp", None))
 
     def _offers(self, context, tiers: Sequence[Tier]) -> list[Offer]:
         """The grasps of ``tiers`` (the machine's, in its order), evaluated when :func:`choose`

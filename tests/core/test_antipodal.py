@@ -19,6 +19,7 @@ from gbh_drake.core.antipodal import (
     count_in_swept_model,
     flipped,
     plan_antipodal_grasps,
+    pregrasp_openings,
     sample_antipodal_grasps,
 )
 from gbh_drake.core.gripper import HOOK_GRIPPER, Box
@@ -273,6 +274,44 @@ def test_flat_object_on_the_table_has_no_pinch():
     # The paper's observation for its baseline: nothing for a clothes hanger lying flat.
     result = plan_antipodal_grasps(make_object("clothes_hanger").mesh, AntipodalParams(), 0)
     assert result.counts["friction"] > 0 and result.ranked == []
+
+
+def _flat_ring() -> trimesh.Trimesh:
+    """A flat ring (a washer or quoit) on the table, 8 cm across and 2.7 cm high, its wall 2.7 cm
+    thick round a 2.6 cm hole: a pinch across the wall has one rod in the hole, whose far side
+    is 3.95 cm from the wall's middle, inside the fully open rod (4 cm out, 8 mm thick)."""
+    return _on_table(trimesh.creation.annulus(r_min=0.013, r_max=0.040, height=0.027))
+
+
+def test_pregrasp_openings_run_from_fully_open_to_the_contacts_plus_the_margin():
+    params = AntipodalParams()
+    q = np.array([0.012, 0.03, G.q_open - params.opening_margin])
+    openings = pregrasp_openings(q, params)
+    assert openings.shape == (3, 3)
+    np.testing.assert_allclose(openings[:, 0], G.q_open)
+    np.testing.assert_allclose(openings[:, -1], q + params.opening_margin)
+    assert np.all(np.diff(openings, axis=1) <= 0.0)  # widest first
+    off = pregrasp_openings(q, dataclasses.replace(params, narrow_pregrasp=False))
+    np.testing.assert_allclose(off, G.q_open)
+
+
+def test_a_ring_lying_flat_is_pinched_with_the_hand_opened_less():
+    ring = _flat_ring()
+    full = plan_antipodal_grasps(ring, AntipodalParams(narrow_pregrasp=False), 0)
+    narrow = plan_antipodal_grasps(ring, AntipodalParams(), 0)
+    assert full.counts["ground"] > 0 and full.ranked == []  # the open rod lands on the far side
+    assert narrow.ranked
+    params = AntipodalParams()
+    obj = prepare_object(ring, GbhParams(n_points=params.n_points))
+    for g in narrow.ranked:
+        assert g.q + params.opening_margin - 1e-9 <= g.q_pregrasp < G.q_open
+        X = g.X_WG[None]
+        lo = [g.q + params.contact_tolerance]
+        assert count_in_swept_model(obj.points, X, lo, [G.q_open], G, 0.0,
+                                    params.approach_distance)[0] >= params.p_c
+        assert count_in_swept_model(obj.points, X, lo, [g.q_pregrasp], G, 0.0,
+                                    params.approach_distance)[0] == g.n_collisions < params.p_c
+        assert abs(g.width - 0.027) < 0.002  # across the wall: one rod in the hole
 
 
 def test_a_scan_sized_mug_gets_a_full_top_k(mug):

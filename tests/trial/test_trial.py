@@ -93,6 +93,36 @@ def test_a_grasp_of_the_mugs_wall_is_reported_as_a_pinch_or_a_drop(scenario):
         assert record.held_by == "pinch"
 
 
+@pytest.mark.trial
+def test_a_ring_lying_flat_is_pinched_with_the_hand_opened_less(scenario, tmp_path):
+    """A flat ring (8 cm across, 2.7 cm high, a 2.6 cm hole) on the table, one view, the
+    antipodal baseline: fully open, the rod that goes down in the hole lands on its far side
+    and the sampler offers nothing; opened to the pinch's ``q_pregrasp`` on the way, the hand
+    goes down round the wall and carries the ring in a pinch."""
+    import trimesh
+
+    from gbh_drake.core.gripper import HOOK_GRIPPER
+    from gbh_drake.scenario.loader import apply_overrides
+
+    ring = trimesh.creation.annulus(r_min=0.013, r_max=0.040, height=0.027, sections=64)
+    ring.apply_translation([0.0, 0.0, -ring.bounds[0, 2]])
+    ring.export(tmp_path / "ring.obj")
+    layer = ("{grasp_method: antipodal, settle_time: 0.2, scan: {num_views: 1}, "
+             "pick: {set_down: false}, object: {mesh: %s, scale: 1.0, mass: 0.1, "
+             "pose: {translation: [0.55, 0.05, 0.0]}}}" % (tmp_path / "ring.obj"))
+    records = {}
+    for narrow in (False, True):
+        s = apply_overrides(scenario, [layer, f"antipodal: {{narrow_pregrasp: {narrow}}}"])
+        trial = build_trial(s)
+        simulator, records[narrow] = simulate_trial(trial)
+    assert records[False].outcome == "no_grasp_found", records[False].reason
+    record = records[True]
+    assert record.success and record.held_by == "pinch", record.reason
+    status = trial.pick.GetOutputPort("status").Eval(
+        trial.pick.GetMyContextFromRoot(simulator.get_context()))
+    assert status.plan.opening < HOOK_GRIPPER.q_open - 1e-3
+
+
 def test_a_target_out_of_reach_gives_no_reachable_grasp_with_reasons(scenario):
     scenario.settle_time = 0.1
     scenario.pick.place_position = [1.6, 0.0]  # 1.6 m from the robot: beyond its reach
