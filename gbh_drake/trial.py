@@ -152,6 +152,9 @@ class TrialRecord:
     object hanging from anywhere it reaches; ``pick.slide_lift``); nan without a hook plan."""
     carry_dip: float = float("nan")
     """How far (m) the hook point went below its lifted height along the carry."""
+    grasp_opening: float = float("nan")
+    """m: one finger's position for the approach and insert of the executed grasp (the
+    gripper's ``q_open``; a pinch's narrower ``q_pregrasp``, ``antipodal.narrow_pregrasp``)."""
     plan_notes: list[str] = field(default_factory=list)
     """What the plan could not do as wanted (a lift short of the need, a carry that dips)."""
     place: list[float] = field(default_factory=list)
@@ -490,6 +493,7 @@ def make_record(trial: Trial, simulator: Simulator, wall: float) -> TrialRecord:
         lift_needed=float(getattr(plan, "lift_needed", float("nan"))) if plan else float("nan"),
         lift_slide=float(getattr(plan, "slide", float("nan"))) if plan else float("nan"),
         carry_dip=float(getattr(plan, "carry_dip", float("nan"))) if plan else float("nan"),
+        grasp_opening=float(getattr(plan, "opening", float("nan"))) if plan else float("nan"),
         plan_notes=list(getattr(plan, "notes", [])) if plan else [],
         place=plan.place_W.tolist() if plan else [],
         verdict=verdict, phases=dict(status.phase_start),

@@ -120,7 +120,7 @@ def test_a_ring_lying_flat_is_pinched_with_the_hand_opened_less(scenario, tmp_pa
     assert record.success and record.held_by == "pinch", record.reason
     status = trial.pick.GetOutputPort("status").Eval(
         trial.pick.GetMyContextFromRoot(simulator.get_context()))
-    assert status.plan.opening < HOOK_GRIPPER.q_open - 1e-3
+    assert record.grasp_opening == status.plan.opening < HOOK_GRIPPER.q_open - 1e-3
 
 
 def test_a_target_out_of_reach_gives_no_reachable_grasp_with_reasons(scenario):
