@@ -263,16 +263,18 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
                               strict=True)) if precise else {}
         return setup.near.ik(X, seed, hand, restarts=restarts, **tolerances)
 
+    def at_grasp(X: RigidTransform, seed, hand: HandPose, restarts: int = 0):
+        # The grasp and closed poses: to TIGHT_IK (loose where that fails, unless ``tight``),
+        # or with ``precise_insert`` off as the other waypoints (tight only when ``tight``).
+        if cfg.precise_insert:
+            return precise_ik(setup.near, X, seed, hand, restarts, loose=not tight)
+        return ik(X, seed, hand, restarts=restarts, precise=tight)
+
     q: dict[str, np.ndarray] = {}
-    if cfg.precise_insert:
-        q["grasp"] = precise_ik(setup.near, X_WG, q_start, open_hand, GRASP_IK_RESTARTS,
-                                loose=not tight)
-    else:
-        q["grasp"] = ik(X_WG, q_start, open_hand, restarts=GRASP_IK_RESTARTS, precise=tight)
+    q["grasp"] = at_grasp(X_WG, q_start, open_hand, GRASP_IK_RESTARTS)
     if q["grasp"] is None:
         return refuse("ik", "grasp")
-    q["closed"] = precise_ik(setup.near, X_closed, q["grasp"], closed_hand, loose=not tight) \
-        if cfg.precise_insert else ik(X_closed, q["grasp"], closed_hand, precise=tight)
+    q["closed"] = at_grasp(X_closed, q["grasp"], closed_hand)
     if q["closed"] is None:
         return refuse("ik", "closed")
 
