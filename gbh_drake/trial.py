@@ -294,23 +294,28 @@ def _grasps(grasps) -> list:
     return grasps
 
 
-def trial_duration(scenario: Scenario) -> float:
-    """Simulated seconds a trial of ``scenario`` may last: the settle time for task
-    ``settle``, else ``max_time``."""
-    return scenario.settle_time if scenario.task == "settle" else scenario.max_time
+def trial_duration(trial: Trial) -> float:
+    """Simulated seconds ``trial`` may last: its scenario's settle time for task ``settle``,
+    else ``max_time`` for each attempt its machine may start (``PickAndCarry.max_attempts``:
+    a retry or a regrasp begins a pick anew, and a trial cut off in its last cage test would
+    have no verdict)."""
+    scenario = trial.scenario
+    if scenario.task == "settle":
+        return scenario.settle_time
+    return scenario.max_time * trial.pick.max_attempts
 
 
 def simulate_trial(trial: Trial, *, max_time: float | None = None
                    ) -> tuple[Simulator, TrialRecord]:
     """Runs ``trial`` until its machine has finished and the object had ``AFTERMATH`` seconds to
-    come to rest (at most ``max_time`` simulated seconds; default: the scenario's, see
-    :func:`trial_duration`); returns the simulator and the record. A simulator monitor ends the
+    come to rest (at most ``max_time`` simulated seconds; default: :func:`trial_duration`, the
+    scenario's ``max_time`` per attempt); returns the simulator and the record. A simulator monitor ends the
     run, as Drake's ``Simulator`` idiom has it."""
     require("simulate_trial", "trial", trial, Trial, "a Trial (build_trial(scenario))")
     if max_time is not None and not (is_number(max_time) and 0 < max_time < np.inf):
         raise TypeError(argument_problem("simulate_trial", "max_time", "a positive number of "
                                          "simulated seconds, or None (the scenario's)", max_time))
-    max_time = trial_duration(trial.scenario) if max_time is None else max_time
+    max_time = trial_duration(trial) if max_time is None else max_time
     simulator = Simulator(trial.diagram)
     ApplySimulatorConfig(trial.scenario.simulator_config, simulator)
     simulator.Initialize()

@@ -303,8 +303,9 @@ class Scenario:
     max_time: float = ranged(60.0, Pos(600.0, "s", "a pick takes about 10-20 simulated seconds"),
                              relations=(Relation(">", "settle_time", "the pick starts when "
                                                  "settling ends", when=("task", "pick")),))
-    """Simulated seconds after which a trial is cut off (it normally ends when the pick-and-carry
-    machine has finished)."""
+    """Simulated seconds after which a trial is cut off, for each pick its machine may start (a
+    method that retries or regrasps may start several: ``PickAndCarry.max_attempts``); a trial
+    normally ends when the pick-and-carry machine has finished."""
     replay_fps: float = ranged(16.0, Pos(120.0, "frames/s"))
     """Frames per second of the saved Meshcat replay (fewer frames, smaller file)."""
     output_dir: str = ranged("", FilePath("folder"))

@@ -25,7 +25,7 @@ from pydrake.systems.framework import EventStatus
 from gbh_drake.method_spec import Tier
 from gbh_drake.methods import GivenGrasps, method_named
 from gbh_drake.studio.choices import DROP, Choices, ObjectChoice, overrides, scenario_for
-from gbh_drake.trial import Trial, TrialRecord, build_trial, finish_trial
+from gbh_drake.trial import Trial, TrialRecord, build_trial, finish_trial, trial_duration
 
 #: Simulated seconds the Scan step waits at most for the Scanner (it scans once the object is
 #: still, ``ScanConfig.still_max_wait`` after the settle time at the latest).
@@ -275,8 +275,9 @@ class Session:
     def execute(self, index: int, *, stop=None, max_time: float | None = None
                 ) -> TrialRecord:
         """Simulates the pick of offered grasp ``index`` from the scanned state, live, until
-        the machine has finished and the object had ``AFTERMATH`` seconds (at most the
-        scenario's ``max_time``; ``stop()`` true ends it sooner); returns the trial's record,
+        the machine has finished and the object had ``AFTERMATH`` seconds (at most
+        :func:`~gbh_drake.trial.trial_duration`, the scenario's ``max_time`` per pick the
+        machine may start; ``stop()`` true ends it sooner); returns the trial's record,
         the monitor's verdict in it."""
         self.detect()
         self._restore("scanned")
@@ -286,7 +287,7 @@ class Session:
         given.set_grasps(given.GetMyMutableContextFromRoot(context), [offered.grasp])
         self.execute_from = context.get_time()
         self.record = finish_trial(self.trial, self.simulator,
-                                   max_time or self.scenario.max_time, stop=stop)
+                                   max_time or trial_duration(self.trial), stop=stop)
         self.stage = "executed"
         return self.record
 

@@ -272,6 +272,16 @@ class PickAndCarry(LeafSystem):
             prerequisites_of_calc={self.all_state_ticket()})
 
     # ---- outputs ------------------------------------------------------------------------------
+    @property
+    def max_attempts(self) -> int:
+        """The most picks this machine may start: its lifts (one per tier that lifts, plus
+        ``max_retries``; :func:`~gbh_drake.planning.choice.tiers_after_empty_lifts`) and, with a
+        regrasp tier, its regrasps (each a pick, a place and a re-scan). A trial may last its
+        ``max_time`` per attempt (:func:`gbh_drake.trial.trial_duration`)."""
+        lifts = self._max_retries + sum(tier is not Tier.REGRASP for tier in self._tiers)
+        regrasps = self._regrasp.max_regrasps if Tier.REGRASP in self._tiers else 0
+        return lifts + regrasps
+
     def _calc_arm(self, context, output: BasicVector) -> None:
         s: _State = context.get_abstract_state(self._state).get_value()
         if s.arm is None:

@@ -25,6 +25,25 @@ def test_the_machine_declares_one_input_per_port_of_its_tiers():
                      tiers=(Tier.FALLBACK,))
 
 
+@pytest.mark.sim
+@pytest.mark.parametrize("tiers, retries, regrasps, attempts", [
+    ((Tier.GRASPS,), 0, 1, 1),  # the paper's one attempt
+    ((Tier.GRASPS, Tier.FALLBACK), 0, 1, 2),  # a pinch after the hooks' empty lift
+    ((Tier.GRASPS, Tier.REGRASP, Tier.FALLBACK), 1, 1, 4),  # 3 lifts and a regrasp
+    ((Tier.GRASPS, Tier.REGRASP, Tier.FALLBACK), 1, 0, 3),
+])
+def test_the_machine_counts_the_picks_it_may_start(tiers, retries, regrasps, attempts):
+    """Each lift (one per lifting tier, plus the retries) and each regrasp starts a pick: a
+    trial may last max_time per attempt (trial_duration)."""
+    from gbh_drake.core.params import RegraspParams
+
+    s = Scenario()
+    machine = PickAndCarry(s.station_directives(), s.pick, s.robot.hand, settle_time=0.3,
+                           tiers=tiers, max_retries=retries,
+                           regrasp=RegraspParams(max_regrasps=regrasps))
+    assert machine.max_attempts == attempts
+
+
 @pytest.mark.parametrize("argument, value, error", [
     ("settle_time", float("nan"), "settle_time must be a finite number"),
     ("period", 0.0, "period must be positive"),

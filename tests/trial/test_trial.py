@@ -15,7 +15,7 @@ from gbh_drake.modeling.object_asset import initial_object_pose, load_object_ass
 from gbh_drake.objects import list_objects
 from gbh_drake.run import RunSummary
 from gbh_drake.seeds import derive_seeds
-from gbh_drake.trial import build_trial, make_record, simulate_trial
+from gbh_drake.trial import build_trial, make_record, simulate_trial, trial_duration
 
 pytestmark = pytest.mark.sim
 
@@ -133,6 +133,20 @@ def test_a_target_out_of_reach_gives_no_reachable_grasp_with_reasons(scenario):
     # Grasps the arm can reach and lift fail at the carry; others earlier, all for want of IK.
     assert all(r.reason == "ik" for r in status.refusals), record.refusals
     assert record.refusals.get("ik:carry", 0) >= 1 and "ik:carry" in record.reason
+
+
+def test_a_trial_may_last_max_time_for_each_pick_its_method_may_start(scenario):
+    """The paper's one attempt: max_time. gbh+ hooks, retries once, scoops, regrasps once and
+    pinches: each a pick begun anew, each with max_time (a gbh+ trial of the own set, a spray
+    bottle hooked after a retry and a regrasp, was cut off in its cage test at 60 s)."""
+    scenario.max_time = 40.0
+    assert trial_duration(build_trial(scenario)) == 40.0
+    scenario.grasp_method = "gbh_plus"
+    trial = build_trial(scenario)
+    assert trial.pick.max_attempts == 5  # 4 lifts (3 lifting tiers, 1 retry), 1 regrasp
+    assert trial_duration(trial) == 200.0
+    scenario.task = "settle"
+    assert trial_duration(build_trial(scenario)) == scenario.settle_time
 
 
 def test_a_hanger_lying_flat_is_refused_by_the_table_and_the_verdict_says_so(scenario):
