@@ -524,7 +524,10 @@ class RegraspParams:
     min_turn_deg: float = ranged(15.0, Range(0.0, 180.0, unit="deg"))
     """Degrees: resting poses this close to the present one are not offered (the same pose)."""
     min_probability: float = ranged(0.02, Range(0.0, 1.0))
-    """Resting poses less probable than this are not offered (they tip over at a touch)."""
+    """Resting poses whose family is less probable than this are not offered (they tip over at a
+    touch); a family is the orientations an object rolls between on a curved side (a roll or a
+    ring on its rim: many facets, one pose; :func:`~gbh_drake.core.regrasp.family_probabilities`),
+    its probability their sum."""
     max_poses: int = ranged(3, Int(1, 20))
     """At most this many resting poses are planned for, best first."""
     max_pinches: int = ranged(10, Int(1, 100))

@@ -17,8 +17,12 @@ a hook grasp, best first:
 2. then the best GbH score of the pose (paper Sec. 2.4);
 3. then the most probable orientation.
 
-Orientations within ``min_turn_deg`` of the present one (the pose that offered nothing) and those
-below ``min_probability`` are skipped.
+Orientations within ``min_turn_deg`` of the present one (the pose that offered nothing) are
+skipped, and so are those whose *family* is less probable than ``min_probability``
+(:func:`family_probabilities`): an object that rolls on a curved side (a tape roll or a ring
+standing on its rim, a bottle on its side) rests on many facets of its hull, each improbable (a
+scanned tape roll's rim: 32 facets of 0.1-0.6 % each, 5 % together), yet set down it rests on
+one of them as surely as on a face; the facets are one family, whose probability is their sum.
 
 Which pinch can turn the object into a pose? One that is a good pinch *there* (from above, the
 hand clear of the table once the object stands in the new pose) and that the arm can take
@@ -49,6 +53,11 @@ trimesh = lazy_module("trimesh")
 #: Degrees: turns are compared rounded to steps of this (85 and 90 deg alike: a scan's resting
 #: poses of one orientation differ by a few degrees).
 TURN_STEP_DEG = 30.0
+#: Degrees: resting orientations whose support faces' normals (in the mesh as it lies) are
+#: chained this close are one family (:func:`family_probabilities`): one turn step, the turns
+#: counted alike. A scanned tape roll's rim rests are 3-44 deg apart, all but one gap below
+#: 30 deg; a box's faces are 90 deg apart, a hexagonal prism's 60.
+FAMILY_LINK_DEG = TURN_STEP_DEG
 
 
 @dataclass
@@ -68,6 +77,9 @@ class RegraspPose:
     """The best of them's score S."""
     index: int
     """Which of the given orientations."""
+    family_probability: float = float("nan")
+    """The probability of its family (:func:`family_probabilities`): what ``min_probability``
+    is compared with."""
     pinches: list[np.ndarray] | None = None
     """(4, 4) X_WG each, where the object lies now: pinches that hold it from above in this
     pose (:func:`pinches_for_pose`); None until asked for."""
@@ -138,6 +150,26 @@ def pinches_for_pose(mesh_W: trimesh.Trimesh, pose: RegraspPose, params: Antipod
     return out
 
 
+def family_probabilities(orientations: Sequence[tuple[np.ndarray, float]]) -> np.ndarray:
+    """(n,) each orientation's family probability: the sum of the probabilities of the
+    orientations chained to it (single linkage) by support normals each within
+    :data:`FAMILY_LINK_DEG` of the next. ``orientations``: (R (3, 3), probability) as in
+    :func:`choose_regrasp_pose`; R turns the mesh as it lies into the resting orientation, so
+    the face it rests on has the outward normal R^T (0, 0, -1) in the mesh as it lies. A box's
+    faces are each their own family; a tessellated or scanned cylinder's side facets, or a
+    ball's, chain into one (it rolls from one to the next)."""
+    if len(orientations) == 0:
+        return np.zeros(0)
+    from scipy.sparse.csgraph import connected_components
+
+    normals = np.array([-np.asarray(R, dtype=float)[2] for R, _ in orientations])  # R^T (-z)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    linked = normals @ normals.T >= np.cos(np.radians(FAMILY_LINK_DEG))
+    _, label = connected_components(linked, directed=False)
+    probability = np.array([float(p) for _, p in orientations])
+    return np.bincount(label, weights=probability)[label]
+
+
 def choose_regrasp_pose(
     mesh_W: trimesh.Trimesh,
     orientations: Sequence[tuple[np.ndarray, float]],
@@ -151,10 +183,12 @@ def choose_regrasp_pose(
     """The resting poses of ``mesh_W`` (vertices in W, where the object lies now) among
     ``orientations`` ((R (3, 3), probability) each, see the module docstring) in which the
     pipeline, with ``params`` and the surface sampler's ``seed``, ranks a hook grasp, best
-    first (module docstring); empty if none does."""
+    first (module docstring); empty if none does. An orientation is tried when its family's
+    probability (:func:`family_probabilities`) is at least ``min_probability``."""
     out: list[RegraspPose] = []
+    family = family_probabilities(orientations)
     for i, (R, probability) in enumerate(orientations):
-        if probability < min_probability:
+        if family[i] < min_probability:
             continue
         X = resting_motion(mesh_W, R, place_xy, params.ground_height)
         turn = rotation_angle_deg(X[:3, :3])
@@ -166,7 +200,8 @@ def choose_regrasp_pose(
             continue
         if result.ranked:
             out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
-                                   float(result.ranked[0].score), i))
+                                   float(result.ranked[0].score), i,
+                                   family_probability=float(family[i])))
     out.sort(key=lambda p: (round(p.turn_deg / TURN_STEP_DEG), -p.best_score,
                             -p.probability, p.index))
     return out

@@ -638,8 +638,10 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     * ``down``: a parallel grasp goes on along +z_G by up to ``release_depth`` (the bar leaves
       the material it was under; less if the hand would meet the table);
     * ``slide``: then along -y_G by ``release_shift`` (the bar comes out of the hole tip first);
-    * ``retreat``: every grasp backs out along -z_G by ``retreat_distance``, or straight up where
-      the arm cannot. A move without IK or with a collision is skipped (the arm stays).
+    * ``retreat``: every grasp backs out along -z_G by ``retreat_distance``, or by half or a
+      quarter of it where the arm cannot (a rod in a hole leaves it the way it went in: straight
+      up, it would lift the object by the hole), or straight up where it cannot at all. A move
+      without IK or with a collision is skipped (the arm stays).
     ``gripper``: the hook gripper's geometry."""
     g = gripper
     closed_hand, open_hand = HandPose(g.q_closed, bar), HandPose(g.q_open, bar)
@@ -663,7 +665,8 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
         q["down"], X = step(q["opened"], X, [f * cfg.release_depth * R.col(2)
                                              for f in (1.0, 0.5, 0.25)])
         q["slide"], X = step(q["down"], X, [-cfg.release_shift * R.col(1)])
-    q["retreat"], _ = step(q["slide"], X, [-cfg.retreat_distance * R.col(2),
+    q["retreat"], _ = step(q["slide"], X, [*(-f * cfg.retreat_distance * R.col(2)
+                                             for f in (1.0, 0.5, 0.25)),
                                            [0.0, 0.0, cfg.retreat_distance]])
     return q
 
