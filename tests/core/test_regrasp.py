@@ -13,7 +13,9 @@ from scipy.spatial.transform import Rotation
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import plan_grasps
 from gbh_drake.core.regrasp import (
+    TURN_STEP_DEG,
     choose_regrasp_pose,
+    family_probabilities,
     least_turn_yaw,
     resting_motion,
     rotation_angle_deg,
@@ -70,11 +72,46 @@ def test_a_mug_resting_on_its_handle_is_set_down_where_it_can_be_hooked():
     assert choices, "no resting pose of the mug offers a hook grasp"
     best = choices[0]
     assert best.grasps > 0 and best.turn_deg >= 15.0
-    turns = [round(c.turn_deg, 6) for c in choices]
-    assert turns == sorted(turns)
+    steps = [round(c.turn_deg / TURN_STEP_DEG) for c in choices]  # fewest steps first
+    assert steps == sorted(steps)
     # The chosen pose really offers what it says: the pipeline on the moved mesh ranks grasps.
     moved = mesh_W.copy().apply_transform(best.X_WnewWnow)
     assert len(plan_grasps(moved, STRICT).ranked) == best.grasps
+
+
+def _rim_rests(orientations):
+    """The resting orientations of a roll lying flat (axis z) that stand it on its rim (support
+    normal horizontal, as the mesh lies), sorted by the normal's angle about z."""
+    normals = np.array([-R[2] for R, _ in orientations])
+    rim = [i for i, n in enumerate(normals) if abs(n[2]) < 0.1]
+    return sorted(rim, key=lambda i: np.arctan2(normals[i, 1], normals[i, 0]))
+
+
+def test_a_box_s_faces_are_apart_and_a_roll_s_rim_facets_are_one_family():
+    _, box = lying("box", 0)
+    np.testing.assert_allclose(family_probabilities(box), [p for _, p in box])
+    _, roll = lying("tape_roll", 0)
+    family, probability = family_probabilities(roll), np.array([p for _, p in roll])
+    rim = _rim_rests(roll)
+    assert len(rim) > 20 and probability[rim].max() < 0.02  # each facet: "tips at a touch"
+    np.testing.assert_allclose(family[rim], probability[rim].sum())  # together: a pose
+    assert family[rim][0] >= 0.02
+    flat = [i for i in range(len(roll)) if i not in rim]
+    np.testing.assert_allclose(family[flat], probability[flat])  # its two faces apart
+
+
+def test_a_roll_lying_flat_is_stood_on_its_rim_by_its_family():
+    """Four neighbouring rim facets, each below min_probability, together above it: offered,
+    a quarter turn, with hook grasps through the core; one alone is not."""
+    mesh_W, roll = lying("tape_roll", 0)
+    four = [roll[i] for i in _rim_rests(roll)[:4]]
+    p = sum(q for _, q in four)
+    assert max(q for _, q in four) < 0.5 * p
+    choices = choose_regrasp_pose(mesh_W, four, PARAMS, [0.5, 0.0], min_probability=0.9 * p)
+    assert choices and all(c.grasps > 0 and abs(c.turn_deg - 90.0) < 5.0 for c in choices)
+    assert choices[0].family_probability == pytest.approx(p)
+    assert choose_regrasp_pose(mesh_W, four[:1], PARAMS, [0.5, 0.0],
+                               min_probability=0.9 * p) == []
 
 
 def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():

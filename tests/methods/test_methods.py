@@ -159,3 +159,22 @@ def test_a_mug_resting_on_its_handle_is_set_upright_and_hooked():
     assert record.grasp_kind in ("parallel", "vertical") and record.grasp_source == "grasps"
     assert record.outcome is Outcome.SUCCESS and record.held_by == "cage", record.reason
     assert len(record.verdict.planned_poses) == 2  # scanned where it lay, then set down anew
+
+
+@pytest.mark.trial
+def test_a_tape_roll_lying_flat_is_stood_on_its_rim_and_hooked_through_its_core():
+    """A roll lying flat has no hook grasp (the bar cannot pass under it). Standing on its rim
+    it rests on one of many facets, each improbable, together a pose (their family's
+    probability); the pinch (one rod in the core) sets it there and backs out of the core the
+    way it went in, GbH hooks it through the core, and the cage test finds it caged (the
+    experiment's tape_roll, stable protocol, trial 0: lying flat, ten views)."""
+    from gbh_drake import SCENARIOS_DIR
+    from gbh_drake.experiment.config import trial_scenario
+
+    scenario = trial_scenario(SCENARIOS_DIR / "experiment.yaml", "tape_roll", "gbh-10", 0)
+    scenario.grasp_method = "gbh_regrasp"
+    _, record = simulate_trial(build_trial(scenario))
+    assert len(record.regrasps) == 1 and record.regrasps[0]["probability"] < 0.02
+    assert abs(record.regrasps[0]["turn_deg"] - 90.0) < 10.0
+    assert record.grasp_kind in ("parallel", "vertical") and record.grasp_source == "grasps"
+    assert record.outcome is Outcome.SUCCESS and record.held_by == "cage", record.reason
