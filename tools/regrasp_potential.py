@@ -6,8 +6,8 @@ Run:  .venv/bin/python tools/regrasp_potential.py [--objects NAME ...] [--min-pr
 For each object of the catalog with a hangable part and each of its stable poses (probability
 at least ``--min-probability``; yaw 0, on z = 0), runs the pipeline; where it ranks no hook
 grasp, lists the resting poses :func:`gbh_drake.core.regrasp.choose_regrasp_pose` offers
-(turn, probability, grasps, best score). Prints one line per pose and the totals, weighted by
-the poses' probabilities (the share of random drops).
+(turn, probability, its family's probability, grasps, best score). Prints one line per pose
+and the totals, weighted by the poses' probabilities (the share of random drops).
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def main() -> None:
     names = args.objects or [n for n in list_objects() if make_object(n).hangable_parts]
     stuck = helped = 0.0
     print(f"{'object':<18} {'pose':>4} {'prob':>5} {'grasps':>6}  regrasp poses (turn deg, prob, "
-          "grasps, score)")
+          "family prob, grasps, score)")
     for name in names:
         mesh = make_object(name).mesh
         for k, pose in enumerate(stable_poses(mesh).poses):
@@ -52,8 +52,9 @@ def main() -> None:
                 choices = choose_regrasp_pose(mesh_W, rest, params, [0.5, 0.0],
                                               min_probability=args.min_probability)
                 helped += pose.probability / len(names) if choices else 0.0
-                line = "; ".join(f"{c.turn_deg:.0f}, {c.probability:.2f}, {c.grasps}, "
-                                 f"{c.best_score:.2f}" for c in choices[:3]) or "none"
+                line = "; ".join(f"{c.turn_deg:.0f}, {c.probability:.3f}, "
+                                 f"{c.family_probability:.2f}, {c.grasps}, {c.best_score:.2f}"
+                                 for c in choices[:3]) or "none"
             print(f"{name:<18} {k:>4} {pose.probability:5.2f} {ranked:>6}  {line}")
     print(f"share of random drops without a hook grasp: {stuck:.1%}; of which a regrasp pose "
           f"offers one: {helped:.1%} ({len(names)} objects, equal weight)")
