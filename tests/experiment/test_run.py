@@ -3,7 +3,7 @@ short horizon: every output file, resume after an interruption, and the same row
 1 worker and a local Ray, timing fields aside (``first_run``: conftest.py; on a cluster of two
 nodes: test_ray_cluster.py).
 
-The trials stop after planning and the first motions (``max_time: 0.6``, outcome mostly
+The trials stop after planning and the first motions (``max_time: 0.6`` per pick, outcome mostly
 ``incomplete``): rows, resume, reports and engines are what this checks; real outcomes are
 checked by the trial's own tests. About 2 minutes on 2 cores.
 """
@@ -50,7 +50,8 @@ def test_every_trial_has_one_row(first_run):
         assert r["outcome"] and r["reason"]
         assert r["commit"] and len(r["scenario_digest"]) == 64
         assert set(r["stage_times"]) >= {"build", "scan", "plan", "simulate", "total"}
-        assert r["record"]["object"] == obj and r["record"]["sim_time"] <= 0.6 + 1e-9
+        picks = 2 if method == "gbh+fallback" else 1  # max_time holds for each pick it may start
+        assert r["record"]["object"] == obj and r["record"]["sim_time"] <= 0.6 * picks + 1e-9
         assert len(r["pose"]) == 6 and r["pose"] == r["record"]["pose"]
     per_worker = Counter(r["worker"] for r in rows)  # trials_per_worker: 5 in the file
     assert len(per_worker) >= 5 and max(per_worker.values()) <= 5, per_worker
