@@ -299,6 +299,7 @@ def trial_duration(trial: Trial) -> float:
     else ``max_time`` for each attempt its machine may start (``PickAndCarry.max_attempts``:
     a retry or a regrasp begins a pick anew, and a trial cut off in its last cage test would
     have no verdict)."""
+    require("trial_duration", "trial", trial, Trial, "a Trial (build_trial(scenario))")
     scenario = trial.scenario
     if scenario.task == "settle":
         return scenario.settle_time

@@ -627,6 +627,10 @@ def _split(model, q_a, q_b, X_a, X_b, hand, hook_G, min_height, depth):
     return out
 
 
+#: Fractions of a release move tried in turn, the whole first, where the arm cannot make it all.
+BACKOFF_FRACTIONS = (1.0, 0.5, 0.25)
+
+
 def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: PickConfig,
                  bar: float = 0.0, gripper: HookGripperGeometry = HOOK_GRIPPER
                  ) -> dict[str, np.ndarray]:
@@ -663,10 +667,10 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     q["down"], q["slide"] = q["opened"], q["opened"]
     if kind == PARALLEL:
         q["down"], X = step(q["opened"], X, [f * cfg.release_depth * R.col(2)
-                                             for f in (1.0, 0.5, 0.25)])
+                                             for f in BACKOFF_FRACTIONS])
         q["slide"], X = step(q["down"], X, [-cfg.release_shift * R.col(1)])
     q["retreat"], _ = step(q["slide"], X, [*(-f * cfg.retreat_distance * R.col(2)
-                                             for f in (1.0, 0.5, 0.25)),
+                                             for f in BACKOFF_FRACTIONS),
                                            [0.0, 0.0, cfg.retreat_distance]])
     return q
 

@@ -271,7 +271,6 @@ class PickAndCarry(LeafSystem):
                 context.get_abstract_state(self._state).get_value().scan_request),
             prerequisites_of_calc={self.all_state_ticket()})
 
-    # ---- outputs ------------------------------------------------------------------------------
     @property
     def max_attempts(self) -> int:
         """The most picks this machine may start: its lifts (one per tier that lifts, plus
@@ -282,6 +281,7 @@ class PickAndCarry(LeafSystem):
         regrasps = self._regrasp.max_regrasps if Tier.REGRASP in self._tiers else 0
         return lifts + regrasps
 
+    # ---- outputs ------------------------------------------------------------------------------
     def _calc_arm(self, context, output: BasicVector) -> None:
         s: _State = context.get_abstract_state(self._state).get_value()
         if s.arm is None:

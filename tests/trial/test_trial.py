@@ -147,6 +147,8 @@ def test_a_trial_may_last_max_time_for_each_pick_its_method_may_start(scenario):
     assert trial_duration(trial) == 200.0
     scenario.task = "settle"
     assert trial_duration(build_trial(scenario)) == scenario.settle_time
+    with pytest.raises(TypeError, match="trial_duration.*a Trial"):
+        trial_duration(scenario)  # the scenario alone: its machine's attempts are unknown
 
 
 def test_a_hanger_lying_flat_is_refused_by_the_table_and_the_verdict_says_so(scenario):
