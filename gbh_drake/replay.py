@@ -188,8 +188,8 @@ def draw_what_was_seen(meshcat: Meshcat, trial, context, record, *, end: float,
                        prefix: str = PREFIX) -> Seen:
     """What the trial's systems saw and chose (the module docstring), drawn under ``prefix`` and
     shown from when it existed (into the recording, when one is running)."""
+    from gbh_drake.core.grasp_synthesis import closed_gripper
     from gbh_drake.core.rejections import closest_rejected
-    from gbh_drake.scan_grasps.waypoints import closed_gripper
     from gbh_drake.systems.scanner import scan_pending
     from gbh_drake.viz import gbh_meshcat as draw
 

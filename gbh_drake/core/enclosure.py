@@ -38,11 +38,19 @@ loop's shape, not by the squeeze, though the loop could be slid off its ends; li
 more (no motion at all frees it) and is recorded beside. Pure numpy/scipy: the monitor
 (:class:`~gbh_drake.systems.cage_monitor.CageMonitor`) calls :func:`loop_enclosure` with the
 object's mesh posed in G at the end of the cage test.
+
+**Before the grasp** the same geometry asks whether a planned hook can cage at all
+(:func:`planned_loop_material`, GbH's ``loop_must_enclose`` rule): the loop closed at the grasp
+(:func:`~gbh_drake.core.grasp_synthesis.closed_gripper`) must hold the scanned surface in its
+hole and not run through it. A hook whose closed loop holds nothing lifts nothing: a turned
+grasp whose plane passes beside a headband or a teapot's handle, a rod beside the material
+instead of round it.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import IntEnum
 
 import numpy as np
 
@@ -225,6 +233,55 @@ def _linked(n_vertices: int, edges: np.ndarray, cut: np.ndarray, below: np.ndarr
                 elif height[b] != height[a] + step:
                     return True
     return False
+
+
+class LoopMaterial(IntEnum):
+    """What a planned hook's closed loop holds of the scanned surface
+    (:func:`planned_loop_material`; ``GraspCandidate.loop_material``)."""
+
+    UNCHECKED = -1
+    """Not checked (the rule is off, an earlier rule refused the grasp, or ``top_k`` better
+    grasps passed: it cannot be ranked)."""
+    EMPTY = 0
+    """No surface passes through the loop's hole: the loop closes beside the material."""
+    HELD = 1
+    """The surface passes through the hole and the loop runs clear of it: a cage, if the
+    material stays where the scan has it."""
+    THROUGH = 2
+    """The loop (a rod's or the bar's centre line, or the palm) runs through the surface."""
+
+
+def planned_loop_material(triangles_G: np.ndarray, q: float,
+                          gripper: HookGripperGeometry = HOOK_GRIPPER) -> LoopMaterial:
+    """What the loop closed at finger position ``q`` (m, both fingers; the bar deployed) holds
+    of the surface triangles ``triangles_G`` (t, 3, 3, metres, in the closed gripper's frame
+    G): :class:`LoopMaterial` (module docstring). Only the triangles that straddle the loop's
+    plane x_G = 0 within the loop's extent count (a caller may pass only those near it)."""
+    tri = np.asarray(triangles_G, dtype=float).reshape(-1, 3, 3)
+    polygon, _ = loop_polygon(q, q, 0.0, gripper)
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    near = (lo[:, 0] <= 0.0) & (hi[:, 0] >= 0.0)
+    near &= (hi[:, 1] >= polygon[:, 1].min()) & (lo[:, 1] <= polygon[:, 1].max())
+    near &= (hi[:, 2] >= polygon[:, 2].min()) & (lo[:, 2] <= polygon[:, 2].max())
+    tri = tri[near]
+    if segments_cross_triangles(polygon, np.roll(polygon, -1, axis=0), tri):
+        return LoopMaterial.THROUGH
+    a = tri.reshape(-1, 3)  # each triangle's edges (v0 v1, v1 v2, v2 v0)
+    b = np.roll(tri, -1, axis=1).reshape(-1, 3)
+    straddle = (a[:, 0] < 0.0) != (b[:, 0] < 0.0)
+    a, b = a[straddle], b[straddle]
+    w = (a[:, 0] / (a[:, 0] - b[:, 0]))[:, None]
+    cross_yz = (a + w * (b - a))[:, 1:]
+    held = inside_polygon(cross_yz, polygon[:, 1:]).any()
+    return LoopMaterial.HELD if held else LoopMaterial.EMPTY
+
+
+def loop_reach(q: float, gripper: HookGripperGeometry = HOOK_GRIPPER) -> tuple[np.ndarray, float]:
+    """The centre (3,) in G and radius (m) of a ball holding the loop closed at ``q``: a
+    triangle wholly farther from the centre than that cannot meet the loop or its hole."""
+    polygon, _ = loop_polygon(q, q, 0.0, gripper)
+    centre = 0.5 * (polygon.min(axis=0) + polygon.max(axis=0))
+    return centre, float(np.linalg.norm(polygon - centre, axis=1).max())
 
 
 def loop_enclosure(p_GV: np.ndarray, faces: np.ndarray, q_straight: float, q_l: float,

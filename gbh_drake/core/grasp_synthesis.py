@@ -56,7 +56,7 @@ import numpy as np
 from gbh_drake.core.geometry import frame_coordinates, poses_from_axes, unit
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import GbhParams
-from gbh_drake.core.results import PARALLEL, VERTICAL, GraspCandidate, HangingStructure
+from gbh_drake.core.results import PARALLEL, VERTICAL, GraspCandidate, GraspKind, HangingStructure
 
 _SIGNS = (1.0, -1.0)
 
@@ -264,3 +264,22 @@ def caged_hang_drop(structure: HangingStructure, h: np.ndarray) -> np.ndarray:
         return np.zeros(len(h))
     nearest = np.argmin(np.linalg.norm(h[:, None] - structure.H[None], axis=2), axis=1)
     return drop[nearest]
+
+
+def closed_gripper(X_WG: np.ndarray, kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER
+                   ) -> tuple[np.ndarray, float]:
+    """Where the gripper of the grasp ``kind`` open at X_WG (4, 4) is once closed, and its
+    fingers' position (m): a hook closes to the loop's closure, a pinch until the rods touch; a
+    vertical grasp (and a scoop) closes about its straight rod, so the hand moves by the
+    fingers' travel along +y_G, the others close in place."""
+    X_WG = np.asarray(X_WG, dtype=float)
+    q_closed = gripper.q_closed if GraspKind(kind).hooks else 0.5 * gripper.rod_width
+    shift = gripper.q_open - gripper.q_closed if GraspKind(kind).keeps_straight_rod else 0.0
+    return _moved(X_WG, shift * X_WG[:3, 1]), q_closed
+
+
+def _moved(X: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """A copy of the pose ``X`` (4, 4) translated by ``offset`` (3,)."""
+    out = np.array(X, dtype=float)
+    out[:3, 3] += offset
+    return out

@@ -226,6 +226,14 @@ class GbhParams:
     over 35 ranked grasps, docs/thresholds.md). Negative: the paper's N_c alone. Provisional:
     -1 (off) until swept; preset ``robust``: 0.0025 (docs/robustness.md says which sweep
     decides it)."""
+    loop_must_enclose: bool = True
+    """Ours: a hook is ranked only if its loop, closed at the grasp (the hand moved with the
+    fingers for a vertical grasp), holds the object's surface in its hole and runs clear of it
+    (:func:`~gbh_drake.core.enclosure.planned_loop_material`; the cage test's geometry, no
+    threshold). A turned grasp's plane can pass beside the material (a headband, a teapot's
+    handle: the rod in the hole, the loop closing on air), and the hand then lifts nothing.
+    Checked lazily like the rods' clearance, best score first. False: the paper's rules (preset
+    ``paper``)."""
     collision_margin: float = ranged(0.0, NonNeg(0.05, "m"))
     """Metres by which every box of the gripper's solid model is grown for the point count."""
     unknown_is_occupied: bool = True
@@ -355,7 +363,8 @@ class GbhParams:
 #: Presets of :class:`GbhParams`: the fields whose values differ from gbh_drake's defaults.
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free, the
-#: top ten ranked without de-duplication, eq. 1's d1 past a narrow hole's centre). ``robust``:
+#: top ten ranked without de-duplication, eq. 1's d1 past a narrow hole's centre, no check that
+#: the closed loop holds material). ``robust``:
 #: the provisional rules of issue 42 on at their provisional values, opt-in until swept over
 #: both object sets (docs/robustness.md): the hang's slide in the score, four hanging positions
 #: per cluster, the rods' 2.5 mm clearance, the best 40 grasps ranked (the planner tries the
@@ -364,7 +373,8 @@ PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
-              "distinct_distance": 0.0, "distinct_angle_deg": 0.0, "d1_centred": False},
+              "distinct_distance": 0.0, "distinct_angle_deg": 0.0, "d1_centred": False,
+              "loop_must_enclose": False},
     "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
                "top_k": 40},
 }

@@ -17,8 +17,9 @@ from gbh_drake.core.collision import (
     ground_distance,
     sweep_grid_G,
 )
+from gbh_drake.core.enclosure import LoopMaterial, loop_reach, planned_loop_material
 from gbh_drake.core.free_space import FreeSpace
-from gbh_drake.core.grasp_synthesis import synthesize_grasps
+from gbh_drake.core.grasp_synthesis import closed_gripper, synthesize_grasps
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hangability import (
     active_free_space,
@@ -111,50 +112,90 @@ def count_collisions(obj: ObjectModel, candidates: list[GraspCandidate], params:
     if params.sampling_votes > 1:
         _vote(obj, X, kinds, n_c, n_s, unknown, params, gripper)
     rods = np.full(len(X), -1)
-    if params.rod_clearance >= 0:
+    loops = np.full(len(X), int(LoopMaterial.UNCHECKED))
+    if params.rod_clearance >= 0 or params.loop_must_enclose:
         passing = (n_c < params.p_c) & (n_s < params.p_sweep)
         if params.ground_clearance >= 0:
             passing &= height >= params.ground_clearance
-        rods = _rod_contacts(obj, candidates, X, kinds, passing, params, gripper)
-    for g, n, s, d, r in zip(candidates, n_c, n_s, height, rods, strict=True):
+        rods, loops = _lazy_rules(obj, candidates, X, kinds, passing, params, gripper)
+    for g, n, s, d, r, lm in zip(candidates, n_c, n_s, height, rods, loops, strict=True):
         g.n_collisions, g.n_sweep_collisions, g.ground_distance = int(n), int(s), float(d)
-        g.rod_contacts = int(r)
+        g.rod_contacts, g.loop_material = int(r), int(lm)
 
 
-#: Candidates whose rods' clearance is checked at a time, best score first.
+#: Candidates whose lazy rules (the rods' clearance, the loop's material) are checked at a
+#: time, best score first.
 _ROD_CHUNK = 32
 
 
-def _rod_contacts(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarray,
-                  kinds: list[str], passing: np.ndarray, params: GbhParams,
-                  gripper: HookGripperGeometry) -> np.ndarray:
-    """(M,) ``rod_contacts`` of the candidates that pass the other rules (``passing``), checked
-    best score first (:func:`~gbh_drake.core.scoring.score_grasps`, the ranking's order) until
-    ``top_k`` distinct ones are clear (:func:`~gbh_drake.core.scoring.is_copy`: a copy takes
-    no place in the ranking): the rest cannot enter the ranked list and stay unchecked (-1; the
-    rejection counts take them as passed)."""
+def _lazy_rules(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarray,
+                kinds: list[str], passing: np.ndarray, params: GbhParams,
+                gripper: HookGripperGeometry) -> tuple[np.ndarray, np.ndarray]:
+    """(rod_contacts, loop_material), each (M,), of the candidates that pass the other rules
+    (``passing``), checked best score first (:func:`~gbh_drake.core.scoring.score_grasps`, the
+    ranking's order) until ``top_k`` distinct ones pass both
+    (:func:`~gbh_drake.core.scoring.is_copy`: a copy takes no place in the ranking): the rest
+    cannot enter the ranked list and stay unchecked (-1; the rejection counts take them as
+    passed). A rule that is off (``rod_clearance`` < 0, ``loop_must_enclose`` False) stays
+    unchecked."""
     rods = np.full(len(X), -1)
+    loops = np.full(len(X), int(LoopMaterial.UNCHECKED))
     todo = np.flatnonzero(passing)
     if len(todo) == 0:
-        return rods
+        return rods, loops
     score_grasps(candidates, params)
     todo = todo[np.argsort([-candidates[i].score for i in todo], kind="stable")]
     triangles = SurfaceTriangles.of(obj.mesh.vertices, obj.mesh.faces,
-                                    COVERING_SPACINGS * obj.spacing)
+                                    COVERING_SPACINGS * obj.spacing) \
+        if params.rod_clearance >= 0 else None
+    surface = _Surface.of(obj.mesh) if params.loop_must_enclose else None
     ranked: list[GraspCandidate] = []  # the clear ones the ranking keeps (distinct), so far
     for start in range(0, len(todo), _ROD_CHUNK):
         chunk = todo[start:start + _ROD_CHUNK]
-        for kind in dict.fromkeys(kinds[i] for i in chunk):
-            sel = chunk[[kinds[i] == kind for i in chunk]]
-            rods[sel] = count_rod_contacts(obj.points, obj.spacing, triangles, X[sel], kind,
-                                           params.rod_clearance, gripper)
-        for i in chunk[rods[chunk] == 0]:  # in score order, as rank_grasps takes them
+        if triangles is not None:
+            for kind in dict.fromkeys(kinds[i] for i in chunk):
+                sel = chunk[[kinds[i] == kind for i in chunk]]
+                rods[sel] = count_rod_contacts(obj.points, obj.spacing, triangles, X[sel], kind,
+                                               params.rod_clearance, gripper)
+        clear = chunk[rods[chunk] <= 0]
+        if surface is not None:
+            for i in clear:
+                loops[i] = surface.loop_material(X[i], kinds[i], gripper)
+            clear = clear[loops[clear] == LoopMaterial.HELD]
+        for i in clear:  # in score order, as rank_grasps takes them
             if len(ranked) < params.top_k and not any(is_copy(candidates[i], kept, params)
                                                       for kept in ranked):
                 ranked.append(candidates[i])
         if len(ranked) >= params.top_k:
             break
-    return rods
+    return rods, loops
+
+
+@dataclasses.dataclass(frozen=True)
+class _Surface:
+    """An object's triangles (t, 3, 3, W), their centroids and the largest distance from a
+    centroid to its corners (m): what :meth:`loop_material` crops by."""
+
+    triangles: np.ndarray
+    centroids: np.ndarray
+    spread: float
+
+    @classmethod
+    def of(cls, mesh: trimesh.Trimesh) -> _Surface:
+        tri = np.asarray(mesh.vertices, dtype=float)[np.asarray(mesh.faces)]
+        centroids = tri.mean(axis=1)
+        spread = float(np.linalg.norm(tri - centroids[:, None], axis=2).max()) if len(tri) \
+            else 0.0
+        return cls(tri, centroids, spread)
+
+    def loop_material(self, X_WG: np.ndarray, kind: str, gripper: HookGripperGeometry) -> int:
+        """:func:`~gbh_drake.core.enclosure.planned_loop_material` of the grasp ``kind`` open
+        at ``X_WG``, the loop closed where the grasp closes it."""
+        X_closed, q = closed_gripper(X_WG, kind, gripper)
+        R, p = X_closed[:3, :3], X_closed[:3, 3]
+        centre_G, radius = loop_reach(q, gripper)
+        near = np.linalg.norm(self.centroids - (p + R @ centre_G), axis=1) <= radius + self.spread
+        return int(planned_loop_material((self.triangles[near] - p) @ R, q, gripper))
 
 
 def _vote(obj: ObjectModel, X: np.ndarray, kinds: list[str], n_c: np.ndarray, n_s: np.ndarray,

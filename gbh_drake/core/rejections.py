@@ -10,13 +10,14 @@ previous ones left (the counts add up to the candidates that fail):
 3. ``table clearance``: some point of the gripper (open, closing or closed) less than
    ``ground_clearance`` above the supporting surface (ours; skipped when it is negative);
 4. ``rod clearance``: the rods or the bar, open or closing, nearer than ``rod_clearance`` to the
-   object's surface (ours; skipped when it is negative; checked last, for the grasps the other
-   rules left and only as far as the ranking needs: ``pipeline.count_collisions``).
+   object's surface (ours; skipped when it is negative; checked after the first three, for the
+   grasps they left and only as far as the ranking needs: ``pipeline.count_collisions``);
+5. ``empty loop``: the loop, closed at the grasp, holds no material in its hole or runs through
+   the surface (ours, ``loop_must_enclose``; checked last, lazily as the fourth).
 
-:data:`RULES` are the first three, the rules a record's ``rejected_by`` had before the fourth
-(the experiment's cause classes, ``experiment.taxonomy``, are named after them);
-:data:`ALL_RULES` all four, the keys of :attr:`Rejections.removed` when the fourth is checked
-(``rod_clearance`` >= 0; else the first three).
+:data:`RULES` are the first three, the rules a record's ``rejected_by`` had before the fourth;
+:data:`ALL_RULES` all five; :attr:`Rejections.removed` has the first three and those of the
+last two that are checked (:func:`active_rules`).
 """
 
 from __future__ import annotations
@@ -25,13 +26,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gbh_drake.core.enclosure import LoopMaterial
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate
 
 #: The rules, in the order they apply.
 RULES = ("collision N_c", "closing sweep", "table clearance")
-#: Every rule, in the order they apply: :data:`RULES` and the rods' clearance.
-ALL_RULES = (*RULES, "rod clearance")
+#: Every rule, in the order they apply: :data:`RULES`, the rods' clearance, the loop's material.
+ALL_RULES = (*RULES, "rod clearance", "empty loop")
+
+
+def active_rules(params: GbhParams) -> tuple[str, ...]:
+    """The rules of :data:`ALL_RULES` that ``params`` checks, in their order."""
+    return RULES + (("rod clearance",) if params.rod_clearance >= 0 else ()) \
+        + (("empty loop",) if params.loop_must_enclose else ())
 
 
 @dataclass
@@ -39,8 +47,8 @@ class Rejections:
     """How the collision rules sorted a list of candidates."""
 
     removed: dict[str, int] = field(default_factory=dict)
-    """Candidates each rule removed (keys :data:`ALL_RULES`, or :data:`RULES` with the rods'
-    clearance off, in their order), of those the earlier rules left."""
+    """Candidates each rule removed (keys :func:`active_rules`, in their order), of those the
+    earlier rules left."""
     passed: int = 0
     """Candidates that passed every rule."""
     last_rule: str = ""
@@ -66,18 +74,18 @@ class Rejections:
 
 
 _WORDS = {"collision N_c": "N_c", "closing sweep": "the closing sweep",
-          "table clearance": "the table clearance", "rod clearance": "the rods' clearance"}
+          "table clearance": "the table clearance", "rod clearance": "the rods' clearance",
+          "empty loop": "the loop's material"}
 
 
 def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rejections:
     """Sorts counted ``candidates`` (N_c, N_sweep and ground distance set, as by
     :func:`gbh_drake.core.pipeline.count_collisions`) by the rule that removed each
     (module docstring). Uncounted candidates (-1, nan) count as removed by the rule whose
-    count is missing. :attr:`Rejections.removed` has the rods' clearance only when it is
-    checked (``rod_clearance`` >= 0): off, the keys are :data:`RULES`, as before it."""
+    count is missing. :attr:`Rejections.removed` has the rules that are checked
+    (:func:`active_rules`)."""
     rule, shortfall = removed_by(candidates, params)
-    rules = ALL_RULES if params.rod_clearance >= 0 else RULES
-    removed = {name: int(np.sum(rule == k)) for k, name in enumerate(rules)}
+    removed = {name: int(np.sum(rule == ALL_RULES.index(name))) for name in active_rules(params)}
     if not (rule >= 0).any():
         return Rejections(removed, len(candidates))
     last = int(rule.max())
@@ -103,16 +111,20 @@ def removed_by(candidates: list[GraspCandidate], params: GbhParams
     n_s = np.array([g.n_sweep_collisions for g in candidates], dtype=float)
     height = np.array([g.ground_distance for g in candidates], dtype=float)
     rods = np.array([g.rod_contacts for g in candidates], dtype=float)
-    # The rods' clearance: unchecked (-1) when an earlier rule refused the grasp or top_k
-    # better ones were clear (pipeline.count_collisions): not refused by it.
+    loops = np.array([g.loop_material for g in candidates], dtype=int)
+    # The rods' clearance and the loop's material: unchecked (-1) when an earlier rule refused
+    # the grasp or top_k better ones were clear (pipeline.count_collisions): not refused by it.
     fails = [~((n_c >= 0) & (n_c < params.p_c)),
              ~((n_s >= 0) & (n_s < params.p_sweep)),
              np.zeros(len(candidates), bool) if params.ground_clearance < 0
              else ~(height >= params.ground_clearance),
-             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0]
+             np.zeros(len(candidates), bool) if params.rod_clearance < 0 else rods > 0,
+             (loops == LoopMaterial.EMPTY) | (loops == LoopMaterial.THROUGH)
+             if params.loop_must_enclose else np.zeros(len(candidates), bool)]
     shortfalls = [np.where(n_c >= 0, n_c, np.inf), np.where(n_s >= 0, n_s, np.inf),
                   np.where(np.isnan(height), np.inf, params.ground_clearance - height),
-                  np.where(rods >= 0, rods, np.inf)]
+                  np.where(rods >= 0, rods, np.inf),
+                  np.where(loops == LoopMaterial.THROUGH, 1.0, 0.0)]
     rule = np.full(len(candidates), -1)
     shortfall = np.zeros(len(candidates))
     for k in range(len(ALL_RULES)):
@@ -139,6 +151,10 @@ def refusal_words(candidate: GraspCandidate, rule: str, params: GbhParams) -> st
         return (f"a {candidate.kind} grasp whose rods or bar come nearer than "
                 f"{params.rod_clearance * 1e3:.1f} mm to the surface "
                 f"({candidate.rod_contacts} triangles or samples)")
+    if rule == "empty loop":
+        through = candidate.loop_material == LoopMaterial.THROUGH
+        return (f"a {candidate.kind} grasp whose closed loop "
+                + ("runs through the surface" if through else "holds no material in its hole"))
     if rule == "closing sweep":
         return (f"a {candidate.kind} grasp with {candidate.n_sweep_collisions} points in its "
                 f"closing sweep, p_sweep = {params.p_sweep}")

@@ -120,6 +120,11 @@ class GraspCandidate:
     to the rods and the bar (open and closing; :func:`~gbh_drake.core.collision.count_rod_contacts`);
     0: clear; -1 if not checked (the check is off, an earlier rule refused the grasp, or
     ``top_k`` better-scored grasps were clear: it cannot be ranked)."""
+    loop_material: int = -1
+    """Ours: what the loop closed at this grasp holds of the object's surface, a
+    :class:`~gbh_drake.core.enclosure.LoopMaterial` (1: material in its hole; 0: none; 2: the
+    loop runs through the surface; -1: not checked, as ``rod_contacts``;
+    ``GbhParams.loop_must_enclose``)."""
     alpha: float = float("nan")
     """Radians: angle between R n1 (toward the wrist) and the anti-gravity direction."""
     beta: float = float("nan")

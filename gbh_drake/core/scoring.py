@@ -28,6 +28,9 @@ contacts) takes no place (the ``paper`` preset ranks as the paper does, copies i
 * no rod contact (ours, skipped when rod_clearance < 0): the rods and the bar, open and closing,
   stay ``rod_clearance`` from the object's surface, however thin the material
   (:func:`~gbh_drake.core.collision.count_rod_contacts`).
+* the loop holds material (ours, skipped when loop_must_enclose is False): closed at the grasp,
+  the loop has the object's surface in its hole and runs clear of it
+  (:func:`~gbh_drake.core.enclosure.planned_loop_material`).
 
 The score terms:
 
@@ -60,6 +63,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gbh_drake.core.enclosure import LoopMaterial
 from gbh_drake.core.geometry import angle_between, rotation_angle, unit
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import PARALLEL, GraspCandidate, HangingStructure
@@ -107,16 +111,19 @@ def score_grasps(candidates: list[GraspCandidate], params: GbhParams) -> None:
 
 def collision_free(g: GraspCandidate, params: GbhParams) -> bool:
     """Whether ``g`` passes every collision check (module docstring): N_c < p_c (paper),
-    N_sweep < p_sweep, unless ground_clearance < 0, ground distance >= ground_clearance, and,
-    unless rod_clearance < 0, no rod contact found. Uncounted candidates (-1, nan) do not pass
-    the counts and the table; the rods' clearance is checked lazily (only for grasps that may
+    N_sweep < p_sweep, unless ground_clearance < 0, ground distance >= ground_clearance,
+    unless rod_clearance < 0, no rod contact found, and, with loop_must_enclose, the closed
+    loop holds material. Uncounted candidates (-1, nan) do not pass the counts and the table;
+    the rods' clearance and the loop's material are checked lazily (only for grasps that may
     be ranked, best score first, ``pipeline.count_collisions``), so an unchecked grasp (-1) is
-    not refused by it (the ranking is the same as if every grasp were checked)."""
+    not refused by them (the ranking is the same as if every grasp were checked)."""
     return (0 <= g.n_collisions < params.p_c
             and 0 <= g.n_sweep_collisions < params.p_sweep
             and (params.ground_clearance < 0
                  or bool(g.ground_distance >= params.ground_clearance))
-            and (params.rod_clearance < 0 or g.rod_contacts <= 0))
+            and (params.rod_clearance < 0 or g.rod_contacts <= 0)
+            and (not params.loop_must_enclose
+                 or g.loop_material in (LoopMaterial.UNCHECKED, LoopMaterial.HELD)))
 
 
 def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[GraspCandidate]:

@@ -15,11 +15,12 @@ The classes (:data:`CAUSES`, in pipeline order; the report lists every one, zero
   mesh's search is ``undecided`` or finds no structure (GbH's structures were on a false
   part) or the analysis failed; the next rules apply.
 - ``no structure``: GbH found nothing to hang the object by (``no_hangable_structure``).
-- ``table clearance``, ``collision N_c``, ``closing sweep``: a ``no_grasp_found`` row that
-  ``reach`` did not decide and whose record has ``rejected_by`` (candidates each collision
-  rule removed, in the order the rules apply: ``collision N_c``, ``closing sweep``,
-  ``table clearance``): the last rule with a nonzero count, the one that removed the last
-  candidates.
+- ``table clearance``, ``collision N_c``, ``closing sweep``, ``rod clearance``, ``empty
+  loop``: a ``no_grasp_found`` row that ``reach`` did not decide and whose record has
+  ``rejected_by`` (candidates each collision rule removed, in the order the rules apply:
+  ``collision N_c``, ``closing sweep``, ``table clearance``, ``rod clearance``, ``empty loop``,
+  :data:`gbh_drake.core.rejections.ALL_RULES`): the last rule with a nonzero count, the one
+  that removed the last candidates.
 - ``no grasp found``: the method offered no grasp (``no_grasp_found``) and neither ``reach``
   nor ``rejected_by`` says more (older rows; the antipodal sampler).
 - ``IK``, ``planner``: grasps were offered and every one refused (``no_reachable_grasp``): the
@@ -41,18 +42,19 @@ from __future__ import annotations
 
 from collections import Counter
 
-from gbh_drake.core.rejections import RULES
+from gbh_drake.core.rejections import ALL_RULES
 
 #: Every cause class, in pipeline order.
 CAUSES = ("out of reach", "candidate set missed", "no structure", "table clearance",
-          "collision N_c", "closing sweep", "no grasp found", "IK", "planner", "lift too low",
+          "collision N_c", "closing sweep", "rod clearance", "empty loop", "no grasp found",
+          "IK", "planner", "lift too low",
           "touched down", "slipped during carry", "scan cut/partial", "error")
 
 #: Classes no row can be given yet (listed with 0 so that the table's columns do not change).
 RESERVED: tuple[str, ...] = ()
 
 #: The collision rules of GbH in the order they apply (the keys of a record's ``rejected_by``).
-REJECTION_RULES = RULES
+REJECTION_RULES = ALL_RULES
 
 
 #: The starts of the scan warnings that the object reaches the edge of what was framed or seen

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gbh_drake.core.grasp_synthesis import closed_gripper
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hanging_pose import rest_on_loop
 from gbh_drake.core.results import GraspKind
@@ -55,19 +56,6 @@ def grasp_waypoints(X_BG: np.ndarray, kind: str, points_B: np.ndarray, table, pi
     lift = lift_height(closed, X_BG, kind, points_B, table, pick, unseen_B, gripper)
     return Waypoints(_pose(R, p - pick.approach_distance * approach), X_BG.copy(), closed,
                      _pose(R, closed[:3, 3] + lift * up), lift, gripper.q_open, q_closed)
-
-
-def closed_gripper(X_BG: np.ndarray, kind: str, gripper: HookGripperGeometry = HOOK_GRIPPER
-                   ) -> tuple[np.ndarray, float]:
-    """Where the gripper of the grasp ``kind`` open at X_BG (4, 4) is once closed, and its
-    fingers' position (m): a hook closes to the loop's closure, a pinch until the rods touch; a
-    vertical grasp (and a scoop) closes about its straight rod, so the hand moves by the
-    fingers' travel along +y_G, the others close in place."""
-    X_BG = np.asarray(X_BG, dtype=float)
-    R, p = X_BG[:3, :3], X_BG[:3, 3]
-    q_closed = gripper.q_closed if GraspKind(kind).hooks else 0.5 * gripper.rod_width
-    shift = gripper.q_open - gripper.q_closed if GraspKind(kind).keeps_straight_rod else 0.0
-    return _pose(R, p + shift * R[:, 1]), q_closed
 
 
 def lift_height(X_closed: np.ndarray, X_BG: np.ndarray, kind: str, points_B: np.ndarray, table,

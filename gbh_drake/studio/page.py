@@ -77,8 +77,8 @@ def draw_detection(meshcat: Meshcat, detection) -> None:
 def draw_offered(meshcat: Meshcat, session, index: int, near: list) -> None:
     """Offered grasp ``index`` open and closed (GbH's: :func:`~gbh_drake.scan_grasps.page.
     draw_grasp`; a refused one in purple) and the refused candidates ``near`` it (purple)."""
+    from gbh_drake.core.grasp_synthesis import closed_gripper
     from gbh_drake.scan_grasps.page import draw_grasp, draw_refused
-    from gbh_drake.scan_grasps.waypoints import closed_gripper
 
     clear(meshcat, "grasp")
     clear(meshcat, "near")

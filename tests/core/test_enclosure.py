@@ -128,3 +128,54 @@ def test_least_width_of_a_section():
     turned = square @ np.array([[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]])
     assert least_width(turned) == pytest.approx(0.01)
     assert least_width(np.array([[0, 0], [1, 1], [2, 2]])) == 0.0
+
+
+# ---- before the grasp: the planned loop's material (GbH's loop_must_enclose rule) ----------
+
+def _planned(mesh: trimesh.Trimesh):
+    from gbh_drake.core.enclosure import planned_loop_material
+
+    return planned_loop_material(mesh.vertices[mesh.faces], Q)
+
+
+def test_a_planned_loop_round_a_handle_holds_it():
+    from gbh_drake.core.enclosure import LoopMaterial
+
+    assert _planned(mug_on_the_bar()) == LoopMaterial.HELD
+
+
+def _rail(dx: float) -> trimesh.Trimesh:
+    """A 10 mm rail 20 mm long along y_G, mid-finger, ``dx`` off the loop's plane."""
+    rail = trimesh.creation.cylinder(radius=0.005, height=0.02, sections=24)
+    rail.apply_transform(trimesh.geometry.align_vectors([0, 0, 1.0], [0, 1.0, 0]))
+    return rail.apply_translation([dx, 0.0, 0.5 * LF])
+
+
+@pytest.mark.parametrize("dx", [0.006, -0.012, 0.03])
+def test_a_planned_loop_beside_the_material_holds_nothing(dx):
+    """The rail moved off the loop's plane by more than its radius: the loop closes beside it
+    (a turned grasp beside a headband); on the plane it holds it."""
+    from gbh_drake.core.enclosure import LoopMaterial
+
+    assert _planned(_rail(dx)) == LoopMaterial.EMPTY
+    assert _planned(_rail(0.0)) == _planned(_rail(0.004)) == LoopMaterial.HELD
+
+
+def test_a_wire_through_the_straight_rod_is_through_the_loop():
+    """A 4 mm wire across the straight rod's centre line, mid-finger: the loop runs through it."""
+    from gbh_drake.core.enclosure import LoopMaterial
+
+    wire = trimesh.creation.cylinder(radius=0.002, height=0.1, sections=24)
+    wire.apply_transform(trimesh.geometry.align_vectors([0, 0, 1.0], [1.0, 0, 0]))
+    wire.apply_translation([0.0, Q, 0.5 * LF])
+    assert _planned(wire) == LoopMaterial.THROUGH
+    assert _planned(wire.copy().apply_translation([0.0, -Q, 0.0])) == LoopMaterial.HELD
+
+
+def test_far_triangles_do_not_count():
+    """Material beyond the loop's reach (loop_reach) is empty, whatever its shape."""
+    from gbh_drake.core.enclosure import LoopMaterial, loop_reach
+
+    centre, radius = loop_reach(Q)
+    ring = torus_at(centre + [0.0, 0.0, radius + 0.03], [0.0, 1.0, 0.0], 0.02, 0.005)
+    assert _planned(ring) == LoopMaterial.EMPTY

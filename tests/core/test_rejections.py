@@ -14,26 +14,30 @@ from gbh_drake.core.scoring import collision_free
 _S = HangingStructure(np.zeros(3), np.array([0, 0, 1.0]), np.zeros((3, 3)), 1.0, np.zeros(3))
 
 
-def _candidate(n_c, n_s, height, rods=-1, kind="parallel"):
+def _candidate(n_c, n_s, height, rods=-1, loop=-1, kind="parallel"):
     g = GraspCandidate(np.eye(4), GraspKind(kind), 0, _S, np.zeros(3))
     g.n_collisions, g.n_sweep_collisions, g.ground_distance = n_c, n_s, height
-    g.rod_contacts = rods
+    g.rod_contacts, g.loop_material = rods, loop
     return g
 
 
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.integers(-1, 6), st.integers(-1, 6),
-                          st.floats(-0.02, 0.02) | st.just(float("nan")), st.integers(-1, 3)),
+                          st.floats(-0.02, 0.02) | st.just(float("nan")), st.integers(-1, 3),
+                          st.integers(-1, 2)),
                 max_size=30),
        st.integers(1, 4), st.integers(1, 4), st.sampled_from([-1.0, 0.0, 0.003]),
-       st.sampled_from([-1.0, 0.0025]))
-def test_the_counts_add_up_to_the_candidates_that_fail(rows, p_c, p_sweep, clearance, rod):
+       st.sampled_from([-1.0, 0.0025]), st.booleans())
+def test_the_counts_add_up_to_the_candidates_that_fail(rows, p_c, p_sweep, clearance, rod,
+                                                       loop):
     """Every candidate is either passed or removed by exactly one rule, and the passed ones are
     exactly those collision_free accepts; the last rule is the last with a nonzero count."""
-    params = GbhParams(p_c=p_c, p_sweep=p_sweep, ground_clearance=clearance, rod_clearance=rod)
+    params = GbhParams(p_c=p_c, p_sweep=p_sweep, ground_clearance=clearance, rod_clearance=rod,
+                       loop_must_enclose=loop)
     candidates = [_candidate(*r) for r in rows]
     r = count_rejections(candidates, params)
-    assert list(r.removed) == list(ALL_RULES if rod >= 0 else RULES)
+    expected = [*RULES, *(["rod clearance"] if rod >= 0 else []), *(["empty loop"] if loop else [])]
+    assert list(r.removed) == expected and set(expected) <= set(ALL_RULES)
     assert r.passed == sum(collision_free(g, params) for g in candidates)
     assert r.passed + sum(r.removed.values()) == len(candidates)
     nonzero = [rule for rule, n in r.removed.items() if n]

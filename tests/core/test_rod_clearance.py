@@ -17,7 +17,7 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, Box
 from gbh_drake.core.object_model import prepare_object
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import count_collisions, plan_grasps
-from gbh_drake.core.results import VERTICAL, GraspCandidate
+from gbh_drake.core.results import VERTICAL, GraspCandidate, GraspKind
 from gbh_drake.core.scoring import collision_free
 from gbh_drake.objects import make_object
 
@@ -88,23 +88,28 @@ def test_a_wire_beside_the_rod_is_judged_by_its_distance_at_any_density(samples)
 def test_the_pipeline_refuses_the_grasp_the_paper_keeps():
     """The grasp with the wire through its straight rod, counted as the pipeline counts: the
     paper's rules (N_c, and our closing sweep and table rules) keep it; the rods' clearance
-    refuses it, and says so among the rejections."""
+    (preset ``robust``) refuses it, and so does, by default, the loop's material (the straight
+    rod's centre line runs through the wire), each saying so among the rejections."""
     from gbh_drake.core.rejections import count_rejections
 
     X, kind, mesh = _scene(-1.0)
-    for preset, kept in (("paper", True), ("", True), ("robust", False)):  # opt-in until swept
+    for preset, rule in (("paper", ""), ("", "empty loop"), ("robust", "rod clearance")):
         params = GbhParams(ground_clearance=-1.0).with_preset(preset)
         obj = prepare_object(mesh, params, 0)
         structure = plan_grasps(make_object("frying_pan").mesh, params, seed=0).structures[0]
         g = GraspCandidate(X, kind, 0, structure, structure.H[0])
         count_collisions(obj, [g], params)
         assert g.n_collisions < params.p_c and g.n_sweep_collisions < params.p_sweep
-        assert collision_free(g, params) is kept
-        if not kept:
+        assert collision_free(g, params) is (rule == "")
+        if rule:
             r = count_rejections([g], params)
-            assert r.removed["rod clearance"] == 1 and r.last_rule == "rod clearance"
+            assert r.removed[rule] == 1 and r.last_rule == rule
+        if rule == "rod clearance":
             assert "rods or bar come nearer" in r.closest
             assert "the rods' clearance removed 1" in r.summary()
+        if rule == "empty loop":
+            assert "closed loop runs through the surface" in r.closest
+            assert "the loop's material removed 1" in r.summary()
 
 
 def test_the_lazy_check_ranks_as_checking_more_would():
@@ -116,3 +121,39 @@ def test_the_lazy_check_ranks_as_checking_more_would():
     more = plan_grasps(mesh, GbhParams(rod_clearance=0.0025, top_k=100), seed=0).ranked
     assert len(lazy) == 10 and all(g.rod_contacts == 0 for g in lazy)
     assert [g.X_WG.tobytes() for g in lazy] == [g.X_WG.tobytes() for g in more[:10]]
+
+
+def test_every_grasp_ranked_on_a_mug_holds_its_handle(mug):
+    from gbh_drake.core.enclosure import LoopMaterial
+
+    result = plan_grasps(mug, GbhParams(), seed=0)
+    assert result.ranked
+    assert all(g.loop_material == LoopMaterial.HELD for g in result.ranked)
+
+
+def test_the_pipeline_refuses_a_loop_closing_beside_the_material():
+    """A rail beside the plane of a parallel grasp (G = W, 15 mm off it): the paper's rules
+    keep the grasp (no point in the gripper or its sweep); the loop's material refuses it, and
+    keeps the same grasp with the rail through the loop."""
+    from gbh_drake.core.enclosure import LoopMaterial
+    from gbh_drake.core.rejections import count_rejections
+
+    def rail(dx):
+        r = trimesh.creation.cylinder(radius=0.005, height=0.02, sections=24)
+        r.apply_transform(trimesh.geometry.align_vectors([0, 0, 1.0], [0, 1.0, 0]))
+        return r.apply_translation([dx, 0.0, 0.04])
+
+    structure = plan_grasps(make_object("frying_pan").mesh, GbhParams(), seed=0).structures[0]
+    for dx, loop, material in ((0.015, True, LoopMaterial.EMPTY), (0.015, False, None),
+                               (0.0, True, LoopMaterial.HELD)):
+        params = GbhParams(ground_clearance=-1.0, loop_must_enclose=loop)
+        obj = prepare_object(rail(dx), params, 0)
+        g = GraspCandidate(np.eye(4), GraspKind.PARALLEL, 0, structure, structure.H[0])
+        count_collisions(obj, [g], params)
+        assert g.n_collisions == g.n_sweep_collisions == 0
+        assert collision_free(g, params) is (material != LoopMaterial.EMPTY)
+        assert g.loop_material == (LoopMaterial.UNCHECKED if material is None else material)
+        if material == LoopMaterial.EMPTY:
+            r = count_rejections([g], params)
+            assert r.removed["empty loop"] == 1
+            assert "holds no material in its hole" in r.closest

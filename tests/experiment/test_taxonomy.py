@@ -102,7 +102,7 @@ def test_the_edge_warnings_are_the_scans():
     from gbh_drake.perception.scan import FRAME_EDGE_WARNING
 
     assert FRAME_EDGE_WARNING in EDGE_WARNINGS
-    assert len(set(CAUSES)) == len(CAUSES) == 14 and set(RESERVED) <= set(CAUSES)
+    assert len(set(CAUSES)) == len(CAUSES) == 16 and set(RESERVED) <= set(CAUSES)
 
 
 def test_nothing_is_reserved_and_the_rules_are_classes():

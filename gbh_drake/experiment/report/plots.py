@@ -26,6 +26,7 @@ from gbh_drake.experiment.report.tables import (
 CAUSE_COLOURS = {
     "out of reach": "#1f77b4", "candidate set missed": "#9ecae1", "no structure": "#ff7f0e",
     "table clearance": "#2ca02c", "collision N_c": "#98df8a", "closing sweep": "#bcbd22",
+    "rod clearance": "#31a354", "empty loop": "#006d2c",
     "no grasp found": "#8c564b", "IK": "#d62728", "planner": "#ff9896",
     "lift too low": "#9467bd", "touched down": "#e377c2", "slipped during carry": "#c5b0d5",
     "scan cut/partial": "#17becf",
