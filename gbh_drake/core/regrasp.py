@@ -10,6 +10,9 @@ footprint at ``place_xy``, its lowest point on the table), runs the pipeline on 
 (:func:`gbh_drake.core.pipeline.plan_grasps`, the same params) and returns the poses that offer
 a hook grasp, best first:
 
+0. the poses probable on their own (at least ``min_probability``) before those offered only by
+   their family (below): a facet of a side the object rolls on is the pose it is set down in
+   only if it rolls about the right axis (a roll's core, not a mug's handle);
 1. fewest degrees to turn, in steps of :data:`TURN_STEP_DEG` (the hand turns the object with it
    while it holds a fallback pinch: the smaller the turn, the likelier the arm can do it and
    the pinch holds; turns a few degrees apart are alike: a scan's resting poses of one object
@@ -184,7 +187,8 @@ def choose_regrasp_pose(
     ``orientations`` ((R (3, 3), probability) each, see the module docstring) in which the
     pipeline, with ``params`` and the surface sampler's ``seed``, ranks a hook grasp, best
     first (module docstring); empty if none does. An orientation is tried when its family's
-    probability (:func:`family_probabilities`) is at least ``min_probability``."""
+    probability (:func:`family_probabilities`) is at least ``min_probability``, and comes after
+    every one probable on its own when only its family is."""
     out: list[RegraspPose] = []
     family = family_probabilities(orientations)
     for i, (R, probability) in enumerate(orientations):
@@ -202,6 +206,7 @@ def choose_regrasp_pose(
             out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
                                    float(result.ranked[0].score), i,
                                    family_probability=float(family[i])))
-    out.sort(key=lambda p: (round(p.turn_deg / TURN_STEP_DEG), -p.best_score,
+    out.sort(key=lambda p: (p.probability < min_probability,
+                            round(p.turn_deg / TURN_STEP_DEG), -p.best_score,
                             -p.probability, p.index))
     return out

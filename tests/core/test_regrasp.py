@@ -114,6 +114,25 @@ def test_a_roll_lying_flat_is_stood_on_its_rim_by_its_family():
                                min_probability=0.9 * p) == []
 
 
+def test_poses_probable_on_their_own_come_before_those_of_a_family():
+    """mug_classic on its handle: its first choice made improbable (1 %) and given a twin (the
+    same rest, 1.5 %, one family of 2.5 %): still offered, but after every pose probable on its
+    own, each group by fewest turn steps."""
+    mesh_W, orientations = lying("mug_classic", 1)
+    first = choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0])[0]
+    R = orientations[first.index][0]
+    changed = [o for i, o in enumerate(orientations) if i != first.index] + [(R, 0.01), (R, 0.015)]
+    choices = choose_regrasp_pose(mesh_W, changed, STRICT, [0.5, 0.0])
+    own = [c.probability >= 0.02 for c in choices]
+    assert own[0] and not own[-1] and own == sorted(own, reverse=True)
+    assert {len(changed) - 2, len(changed) - 1} <= {c.index for c in choices
+                                                    if c.probability < 0.02}
+    for group in (True, False):
+        steps = [round(c.turn_deg / TURN_STEP_DEG) for c, o in zip(choices, own, strict=True)
+                 if o is group]
+        assert steps == sorted(steps)
+
+
 def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():
     # Both of its resting poses lie flat: turning it over leaves the loop on the table.
     mesh_W, orientations = lying("key_ring", 0)
