@@ -55,13 +55,15 @@ def test_structures_without_a_grasp_count_the_candidates_each_rule_removed():
         "no collision-free grasp among 4 candidates on 2 hanging structures: N_c removed 1, "
         "the closing sweep 1, the table clearance the last 2 (closest: a vertical grasp 2.3 mm "
         "above the table, 0.7 mm short of the 3.0 mm clearance)")
-    assert search.rejected_by == {"collision N_c": 1, "closing sweep": 1, "table clearance": 2}
+    assert search.rejected_by == {"collision N_c": 1, "closing sweep": 1, "table clearance": 2,
+                                  "empty loop": 0}
 
 
 def test_no_candidates_at_all_is_said_without_rules():
     search = explain_no_grasp(SCAN, Hangability(None, [STRUCTURE], ""), [])
     assert search.reason == "no collision-free grasp among 0 candidates on 1 hanging structures"
-    assert search.rejected_by == {"collision N_c": 0, "closing sweep": 0, "table clearance": 0}
+    assert search.rejected_by == {"collision N_c": 0, "closing sweep": 0, "table clearance": 0,
+                                  "empty loop": 0}
 
 
 def test_the_monitor_decides_the_outcome_from_the_search_once():
