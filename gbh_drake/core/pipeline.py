@@ -157,15 +157,15 @@ def _lazy_rules(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarra
                 sel = chunk[[kinds[i] == kind for i in chunk]]
                 rods[sel] = count_rod_contacts(obj.points, obj.spacing, triangles, X[sel], kind,
                                                params.rod_clearance, gripper)
-        clear = chunk[rods[chunk] <= 0]
-        if surface is not None:
-            for i in clear:
+        for i in chunk[rods[chunk] <= 0]:  # in score order, as rank_grasps takes them
+            if len(ranked) >= params.top_k or any(is_copy(candidates[i], kept, params)
+                                                  for kept in ranked):
+                continue  # it cannot be ranked: its loop stays unchecked
+            if surface is not None:
                 loops[i] = surface.loop_material(X[i], kinds[i], gripper)
-            clear = clear[loops[clear] == LoopMaterial.HELD]
-        for i in clear:  # in score order, as rank_grasps takes them
-            if len(ranked) < params.top_k and not any(is_copy(candidates[i], kept, params)
-                                                      for kept in ranked):
-                ranked.append(candidates[i])
+                if loops[i] != LoopMaterial.HELD:
+                    continue
+            ranked.append(candidates[i])
         if len(ranked) >= params.top_k:
             break
     return rods, loops
@@ -173,20 +173,18 @@ def _lazy_rules(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarra
 
 @dataclasses.dataclass(frozen=True)
 class _Surface:
-    """An object's triangles (t, 3, 3, W), their centroids and the largest distance from a
-    centroid to its corners (m): what :meth:`loop_material` crops by."""
+    """An object's triangles (t, 3, 3, W), their centroids (t, 3) and each one's distance from
+    its centroid to its farthest corner (t,, m): what :meth:`loop_material` crops by."""
 
     triangles: np.ndarray
     centroids: np.ndarray
-    spread: float
+    spread: np.ndarray
 
     @classmethod
     def of(cls, mesh: trimesh.Trimesh) -> _Surface:
         tri = np.asarray(mesh.vertices, dtype=float)[np.asarray(mesh.faces)]
         centroids = tri.mean(axis=1)
-        spread = float(np.linalg.norm(tri - centroids[:, None], axis=2).max()) if len(tri) \
-            else 0.0
-        return cls(tri, centroids, spread)
+        return cls(tri, centroids, np.linalg.norm(tri - centroids[:, None], axis=2).max(axis=1))
 
     def loop_material(self, X_WG: np.ndarray, kind: str, gripper: HookGripperGeometry) -> int:
         """:func:`~gbh_drake.core.enclosure.planned_loop_material` of the grasp ``kind`` open
@@ -194,7 +192,10 @@ class _Surface:
         X_closed, q = closed_gripper(X_WG, kind, gripper)
         R, p = X_closed[:3, :3], X_closed[:3, 3]
         centre_G, radius = loop_reach(q, gripper)
-        near = np.linalg.norm(self.centroids - (p + R @ centre_G), axis=1) <= radius + self.spread
+        # Only triangles that may straddle the loop's plane (x_G = 0) within its ball.
+        near = np.abs((self.centroids - p) @ R[:, 0]) <= self.spread
+        near[near] = np.linalg.norm(self.centroids[near] - (p + R @ centre_G), axis=1) \
+            <= radius + self.spread[near]
         return int(planned_loop_material((self.triangles[near] - p) @ R, q, gripper))
 
 

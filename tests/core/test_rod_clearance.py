@@ -3,6 +3,8 @@ and what N_c's point count lets through."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import trimesh
@@ -123,6 +125,45 @@ def test_the_lazy_check_ranks_as_checking_more_would():
     assert [g.X_WG.tobytes() for g in lazy] == [g.X_WG.tobytes() for g in more[:10]]
 
 
+def _rail(dx: float = 0.0) -> trimesh.Trimesh:
+    """A 10 mm rail 20 mm long along y_W at z 4 cm, ``dx`` along x_W: with G = W, across the
+    loop of a parallel grasp, ``dx`` off its plane."""
+    r = trimesh.creation.cylinder(radius=0.005, height=0.02, sections=24)
+    r.apply_transform(trimesh.geometry.align_vectors([0, 0, 1.0], [0, 1.0, 0]))
+    return r.apply_translation([dx, 0.0, 0.04])
+
+
+def _grasps_along_x(offsets):
+    structure = plan_grasps(make_object("frying_pan").mesh, GbhParams(), seed=0).structures[0]
+    out = []
+    for dx in offsets:
+        X = np.eye(4)
+        X[0, 3] = dx
+        out.append(GraspCandidate(X, GraspKind.PARALLEL, 0, structure, structure.H[0]))
+    return out
+
+
+def test_the_lazy_loop_check_ranks_as_checking_every_loop_would():
+    """The loop's material is checked best score first (ties in their order) until ``top_k``
+    grasps hold material: eleven grasps 6 mm apart across a rail, the farthest first, all
+    collision-free; only the one on the rail holds it, and it alone is ranked (the paper's rules
+    rank the first three, which close beside it); the ranked one was checked."""
+    from gbh_drake.core.enclosure import LoopMaterial
+    from gbh_drake.core.scoring import rank_grasps
+
+    params = GbhParams(ground_clearance=-1.0, top_k=3)
+    obj = prepare_object(_rail(), params, 0)
+    offsets = [0.03, -0.03, 0.024, -0.024, 0.018, -0.018, 0.012, -0.012, 0.006, -0.006, 0.0]
+    candidates = _grasps_along_x(offsets)
+    count_collisions(obj, candidates, params)
+    lazy = rank_grasps(candidates, params)
+    assert [g.X_WG[0, 3] for g in lazy] == [0.0]
+    assert lazy[0].loop_material == LoopMaterial.HELD
+    assert [g.loop_material for g in candidates[:-1]] == [LoopMaterial.EMPTY] * 10
+    off = dataclasses.replace(params, loop_must_enclose=False)
+    assert [g.X_WG[0, 3] for g in rank_grasps(candidates, off)] == offsets[:3]
+
+
 def test_every_grasp_ranked_on_a_mug_holds_its_handle(mug):
     from gbh_drake.core.enclosure import LoopMaterial
 
@@ -138,17 +179,11 @@ def test_the_pipeline_refuses_a_loop_closing_beside_the_material():
     from gbh_drake.core.enclosure import LoopMaterial
     from gbh_drake.core.rejections import count_rejections
 
-    def rail(dx):
-        r = trimesh.creation.cylinder(radius=0.005, height=0.02, sections=24)
-        r.apply_transform(trimesh.geometry.align_vectors([0, 0, 1.0], [0, 1.0, 0]))
-        return r.apply_translation([dx, 0.0, 0.04])
-
-    structure = plan_grasps(make_object("frying_pan").mesh, GbhParams(), seed=0).structures[0]
     for dx, loop, material in ((0.015, True, LoopMaterial.EMPTY), (0.015, False, None),
                                (0.0, True, LoopMaterial.HELD)):
         params = GbhParams(ground_clearance=-1.0, loop_must_enclose=loop)
-        obj = prepare_object(rail(dx), params, 0)
-        g = GraspCandidate(np.eye(4), GraspKind.PARALLEL, 0, structure, structure.H[0])
+        obj = prepare_object(_rail(dx), params, 0)
+        g = _grasps_along_x([0.0])[0]
         count_collisions(obj, [g], params)
         assert g.n_collisions == g.n_sweep_collisions == 0
         assert collision_free(g, params) is (material != LoopMaterial.EMPTY)
