@@ -3,13 +3,15 @@
 Run:  .venv/bin/python bench/bench_core.py [--repeats 7]
 
 Prints, per stage, the best and the median wall time over the repeats, and the median CPU time of
-this process (all its threads). On a shared machine the wall times grow with the load average
+this process (all its threads), and the collision stage again without the loop's material rule
+(``loop_must_enclose``: what that rule costs). On a shared machine the wall times grow with the load average
 (printed too); the best wall time and the CPU time are the figures least disturbed by others.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import statistics
 
@@ -47,6 +49,11 @@ def main() -> None:
         cpu = [_ms(r.cpu_timings, name) for r in runs]
         print(f"{name:<12} {min(wall):8.1f} {statistics.median(wall):10.1f} "
               f"{statistics.median(cpu):8.1f}")
+    off = dataclasses.replace(params, loop_must_enclose=False)
+    wall = [_ms(plan_grasps(mesh, off).timings, "collision") for _ in range(args.repeats)]
+    loops = sum(c.loop_material >= 0 for c in last.candidates)
+    print(f"{'collision, no loop rule':<12} {min(wall):8.1f} {statistics.median(wall):10.1f}"
+          f"   (with it: {loops} loops checked)")
 
 
 def _ms(timings: dict[str, float], name: str) -> float:
