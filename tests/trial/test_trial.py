@@ -159,7 +159,8 @@ def test_a_hanger_lying_flat_is_refused_by_the_table_and_the_verdict_says_so(sce
     scenario.object.name = "clothes_hanger"
     _, _, record, status = _plan_only(scenario)
     assert status.mode == Mode.NO_GRASP and record.outcome == "no_grasp_found"
-    assert list(record.rejected_by) == ["collision N_c", "closing sweep", "table clearance"]
+    assert list(record.rejected_by) == ["collision N_c", "closing sweep", "table clearance",
+                                        "empty loop"]
     assert sum(record.rejected_by.values()) == record.n_candidates > 0
     assert record.rejected_by["table clearance"] > 0
     assert "the table clearance the last" in record.reason
