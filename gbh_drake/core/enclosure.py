@@ -164,6 +164,13 @@ def segments_cross_triangles(a: np.ndarray, b: np.ndarray, triangles: np.ndarray
     return False
 
 
+def plane_crossings_yz(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(k, 2) the (y, z) where the segments ``a[i]``-``b[i]`` ((k, 3) each, their ends on
+    either side of the plane x = 0) cross that plane."""
+    w = (a[:, 0] / (a[:, 0] - b[:, 0]))[:, None]
+    return (a + w * (b - a))[:, 1:]
+
+
 def inside_polygon(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
     """Mask (n,) of 2D ``points`` (n, 2) inside the closed ``polygon`` (k, 2) (even-odd rule)."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
@@ -269,10 +276,7 @@ def planned_loop_material(triangles_G: np.ndarray, q: float,
     a = tri.reshape(-1, 3)  # each triangle's edges (v0 v1, v1 v2, v2 v0)
     b = np.roll(tri, -1, axis=1).reshape(-1, 3)
     straddle = (a[:, 0] < 0.0) != (b[:, 0] < 0.0)
-    a, b = a[straddle], b[straddle]
-    w = (a[:, 0] / (a[:, 0] - b[:, 0]))[:, None]
-    cross_yz = (a + w * (b - a))[:, 1:]
-    held = inside_polygon(cross_yz, polygon[:, 1:]).any()
+    held = inside_polygon(plane_crossings_yz(a[straddle], b[straddle]), polygon[:, 1:]).any()
     return LoopMaterial.HELD if held else LoopMaterial.EMPTY
 
 
@@ -303,8 +307,7 @@ def loop_enclosure(p_GV: np.ndarray, faces: np.ndarray, q_straight: float, q_l: 
     straddle = below[:, 0] != below[:, 1]
     i = np.flatnonzero(straddle)
     a, b = edge_list[i, 0], edge_list[i, 1]
-    w = (x[a] / (x[a] - x[b]))[:, None]
-    cross_yz = (p[a] + w * (p[b] - p[a]))[:, 1:]
+    cross_yz = plane_crossings_yz(p[a], p[b])
     in_disc = inside_polygon(cross_yz, polygon[:, 1:])
     cut = np.zeros(len(edge_list), dtype=bool)
     cut[i[in_disc]] = True
