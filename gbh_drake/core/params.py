@@ -319,6 +319,13 @@ class GbhParams:
     """Ours, degrees: the angle below which two grasps of the same kind, with origins closer
     than ``distinct_distance``, are one (half the 10 deg between neighbouring contacts, so
     no two distinct contacts' grasps merge)."""
+    ties_by_collisions: bool = True
+    """Ours: among grasps of equal score (to 6 significant digits), fewer object points in the
+    open gripper (N_c) first, i.e. the one with more room round its rods. The score saturates
+    at 1 for a closed loop hooked level, so many grasps tie: a frying pan's handle slot, whose
+    first-made grasp ran its straight rod 2.4 mm from the slot's edge (N_c = 3 < p_c) and came
+    away empty, ranked sixth the same grasp 0.9 mm clear. False: the paper's order, ties kept
+    in the order they were made (preset ``paper``)."""
     hang_slide_scale: float = ranged(0.0, NonNeg(1.0, "m", "0: the paper's score"))
     """Ours, metres: a grasp's score is multiplied by S_hang = exp(-(d / this)^2), d being how
     much deeper the object hangs once the material the grasp cages slides along the
@@ -364,7 +371,7 @@ class GbhParams:
 #: ``paper``: the paper's rules alone, where ours go beyond them (no both-ways snap, the single
 #: approach per contact point, the design note's contact angle, unseen space taken as free, the
 #: top ten ranked without de-duplication, eq. 1's d1 past a narrow hole's centre, no check that
-#: the closed loop holds material). ``robust``:
+#: the closed loop holds material, ties ranked as made). ``robust``:
 #: the provisional rules of issue 42 on at their provisional values, opt-in until swept over
 #: both object sets (docs/robustness.md): the hang's slide in the score, four hanging positions
 #: per cluster, the rods' 2.5 mm clearance, the best 40 grasps ranked (the planner tries the
@@ -374,7 +381,7 @@ PRESETS: dict[str, dict] = {
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
               "distinct_distance": 0.0, "distinct_angle_deg": 0.0, "d1_centred": False,
-              "loop_must_enclose": False},
+              "loop_must_enclose": False, "ties_by_collisions": False},
     "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
                "top_k": 40},
 }

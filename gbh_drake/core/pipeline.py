@@ -36,7 +36,7 @@ from gbh_drake.core.results import (
     HangabilityReport,
     HangingStructure,
 )
-from gbh_drake.core.scoring import is_copy, rank_grasps, score_grasps
+from gbh_drake.core.scoring import is_copy, rank_grasps, ranking_order, score_grasps
 
 trimesh = lazy_module("trimesh")
 
@@ -132,8 +132,8 @@ def _lazy_rules(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarra
                 kinds: list[str], passing: np.ndarray, params: GbhParams,
                 gripper: HookGripperGeometry) -> tuple[np.ndarray, np.ndarray]:
     """(rod_contacts, loop_material), each (M,), of the candidates that pass the other rules
-    (``passing``), checked best score first (:func:`~gbh_drake.core.scoring.score_grasps`, the
-    ranking's order) until ``top_k`` distinct ones pass both
+    (``passing``), checked in the ranking's order
+    (:func:`~gbh_drake.core.scoring.ranking_order`) until ``top_k`` distinct ones pass both
     (:func:`~gbh_drake.core.scoring.is_copy`: a copy takes no place in the ranking): the rest
     cannot enter the ranked list and stay unchecked (-1; the rejection counts take them as
     passed). A rule that is off (``rod_clearance`` < 0, ``loop_must_enclose`` False) stays
@@ -144,7 +144,7 @@ def _lazy_rules(obj: ObjectModel, candidates: list[GraspCandidate], X: np.ndarra
     if len(todo) == 0:
         return rods, loops
     score_grasps(candidates, params)
-    todo = todo[np.argsort([-candidates[i].score for i in todo], kind="stable")]
+    todo = todo[ranking_order([candidates[i] for i in todo], params)]
     triangles = SurfaceTriangles.of(obj.mesh.vertices, obj.mesh.faces,
                                     COVERING_SPACINGS * obj.spacing) \
         if params.rod_clearance >= 0 else None

@@ -131,10 +131,10 @@ def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[Gra
     (:func:`is_copy`: a copy of a better one takes no place), at most ``top_k``: the paper's
     ten, in the order the planner tries them.
 
-    Ties keep the synthesis order (stable sort), so the ranking is deterministic.
+    The order is :func:`ranking_order`'s, so the ranking is deterministic.
     """
     free = [g for g in candidates if collision_free(g, params)]
-    order = np.argsort([-g.score for g in free], kind="stable")
+    order = ranking_order(free, params)
     ranked: list[GraspCandidate] = []
     for i in order:
         if len(ranked) == params.top_k:
@@ -142,6 +142,18 @@ def rank_grasps(candidates: list[GraspCandidate], params: GbhParams) -> list[Gra
         if not any(is_copy(free[i], kept, params) for kept in ranked):
             ranked.append(free[i])
     return ranked
+
+
+def ranking_order(candidates: list[GraspCandidate], params: GbhParams) -> np.ndarray:
+    """Indices of ``candidates``, best first: S_total descending; with
+    ``params.ties_by_collisions``, scores equal to 6 significant digits by fewer N_c
+    (``n_collisions``) first; remaining ties (all ties, without it: the paper's order) in the
+    order the candidates were made."""
+    if not params.ties_by_collisions:
+        return np.argsort([-g.score for g in candidates], kind="stable")
+    score = np.array([float(f"{g.score:.6g}") for g in candidates], dtype=float)
+    n_c = np.array([g.n_collisions for g in candidates], dtype=float)
+    return np.lexsort((np.arange(len(candidates)), n_c, -score))
 
 
 def is_copy(g: GraspCandidate, other: GraspCandidate, params: GbhParams) -> bool:

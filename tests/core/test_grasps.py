@@ -253,6 +253,24 @@ def test_scores_follow_the_paper_and_the_beta_sign_choice(params):
     assert ranked == [g[1], g[0]]  # g[2] collides (12 >= 10), g[3] scores ~0 and is cut by k
 
 
+def test_equal_scores_rank_by_fewer_points_in_the_gripper(params):
+    """Ours: of grasps that score alike, the one with fewer object points in the open gripper
+    (more room round its rods) first; the paper's preset sorts by the score alone; a better
+    score always wins over fewer points."""
+    loop = _structure(1.0, [0, 0, 0])
+    down = np.array([0, 0, -1.0])
+    g = [GraspCandidate(_pose([1, 0, 0], down), PARALLEL, i, loop, np.zeros(3)) for i in range(3)]
+    for i, x in enumerate(g):
+        x.X_WG[:3, 3] = [0.1 * i, 0, 0]  # distinct poses
+    score_grasps(g, params)
+    g[0].score = 1.0 - 1e-9  # a rounding's difference: a tie
+    g[2].score = 0.99  # a real difference
+    for x, n in zip(g, (5, 1, 0), strict=True):
+        x.n_collisions, x.n_sweep_collisions, x.ground_distance, x.rod_contacts = n, 0, 1.0, 0
+    assert rank_grasps(g, params) == [g[1], g[0], g[2]]
+    assert rank_grasps(g, GbhParams(preset="paper")) == [g[1], g[0], g[2]]
+
+
 def test_pipeline_is_deterministic(mug, mug_result, params):
     again = plan_grasps(mug, params)
     assert len(again.candidates) == len(mug_result.candidates)
@@ -284,11 +302,12 @@ def test_cancelling_misses_give_a_neutral_beta(params):
 
 def test_ranking_filters_then_sorts_then_cuts(mug_result, params):
     """The paper's order: collision-free grasps (our sweep and ground checks included), by
-    S_total, copies of a better grasp left out, the top k; nothing left out scores higher than
-    the last one kept unless it fails a collision check or copies one kept."""
+    S_total (ours: equal scores by fewer N_c), copies of a better grasp left out, the top k;
+    nothing left out scores higher than the last one kept unless it fails a collision check
+    or copies one kept."""
     free = [g for g in mug_result.candidates if collision_free(g, params)]
     distinct: list = []
-    for g in sorted(free, key=lambda g: -g.score):
+    for g in sorted(free, key=lambda g: (-float(f"{g.score:.6g}"), g.n_collisions)):
         if not any(is_copy(g, kept, params) for kept in distinct):
             distinct.append(g)
     assert mug_result.ranked == distinct[: params.top_k]
