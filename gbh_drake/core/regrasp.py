@@ -182,31 +182,45 @@ def choose_regrasp_pose(
     seed: int = 0,
     min_turn_deg: float = 15.0,
     min_probability: float = 0.02,
+    max_poses: int | None = None,
 ) -> list[RegraspPose]:
     """The resting poses of ``mesh_W`` (vertices in W, where the object lies now) among
     ``orientations`` ((R (3, 3), probability) each, see the module docstring) in which the
     pipeline, with ``params`` and the surface sampler's ``seed``, ranks a hook grasp, best
     first (module docstring); empty if none does. An orientation is tried when its family's
     probability (:func:`family_probabilities`) is at least ``min_probability``, and comes after
-    every one probable on its own when only its family is."""
-    out: list[RegraspPose] = []
+    every one probable on its own when only its family is.
+
+    ``max_poses``: only the best that many (the same as the first ``max_poses`` of the whole
+    list). The pipeline then runs group by group of the order's first two keys (probable on its
+    own, the turn's step), which are known before it runs, and stops after the group in which
+    that many poses were found: a tape roll's 59 rim facets are not each planned when its
+    first group already offers three."""
     family = family_probabilities(orientations)
+    tried: list[tuple[tuple[bool, int], int, np.ndarray, float]] = []
     for i, (R, probability) in enumerate(orientations):
         if family[i] < min_probability:
             continue
         X = resting_motion(mesh_W, R, place_xy, params.ground_height)
         turn = rotation_angle_deg(X[:3, :3])
-        if turn < min_turn_deg:
-            continue
+        if turn >= min_turn_deg:
+            tried.append(((float(probability) < min_probability,
+                           round(turn / TURN_STEP_DEG)), i, X, turn))
+    tried.sort(key=lambda t: (t[0], t[1]))
+    out: list[RegraspPose] = []
+    for k, (group, i, X, turn) in enumerate(tried):
         try:
             result = plan_grasps(mesh_W.copy().apply_transform(X), params, seed=seed)
         except GbhInputError:
-            continue
-        if result.ranked:
-            out.append(RegraspPose(X, turn, float(probability), len(result.ranked),
+            result = None
+        if result is not None and result.ranked:
+            out.append(RegraspPose(X, turn, float(orientations[i][1]), len(result.ranked),
                                    float(result.ranked[0].score), i,
                                    family_probability=float(family[i])))
+        group_done = k + 1 == len(tried) or tried[k + 1][0] != group
+        if max_poses is not None and group_done and len(out) >= max_poses:
+            break
     out.sort(key=lambda p: (p.probability < min_probability,
                             round(p.turn_deg / TURN_STEP_DEG), -p.best_score,
                             -p.probability, p.index))
-    return out
+    return out if max_poses is None else out[:max_poses]

@@ -61,8 +61,8 @@ class RegraspPlanner(AbstractStage):
         xy = 0.5 * (np.asarray(mesh.bounds[0][:2]) + np.asarray(mesh.bounds[1][:2]))
         poses = choose_regrasp_pose(
             mesh, [(p.R, p.probability) for p in rests], self.params, xy, seed=self.seed,
-            min_turn_deg=self.regrasp.min_turn_deg, min_probability=self.regrasp.min_probability)
-        poses = poses[: self.regrasp.max_poses]
+            min_turn_deg=self.regrasp.min_turn_deg, min_probability=self.regrasp.min_probability,
+            max_poses=self.regrasp.max_poses)
         for pose in poses:
             pose.pinches = pinches_for_pose(mesh, pose, self.antipodal, seed=self.pinch_seed,
                                             clearance=self.params.ground_clearance)

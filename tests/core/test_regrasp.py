@@ -133,6 +133,33 @@ def test_poses_probable_on_their_own_come_before_those_of_a_family():
         assert steps == sorted(steps)
 
 
+def test_the_best_few_poses_are_those_of_the_whole_list_found_with_fewer_runs(monkeypatch):
+    """With ``max_poses`` the choice plans group by group (own probability, turn step) and
+    stops after the group that completes the count: the same first poses, fewer pipeline runs
+    (mug_classic on its handle, plus an improbable twin of its first choice: a family pose)."""
+    import gbh_drake.core.regrasp as regrasp
+
+    mesh_W, orientations = lying("mug_classic", 1)
+    whole = choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0])
+    R = orientations[whole[0].index][0]
+    orientations = orientations + [(R, 0.01), (R, 0.015)]
+    runs = []
+    real = regrasp.plan_grasps
+    monkeypatch.setattr(regrasp, "plan_grasps", lambda *a, **k: runs.append(1) or real(*a, **k))
+    whole = choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0])
+    every = len(runs)
+    assert len(whole) >= 3
+    for k in (1, 2, len(whole)):
+        runs.clear()
+        best = choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0], max_poses=k)
+        assert [(p.index, p.turn_deg, p.best_score) for p in best] == \
+            [(p.index, p.turn_deg, p.best_score) for p in whole[:k]]
+        assert len(runs) <= every
+    runs.clear()
+    choose_regrasp_pose(mesh_W, orientations, STRICT, [0.5, 0.0], max_poses=1)
+    assert len(runs) < every  # the family's twins, last, are never planned
+
+
 def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():
     # Both of its resting poses lie flat: turning it over leaves the loop on the table.
     mesh_W, orientations = lying("key_ring", 0)
