@@ -26,8 +26,10 @@ part of the object a single view did not see does not drag (:attr:`PickPlan.lift
 
 The carry from the lift to the place keeps the hook point at the lift height: the straight
 joint-space move is checked by forward kinematics, and where it dips the carry goes through
-Cartesian waypoints at the lift height (IK, :func:`carry_path`); :attr:`PickPlan.carry_low`
-records how low the hook point goes along it.
+Cartesian waypoints at the lift height (IK, :func:`carry_path`); where that finds no IK at the
+lift height on the way, the hand's other turns about the vertical at the place
+(:data:`CARRY_YAWS`, each a carry configuration of its own) are tried for one that keeps it,
+else the one that dips least; :attr:`PickPlan.carry_low` records how low the hook point goes.
 """
 
 from __future__ import annotations
@@ -346,29 +348,36 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
     # vertical through the hook point (the object hangs the same way).
     com_offset = np.zeros(2) if hook else (hook_W - swing.com_W)[:2]
     target_xy = np.asarray(cfg.place_position[:2], dtype=float) + com_offset
-    # A lift short of the need rises on to it at the place where the arm reaches that.
-    q["carry"], X_carry = None, None
+    # A lift short of the need rises on to it at the place where the arm reaches that. Of the
+    # hand's turns about the vertical, the first whose carry keeps the lift height; if none
+    # does, the one whose carry dips least (the first where they tie).
+    hook_G = X_closed.inverse().multiply(hook_W)
+    min_height = hook_W[2] + lift - CARRY_TOLERANCE
+    best: tuple | None = None  # (carry_low, q_carry, X_carry, path)
     rises = [need - lift, 0.0] if need > lift + LIFT_RESOLUTION else [0.0]
     for rise in rises:
         for yaw in CARRY_YAWS:
             R_turn = RotationMatrix.MakeZRotation(yaw)
-            X_carry = RigidTransform(R_turn.multiply(X_closed.rotation()),
-                                     [*target_xy, hook_W[2] + lift + rise]) @ \
-                RigidTransform(X_closed.inverse().multiply(hook_W)).inverse()
-            q["carry"] = ik(X_carry, q["lift"], closed_hand)
-            if q["carry"] is not None:
+            X_turned = RigidTransform(R_turn.multiply(X_closed.rotation()),
+                                      [*target_xy, hook_W[2] + lift + rise]) @ \
+                RigidTransform(hook_G).inverse()
+            q_turned = ik(X_turned, q["lift"], closed_hand)
+            if q_turned is None:
+                continue
+            path, low = carry_path(setup.near, q["lift"], q_turned, closed_hand, hook_G,
+                                   min_height, check_edges=cfg.plan_paths)
+            if best is None or low > best[0]:
+                best = (low, q_turned, X_turned, path)
+            if low >= min_height:
                 break
-        if q["carry"] is not None:
+        if best is not None:
             if rise > 0.0:
                 notes.append(f"the carry rises {rise:.3f} m on to the need at the place")
             break
-    if q["carry"] is None:
+    if best is None:
         return refuse("ik", "carry")
-    hook_G = X_closed.inverse().multiply(hook_W)
-    carry, carry_low = carry_path(setup.near, q["lift"], q["carry"], closed_hand, hook_G,
-                                  hook_W[2] + lift - CARRY_TOLERANCE,
-                                  check_edges=cfg.plan_paths)
-    if carry_low < hook_W[2] + lift - CARRY_TOLERANCE:
+    carry_low, q["carry"], X_carry, carry = best
+    if carry_low < min_height:
         notes.append(f"the carry dips {hook_W[2] + lift - carry_low:.3f} m below the lift height "
                      "(no IK at the lift height along the way)")
     # Lower: at most until the object's estimated lowest point is place_depth under the table
