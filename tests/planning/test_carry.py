@@ -167,3 +167,35 @@ def test_a_pinch_is_lifted_for_the_object_swinging_about_its_axis(model, height,
     clearance = scenario.pick.lift_clearance
     expected = clearance + (0.25 - 2 * height if turns_over else 0.0)
     assert plan.lift_needed == pytest.approx(expected, abs=1e-6)
+
+
+def test_a_carry_whose_first_turn_dips_is_carried_in_a_turn_that_keeps_the_height(model):
+    """A top-down hook at (0.50, 0, 0.08) turned -1.5 rad, carried to (0.35, 0.35): with the
+    hand's orientation kept (the first of ``CARRY_YAWS``) the carry's way finds no IK at the lift
+    height and dips 7 mm; the plan takes the next turn about the vertical, whose way keeps it."""
+    import dataclasses
+
+    from gbh_drake.core.results import PARALLEL
+    from gbh_drake.planning.pick import PickSetup, plan_pick
+
+    scenario = Scenario()
+    config = dataclasses.replace(scenario.pick, place_position=[0.35, 0.35])
+    ring = np.array([[0.50 + 0.02 * np.cos(a), 0.0, 0.08 + 0.02 * np.sin(a)]
+                     for a in np.linspace(0, 2 * np.pi, 40, endpoint=False)])
+    setup = PickSetup(model, None, ring, ring.mean(axis=0), config, 0)
+    R = RotationMatrix(RollPitchYaw([np.pi, 0.0, -1.5]))
+    X = RigidTransform(R, [0.50, 0.0, 0.08] + R.multiply([0.0, 0.0, 0.02 - HOOK_GRIPPER.finger_length]))
+    plan = plan_pick(setup, X.GetAsMatrix4(), PARALLEL, 0, np.asarray(scenario.robot.q_home))
+    assert isinstance(plan, PickPlan), plan
+    min_height = plan.hook_W[2] + plan.lift - CARRY_TOLERANCE
+    assert plan.carry_low >= min_height and not plan.notes
+    X_closed = model.X_WG(plan.q["closed"], CLOSED)
+    hook_G = X_closed.inverse().multiply(plan.hook_W)
+    X_kept = RigidTransform(X_closed.rotation(), [0.35, 0.35, plan.hook_W[2] + plan.lift]) @ \
+        RigidTransform(hook_G).inverse()
+    q_kept = model.ik(X_kept, plan.q["lift"], CLOSED)
+    assert q_kept is not None
+    _, low = carry_path(model, plan.q["lift"], q_kept, CLOSED, hook_G, min_height)
+    assert low < min_height  # the first turn's way dips
+    turn = model.X_WG(plan.q["carry"], CLOSED).rotation().InvertAndCompose(X_kept.rotation())
+    assert turn.ToAngleAxis().angle() > np.radians(20)  # another turn was taken
