@@ -195,7 +195,11 @@ def choose_regrasp_pose(
     list). The pipeline then runs group by group of the order's first two keys (probable on its
     own, the turn's step), which are known before it runs, and stops after the group in which
     that many poses were found: a tape roll's 59 rim facets are not each planned when its
-    first group already offers three."""
+    first group already offers three. Raises GbhInputError for ``max_poses`` below 1."""
+    if max_poses is not None and (isinstance(max_poses, bool) or not isinstance(
+            max_poses, int | np.integer) or max_poses < 1):
+        raise GbhInputError(f"choose_regrasp_pose: max_poses must be a whole number of at least "
+                            f"1 (or None: every pose), got {max_poses!r}")
     family = family_probabilities(orientations)
     tried: list[tuple[tuple[bool, int], int, np.ndarray, float]] = []
     for i, (R, probability) in enumerate(orientations):

@@ -160,6 +160,15 @@ def test_the_best_few_poses_are_those_of_the_whole_list_found_with_fewer_runs(mo
     assert len(runs) < every  # the family's twins, last, are never planned
 
 
+@pytest.mark.parametrize("bad", [0, -1, 2.5, True, "3"])
+def test_a_bad_max_poses_is_refused_by_name(bad):
+    from gbh_drake.core.results import GbhInputError
+
+    mesh_W, orientations = lying("mug_classic", 1)
+    with pytest.raises(GbhInputError, match="max_poses must be a whole number of at least 1"):
+        choose_regrasp_pose(mesh_W, orientations, PARAMS, [0.5, 0.0], max_poses=bad)
+
+
 def test_a_flat_key_ring_has_no_pose_to_be_hooked_in():
     # Both of its resting poses lie flat: turning it over leaves the loop on the table.
     mesh_W, orientations = lying("key_ring", 0)
