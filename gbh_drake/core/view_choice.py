@@ -17,6 +17,19 @@ candidate camera position p_WC:
   the camera sees unblocked (within ``tolerance`` of the first surface on their line of sight);
 * m_s, the structure's fraction of closed loop (the paper's m), weighs a closed handle over an
   open hook.
+
+The structures the first look offers are already proven by it (its free space goes with every
+scan), so a second proof along the chosen view's own line of sight is not what the grasp lacks:
+it lacks the loop's material as a solid. A view along the hole's axis sees the material's front
+face and nothing of its depth along the axis (a headband 26 mm deep is scanned as a face), and
+the grasp's loop, closed round what it saw, closes on the unseen rest. :func:`material_view_scores`
+scores what a view sees of the material round each hole instead:
+
+    score(p_WC) = sum over structures s of  m_s * seen_s
+
+* ``seen_s`` = the fraction of the model's surface samples within ``clearance_s + reach`` of c_s
+  (the material the gripper's loop closes round: ``reach`` is how far a rod through the hole
+  runs either side of c, ``GbhParams.through_proof_length``) that the camera sees unblocked.
 """
 
 from __future__ import annotations
@@ -49,13 +62,36 @@ def hole_view_scores(model: ObjectModel, structures: list[HangingStructure], p_W
         through = aligned & reach & beyond
         if not through.any() or len(s.H) == 0:
             continue
-        # The loop's material seen from each camera.
-        k, n = len(cams), len(s.H)
-        origins = np.repeat(cams, n, axis=0)
-        targets = np.tile(s.H, (k, 1))
-        ray = targets - origins
-        length = np.linalg.norm(ray, axis=1)
-        first = model.cast(origins, ray / length[:, None])
-        seen = (first >= length - tolerance).reshape(k, n).mean(axis=1)
+        seen = _seen_fraction(model, cams, s.H, tolerance)  # the loop's material seen
         scores += np.where(through, s.m * cos * seen, 0.0)
+    return scores
+
+
+def _seen_fraction(model: ObjectModel, cams: np.ndarray, targets: np.ndarray,
+                   tolerance: float) -> np.ndarray:
+    """(k,) the fraction of ``targets`` (n, 3, W) each camera of ``cams`` (k, 3) sees: the first
+    surface on the line of sight lies no more than ``tolerance`` (m) before the target."""
+    k, n = len(cams), len(targets)
+    origins = np.repeat(cams, n, axis=0)
+    ray = np.tile(targets, (k, 1)) - origins
+    length = np.linalg.norm(ray, axis=1)
+    first = model.cast(origins, ray / length[:, None])
+    return (first >= length - tolerance).reshape(k, n).mean(axis=1)
+
+
+def material_view_scores(model: ObjectModel, structures: list[HangingStructure], p_WC: np.ndarray,
+                         reach: float = 0.025, tolerance: float = 0.003) -> np.ndarray:
+    """(k,) scores (module docstring, :func:`material_view_scores`) of the camera positions
+    ``p_WC`` (k, 3, m, W): how much of the material round each of ``structures``' holes
+    (``model``'s samples within the hole's clearance + ``reach`` (m) of c) each camera sees,
+    weighed by m; all 0 without structures. ``tolerance`` as in :func:`hole_view_scores`."""
+    cams = np.asarray(p_WC, dtype=float).reshape(-1, 3)
+    scores = np.zeros(len(cams))
+    if len(cams) == 0:
+        return scores
+    points = np.asarray(model.points, dtype=float)
+    for s in structures:
+        near = points[np.linalg.norm(points - s.c, axis=1) <= s.clearance + reach]
+        if len(near):
+            scores += s.m * _seen_fraction(model, cams, near, tolerance)
     return scores

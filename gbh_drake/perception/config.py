@@ -27,10 +27,11 @@ from gbh_drake.core.ranges import (
 #: Viewpoint layouts: ``ring`` (all views at ``elevation_deg``) or ``spiral`` (views spread over
 #: the band of the hemisphere from ``elevation_deg`` to ``elevation_max_deg``).
 LAYOUTS = ("spiral", "ring")
-#: How a one-view scan's view is chosen: ``fixed`` (from ``azimuth_deg``, ``elevation_deg``) or
-#: ``holes`` (the candidate view that sees the first look's candidate holes best,
+#: How a one-view scan's view is chosen: ``fixed`` (from ``azimuth_deg``, ``elevation_deg``),
+#: ``holes`` (the candidate view that sees through the first look's candidate holes best) or
+#: ``material`` (the candidate view that sees most of the material round them;
 #: ``perception.view_choice``).
-VIEW_CHOICES = ("fixed", "holes")
+VIEW_CHOICES = ("fixed", "holes", "material")
 #: Pixels a scan may render and fuse in all (views x width x height).
 MAX_SCAN_PIXELS = 40_000_000
 #: A camera distance's bounds: what the camera measures.
@@ -85,9 +86,11 @@ class ScanConfig:
     ``elevation_deg`` (the paper's one view); ``holes``, the candidate view that sees the
     first look's candidate holes best (``perception.view_choice``: a next-best-view score over
     the fixed view and a spiral of ``view_candidates`` views, each aimed and backed off as the
-    fixed one). Ignored with more than one view."""
+    fixed one: through the hole, ``core.view_choice.hole_view_scores``); ``material``, the
+    candidate that sees most of the material round them (its depth along the hole's axis
+    too, ``core.view_choice.material_view_scores``). Ignored with more than one view."""
     view_candidates: int = ranged(10, Int(1, 100))
-    """With ``view_choice: holes``: how many candidate views besides the fixed one (a spiral
+    """With ``view_choice`` ``holes`` or ``material``: how many candidate views besides the fixed one (a spiral
     over the band ``elevation_deg``-``elevation_max_deg``, the layout of as many views: for
     10, the ten-view scan's)."""
 

@@ -86,7 +86,7 @@ class ScanResult:
     """The workspace box (W): nothing outside it was scanned."""
     timing: dict[str, float] = field(default_factory=dict)
     """Wall-clock seconds of the stages, which add up to the whole scan: ``first_look`` (render
-    and segment), ``view_choice`` (with ``view_choice: holes``), ``render`` (the views),
+    and segment), ``view_choice`` (with ``view_choice`` ``holes`` or ``material``), ``render`` (the views),
     ``segment`` (noise, points, table and clusters), ``fuse`` (TSDF, cut, clean-up), ``cap``."""
     empty: bool = False
     message: str = ""
@@ -201,7 +201,7 @@ def scan_object(query_object: QueryObject, config: ScanConfig, p_WT, *,
                       robot_labels=robot_labels) if config.aim_views else None
     look_s = time.perf_counter() - start
     timing: dict[str, float] = {"first_look": look_s, "render": 0.0}
-    config, choice = chosen_config(look, config)  # one view, chosen (view_choice: holes)
+    config, choice = chosen_config(look, config)  # one view, chosen (view_choice: holes or material)
     if choice is not None:
         timing["view_choice"] = choice.seconds
     reframes = 0

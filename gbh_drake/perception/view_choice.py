@@ -1,8 +1,8 @@
 """One view, chosen: from the first look, the single full view that sees the candidate holes best.
 
 The first look (``scan.first_look``: two small side views, taken anyway to find and frame the
-object) is a coarse silhouette of the object. With ``ScanConfig.view_choice: holes`` and one
-view, :func:`choose_view` fuses the first look's object pixels into a coarse mesh
+object) is a coarse silhouette of the object. With ``ScanConfig.view_choice`` ``holes`` or
+``material`` and one view, :func:`choose_view` fuses the first look's object pixels into a coarse mesh
 (:func:`first_look_model`), finds GbH's candidate hanging structures on it (its hangability
 stage at ``GbhParams``' defaults, unseen space not held against them: candidates, not proofs),
 and scores the candidate views (:func:`candidate_directions`: the fixed view, then the spiral
@@ -164,9 +164,10 @@ def choose_view(look, config: ScanConfig, aim_W, distance: float,
                 params: GbhParams | None = None) -> ViewChoice:
     """The candidate view (:func:`candidate_directions`, at ``distance`` (m) from ``aim_W``
     (3,), as the views are aimed) that sees the first look's candidate holes
-    (:func:`first_look_candidates`) best (module docstring); ``params``: GbH's (default
+    (:func:`first_look_candidates`) best (module docstring; ``config.view_choice`` ``holes``:
+    through them, ``material``: the material round them); ``params``: GbH's (default
     ``GbhParams()``)."""
-    from gbh_drake.core.view_choice import hole_view_scores
+    from gbh_drake.core.view_choice import hole_view_scores, material_view_scores
 
     params = params or GbhParams()
     start = time.perf_counter()
@@ -177,7 +178,10 @@ def choose_view(look, config: ScanConfig, aim_W, distance: float,
         return ViewChoice(0, directions, scores, seconds=time.perf_counter() - start,
                           message="the first look gave no model: the fixed view")
     cams = np.asarray(aim_W, dtype=float) + distance * directions
-    scores = hole_view_scores(model, structures, cams, params.through_proof_angle_deg)
+    if config.view_choice == "material":
+        scores = material_view_scores(model, structures, cams, params.through_proof_length)
+    else:
+        scores = hole_view_scores(model, structures, cams, params.through_proof_angle_deg)
     best = int(np.argmax(scores))
     index = best if scores[best] > scores[0] + MIN_GAIN else 0
     centres = np.array([s.c for s in structures]).reshape(-1, 3)
@@ -187,11 +191,11 @@ def choose_view(look, config: ScanConfig, aim_W, distance: float,
 
 
 def chosen_config(look, config: ScanConfig) -> tuple[ScanConfig, ViewChoice | None]:
-    """The config of the view to take after the first look ``look``: with ``view_choice:
-    holes`` and one view, the chosen view's (:func:`choose_view`, aimed at the look's sphere
+    """The config of the view to take after the first look ``look``: with ``view_choice``
+    ``holes`` or ``material`` and one view, the chosen view's (:func:`choose_view`, aimed at the look's sphere
     from the distance that fits it, as ``scan_object`` aims), and the choice; otherwise
     ``config`` itself and None."""
-    if config.view_choice != "holes" or config.num_views != 1 or look is None or \
+    if config.view_choice == "fixed" or config.num_views != 1 or look is None or \
             not look.found:
         return config, None
     from gbh_drake.perception.viewpoints import fit_view_distance
