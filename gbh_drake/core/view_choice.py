@@ -20,10 +20,11 @@ candidate camera position p_WC:
 
 The structures the first look offers are already proven by it (its free space goes with every
 scan), so a second proof along the chosen view's own line of sight is not what the grasp lacks:
-it lacks the loop's material as a solid. A view along the hole's axis sees the material's front
-face and nothing of its depth along the axis (a headband 26 mm deep is scanned as a face), and
-the grasp's loop, closed round what it saw, closes on the unseen rest. :func:`material_view_scores`
-scores what a view sees of the material round each hole instead:
+it lacks the material its loop closes round. The one view is the only surface GbH's collision
+counts see; material it does not see is where the loop may close on the object (a headband
+seen from 40 deg off its axis was scanned half its 24 mm deep along the arms, and the closing
+bar met the unseen half). :func:`material_view_scores` scores what a view sees of the material
+round each hole, as the first look's model has it, instead:
 
     score(p_WC) = sum over structures s of  m_s * seen_s
 

@@ -87,12 +87,12 @@ class ScanConfig:
     first look's candidate holes best (``perception.view_choice``: a next-best-view score over
     the fixed view and a spiral of ``view_candidates`` views, each aimed and backed off as the
     fixed one: through the hole, ``core.view_choice.hole_view_scores``); ``material``, the
-    candidate that sees most of the material round them (its depth along the hole's axis
-    too, ``core.view_choice.material_view_scores``). Ignored with more than one view."""
+    candidate that sees most of the material round them, as the first look's model has it
+    (``core.view_choice.material_view_scores``). Ignored with more than one view."""
     view_candidates: int = ranged(10, Int(1, 100))
-    """With ``view_choice`` ``holes`` or ``material``: how many candidate views besides the fixed one (a spiral
-    over the band ``elevation_deg``-``elevation_max_deg``, the layout of as many views: for
-    10, the ten-view scan's)."""
+    """With ``view_choice`` ``holes`` or ``material``: how many candidate views besides the
+    fixed one (a spiral over the band ``elevation_deg``-``elevation_max_deg``, the layout of
+    as many views: for 10, the ten-view scan's)."""
 
     # --- When to scan (the Scanner with a scan time and the object's state connected) ---
     still_speed: float = ranged(0.003, Pos(1.0, "m/s"))

@@ -5,12 +5,13 @@ edge-on, from behind an occluder or through material does not."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import trimesh
 from gbh_shapes import make_ring
 
 from gbh_drake.core.hangability import detect_hangable_structures
 from gbh_drake.core.object_model import prepare_object
-from gbh_drake.core.view_choice import hole_view_scores
+from gbh_drake.core.view_choice import hole_view_scores, material_view_scores
 
 
 def _ring_model(params, extra: trimesh.Trimesh | None = None):
@@ -54,3 +55,38 @@ def test_an_occluded_view_does_not_score(params):
 def test_no_structures_no_score(params):
     model, _ = _ring_model(params)
     np.testing.assert_array_equal(hole_view_scores(model, [], np.ones((3, 3))), np.zeros(3))
+
+
+# --- The material round the holes (``material_view_scores``) ---------------------------------
+
+
+def test_the_material_score_is_the_seen_share_of_the_material_round_the_hole(params):
+    """With nothing in the way, the ring's material round its hole is seen from above as from
+    below (the ring is symmetric), each camera sees part of it and never all of it; a plate
+    above the ring hides all of it from a camera above and none from one below."""
+    model, structures = _ring_model(params)
+    above, below = np.array([[0.0, 0.0, 0.5]]), np.array([[0.0, 0.0, -0.5]])
+    up, down = (material_view_scores(model, structures, cam) for cam in (above, below))
+    assert 0.0 < up[0] < sum(s.m for s in structures)
+    assert up[0] == pytest.approx(down[0], abs=0.05)
+    plate = trimesh.creation.box((0.2, 0.2, 0.004),
+                                 trimesh.transformations.translation_matrix((0, 0, 0.2)))
+    blocked, _ = _ring_model(params, plate)
+    assert material_view_scores(blocked, structures, above)[0] == 0.0
+    assert material_view_scores(blocked, structures, below)[0] == pytest.approx(down[0], abs=0.05)
+
+
+def test_the_material_score_prefers_the_side_the_handle_is_on(params, mug):
+    """The mug's handle (at +x): a camera on the handle's side sees its material, one on the
+    far side sees it through the cup's body only where it looks past it."""
+    model = prepare_object(mug, params)
+    structures = [s for s in detect_hangable_structures(model, params) if s.c[0] > 0.04]
+    assert structures
+    cams = np.array([[0.5, 0.0, 0.3], [-0.5, 0.0, 0.3]])
+    near, far = material_view_scores(model, structures, cams)
+    assert near > 2.0 * far
+
+
+def test_no_structures_no_material_score(params):
+    model, _ = _ring_model(params)
+    np.testing.assert_array_equal(material_view_scores(model, [], np.ones((3, 3))), np.zeros(3))

@@ -78,13 +78,14 @@ def test_a_box_is_not_completed(scene_cache):
     assert any("explains less than" in w for w in done.warnings)
 
 
-def test_the_chosen_view_sees_a_handle_in_the_fixed_views_shadow(scene_cache):
+@pytest.mark.parametrize("choice", ["holes", "material"])
+def test_the_chosen_view_sees_a_handle_in_the_fixed_views_shadow(scene_cache, choice):
     """The mug's handle points away from the fixed view (+x_W, the camera at -x_W): the fixed
-    view's scan has no handle and GbH no grasp on it; the view chosen from the first look looks
-    at the handle, and GbH's best grasp hooks it."""
+    view's scan has no handle and GbH no grasp on it; the view chosen from the first look (by
+    either score) looks at the handle, and GbH's best grasp hooks it."""
     scene = scene_cache("mug_classic", yaw_deg=0.0)
     fixed = _scan(scene)
-    chosen = _scan(scene, ScanConfig(num_views=1, view_choice="holes"))
+    chosen = _scan(scene, ScanConfig(num_views=1, view_choice=choice))
     assert "view_choice" in chosen.timing
     assert not _top_on_part(fixed, scene)
     assert np.linalg.norm(chosen.X_WCs[0].translation() - fixed.X_WCs[0].translation()) > 0.1
@@ -99,3 +100,36 @@ def test_the_fixed_view_is_kept_when_it_sees_the_handle(scene_cache):
     chosen = _scan(scene, ScanConfig(num_views=1, view_choice="holes"))
     np.testing.assert_allclose(chosen.X_WCs[0].GetAsMatrix4(), fixed.X_WCs[0].GetAsMatrix4())
     assert _top_on_part(chosen, scene)
+
+
+def _arm_depths(vertices, scene) -> np.ndarray:
+    """(2,) m: how deep along the headband's axis a scan holds each of its arms (the band
+    between 9 and 17 cm up, more than 3 cm from the centre either side; 2nd to 98th
+    percentile), 0 for an arm it holds too little of."""
+    centre, axis, _ = scene.part_W(0)
+    side = np.cross(axis, [0.0, 0.0, 1.0])
+    side /= np.linalg.norm(side)
+    p = np.asarray(vertices) - centre
+    band = (p[:, 2] + centre[2] > 0.09) & (p[:, 2] + centre[2] < 0.17)
+    depths = []
+    for sign in (-1.0, 1.0):
+        along = p[band & (sign * (p @ side) > 0.03)] @ axis
+        depths.append(np.ptp(np.percentile(along, [2, 98])) if len(along) > 20 else 0.0)
+    return np.array(depths)
+
+
+@pytest.mark.parametrize("yaw", [45.0, 150.0])
+def test_the_material_view_scans_the_headbands_depth(scene_cache, yaw):
+    """Headphones standing on their ear cups (the band 24 mm deep along its axis): the view
+    that sees through the hole best looks 40-45 deg off the axis and scans one arm of the band
+    about half as deep as it is (the grasp's bar then closes on the unseen half); the view
+    that sees most of the material round the hole scans both arms at least 20 mm deep."""
+    scene = scene_cache("headphones", yaw_deg=yaw)
+    true = _arm_depths(scene.mesh_W.vertices, scene)
+    assert np.all(true > 0.023)
+    holes = _arm_depths(_scan(scene, ScanConfig(num_views=1, view_choice="holes")).mesh_W.vertices,
+                        scene)
+    material = _arm_depths(_scan(scene, ScanConfig(num_views=1, view_choice="material"))
+                           .mesh_W.vertices, scene)
+    assert holes.min() < 0.6 * true.min()
+    assert material.min() > 0.02
