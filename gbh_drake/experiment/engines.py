@@ -33,7 +33,7 @@ from collections.abc import Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
 from gbh_drake.experiment.task import TrialResult, TrialTask
-from gbh_drake.experiment.worker import run_trial_task, set_single_threaded
+from gbh_drake.experiment.worker import run_trial_task, run_worker_task, set_single_threaded
 
 #: Environment of the worker processes (inherited when they start).
 WORKER_ENV = {"OMP_NUM_THREADS": "1"}
@@ -197,7 +197,7 @@ def _ray_results(ray, tasks: Sequence[TrialTask],
                  trials_per_worker: int | None) -> Iterator[TrialResult]:
     try:
         remote = ray.remote(num_cpus=1, max_retries=1,
-                            max_calls=trials_per_worker or 0)(run_trial_task)
+                            max_calls=trials_per_worker or 0)(run_worker_task)
         pending = [remote.remote(task) for task in tasks]
         try:
             while pending:

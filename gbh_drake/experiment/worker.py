@@ -19,7 +19,6 @@ import logging
 import os
 import signal
 import socket
-import sys
 import time
 import traceback
 
@@ -78,12 +77,20 @@ def _object_asset(scenario):
     return _assets[key]
 
 
+def run_worker_task(task: TrialTask) -> TrialResult:
+    """:func:`run_trial_task` in a process made a trial worker first (:func:`set_single_threaded`,
+    once): what a Ray worker runs, whose process has no initializer."""
+    if not _worker_process:
+        set_single_threaded()
+    return run_trial_task(task)
+
+
 def run_trial_task(task: TrialTask) -> TrialResult:
     """Runs ``task`` and returns its row (and its replay's HTML when it failed and replays are
     kept). An exception in the pipeline becomes a row with outcome ``error`` (and the traceback),
-    so that one broken trial does not stop the experiment."""
-    if "pydrake" not in sys.modules:  # a fresh Ray worker
-        set_single_threaded()
+    so that one broken trial does not stop the experiment. It leaves the process as it found
+    it (its signal handlers too): a process made a trial worker is the engine's doing
+    (:func:`set_single_threaded`, :func:`run_worker_task`)."""
     start = time.perf_counter()
     try:
         return _run(task, start)

@@ -160,6 +160,29 @@ def test_a_broken_trial_is_a_row_not_a_crash():
     assert row_key(row) == ("box", "m", 0, "stable") and row["scenario_digest"] == "d"
 
 
+def test_a_trial_run_in_a_fresh_process_leaves_its_ctrl_c_alone():
+    """Only an engine's worker leaves SIGINT to its parent: a process that runs a trial itself
+    (a script, a test) keeps its Ctrl-C, pydrake imported before or not (a test process that
+    ran a trial first and then ignored SIGINT hung a later test that waited for it)."""
+    import subprocess
+    import sys
+
+    code = (
+        "import signal\n"
+        "from gbh_drake.experiment.task import TrialTask\n"
+        "from gbh_drake.experiment.worker import run_trial_task\n"
+        "task = TrialTask(experiment='e', object='box', is_control=True, method='m', trial=0,"
+        " seed=1, scenario_yaml='not_a_field: 1\\n', source_path='', digest='d', commit='c',"
+        " replays='none')\n"
+        "assert 'pydrake' not in __import__('sys').modules\n"
+        "run_trial_task(task)\n"
+        "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "True"
+
+
 def test_resting_pose_classes_and_their_table(made_up):
     from math import pi
 
