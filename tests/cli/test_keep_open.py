@@ -47,6 +47,9 @@ def test_enter_on_stdin_or_the_time_ends_it():
 def test_the_end_of_stdin_waits_for_the_signal():
     """stdin at its end (no terminal, nothing piped) is not Enter: the view stays open until
     the signal (here raised as SIGINT's KeyboardInterrupt, from a timer thread)."""
+    # Python keeps SIGINT ignored when it starts so (a job put in the background by a shell
+    # without job control): the test's premise, Ctrl-C raising KeyboardInterrupt, is set here.
+    handler = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, lambda: signal.raise_signal(signal.SIGINT))
     start = time.monotonic()
     timer.start()
@@ -54,6 +57,7 @@ def test_the_end_of_stdin_waits_for_the_signal():
         assert keep_open("http://x", stdin=io.StringIO(""), out=io.StringIO()) == "signal"
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, handler)
     assert time.monotonic() - start >= 0.5
 
 

@@ -169,6 +169,7 @@ def test_a_trial_run_in_a_fresh_process_leaves_its_ctrl_c_alone():
 
     code = (
         "import signal\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"  # as in a terminal
         "from gbh_drake.experiment.task import TrialTask\n"
         "from gbh_drake.experiment.worker import run_trial_task\n"
         "task = TrialTask(experiment='e', object='box', is_control=True, method='m', trial=0,"
