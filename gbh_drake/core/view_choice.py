@@ -82,7 +82,7 @@ def _seen_fraction(model: ObjectModel, cams: np.ndarray, targets: np.ndarray,
 
 def material_view_scores(model: ObjectModel, structures: list[HangingStructure], p_WC: np.ndarray,
                          reach: float = 0.025, tolerance: float = 0.003) -> np.ndarray:
-    """(k,) scores (module docstring, :func:`material_view_scores`) of the camera positions
+    """(k,) scores (the module docstring's second score) of the camera positions
     ``p_WC`` (k, 3, m, W): how much of the material round each of ``structures``' holes
     (``model``'s samples within the hole's clearance + ``reach`` (m) of c) each camera sees,
     weighed by m; all 0 without structures. ``tolerance`` as in :func:`hole_view_scores`."""
