@@ -88,9 +88,11 @@ from gbh_drake.yamlfiles.layers import (
 from gbh_drake.yamlfiles.yaml_text import (
     YamlTextError,
     compose,
+    compose_own,
     line_of,
     node_at,
     read_text,
+    serialize,
 )
 
 #: Most trials an experiment may hold (objects x trials x methods x protocols): its task list
@@ -604,13 +606,18 @@ def _set_trial(scenario: Scenario, experiment: Experiment, obj: TrialObject, tri
     experiment lives), random pose (its rest the protocol) and seed."""
     object_name = obj.name
     scenario.object.name = object_name
-    scenario.object.set = "" if obj.set_path is None else \
-        os.path.relpath(obj.set_path, scenario.directory)
+    scenario.object.set = _set_text(scenario, obj)
     scenario.object.mesh = ""
     scenario.object.random_pose = copy.deepcopy(experiment.pose)
     scenario.object.random_pose.rest = protocol
     scenario.seed = trial_seed(experiment.seed, object_name, trial, protocol)
     return scenario.seed
+
+
+def _set_text(scenario: Scenario, obj: TrialObject) -> str:
+    """The ``object.set`` of ``obj``'s trials of ``scenario``: its manifest relative to the
+    scenario's folder, "" for a built-in object."""
+    return "" if obj.set_path is None else os.path.relpath(obj.set_path, scenario.directory)
 
 
 def trial_scenario_yaml(scenario: Scenario) -> str:
@@ -626,7 +633,7 @@ def trial_scenario_yaml(scenario: Scenario) -> str:
     text = yaml_dump_typed(scenario)
     if scenario.object.random_pose is None and scenario.object.set:
         return text
-    root = yaml.compose(text, Loader=yaml.SafeLoader)
+    root = compose_own(text)
     for key, value in root.value:
         if key.value == "object":
             random = scenario.object.random_pose is not None
@@ -637,7 +644,7 @@ def trial_scenario_yaml(scenario: Scenario) -> str:
                 if k.value == "random_pose" and isinstance(v, yaml.MappingNode):
                     v.value = [(a, b) for a, b in v.value
                                if not (a.value == "rest" and b.value == "stable")]
-    return yaml.serialize(root, width=1 << 16)
+    return serialize(root, width=1 << 16)
 
 
 def _with_seed(seed: int, text: str, new_seed: int) -> str | None:
@@ -649,6 +656,26 @@ def _with_seed(seed: int, text: str, new_seed: int) -> str | None:
     return text[:found[0].start(1)] + str(new_seed) + text[found[0].end(1):]
 
 
+def _with_object(text: str, name: str, set_text: str) -> str | None:
+    """``text``, a trial scenario's YAML (:func:`trial_scenario_yaml`), with the object
+    ``name`` of the set ``set_text`` (the scenario's ``object.set``, "" for a built-in object)
+    instead of its own; None unless its object names a set exactly when ``set_text`` does."""
+    root = compose_own(text)
+    found = [v for k, v in root.value if k.value == "object"] \
+        if isinstance(root, yaml.MappingNode) else []
+    if len(found) != 1 or not isinstance(found[0], yaml.MappingNode):
+        return None
+    fields = {k.value: v for k, v in found[0].value}
+    if not isinstance(fields.get("name"), yaml.ScalarNode) or \
+            ("set" in fields) != bool(set_text):
+        return None
+    for key, value in (("name", name), ("set", set_text)):
+        if key in fields:  # a plain node: the emitter quotes the new value where it must
+            node = fields[key]
+            node.value, node.style, node.tag = value, None, "tag:yaml.org,2002:str"
+    return serialize(root, width=1 << 16)
+
+
 def make_tasks(experiment: Experiment, *, commit: str = "",
                scenarios: dict[str, Scenario] | None = None) -> list[TrialTask]:
     """Every trial of ``experiment``, trial-major (all objects' first trials, in every protocol
@@ -656,9 +683,11 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
     ``scenarios``: the methods' (default: :func:`method_scenarios`)."""
     scenarios = scenarios or method_scenarios(experiment)
     objects = {o.name: o for o in experiment_objects(experiment)}
-    # The trials of one (method, object, protocol) differ only in their seed: the YAML is dumped
-    # once (its first trial's) and the seed line set for the others (bench/bench_import.py).
+    # The trials of one (method, protocol) differ only in their object and seed: the YAML is
+    # dumped once (its first trial's), the object's name and set are set in its node tree for
+    # the other objects and the seed line for the other trials (bench/bench_import.py).
     first: dict[tuple[str, str, str], tuple[int, str]] = {}
+    dumped: dict[tuple[str, str], tuple[int, str]] = {}
     tasks = []
     for trial in range(experiment.trials):
         for protocol in experiment.protocols:
@@ -667,11 +696,19 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
                     key = (method.name, name, protocol)
                     seed = trial_seed(experiment.seed, name, trial, protocol)
                     text = _with_seed(*first[key], seed) if key in first else None
+                    if text is None and (method.name, protocol) in dumped:
+                        dumped_seed, dumped_text = dumped[(method.name, protocol)]
+                        text = _with_object(dumped_text, name,
+                                            _set_text(scenarios[method.name], objects[name]))
+                        text = None if text is None else _with_seed(dumped_seed, text, seed)
+                        if text is not None:
+                            first.setdefault(key, (seed, text))
                     if text is None:
                         scenario = copy.deepcopy(scenarios[method.name])
                         _set_trial(scenario, experiment, objects[name], trial, protocol)
                         text = trial_scenario_yaml(scenario)
                         first.setdefault(key, (seed, text))
+                        dumped.setdefault((method.name, protocol), (seed, text))
                     tasks.append(TrialTask(
                         experiment=experiment.name, object=name,
                         is_control=objects[name].control, object_tags=objects[name].tags,
@@ -708,9 +745,9 @@ def experiment_yaml(experiment: Experiment) -> str:
     without where its trials ran (:data:`WHERE_FIELDS`: the same text whatever the engine)."""
     experiment = copy.copy(experiment)
     experiment.source_path = ""
-    root = yaml.compose(yaml_dump_typed(experiment), Loader=yaml.SafeLoader)
+    root = compose_own(yaml_dump_typed(experiment))
     root.value = [(k, v) for k, v in root.value if k.value not in WHERE_FIELDS]
-    return yaml.serialize(root)
+    return serialize(root)
 
 
 def git_commit(repo: Path | None = None) -> str:

@@ -1,15 +1,26 @@
 """gbh experiment on a user's object set: a manifest of two meshes and one built-in object runs,
 resumes and reports, its rows carrying the set's facts (control, tags, ground truth)."""
 
+import copy
 import json
 
 import numpy as np
 import pytest
 import trimesh
+from pydrake.common.yaml import yaml_load_typed
 
 from gbh_drake import SCENARIOS_DIR
 from gbh_drake.cli import main
-from gbh_drake.experiment.config import ExperimentError, load_experiment, make_tasks
+from gbh_drake.experiment.config import (
+    ExperimentError,
+    _set_trial,
+    experiment_objects,
+    load_experiment,
+    make_tasks,
+    method_scenarios,
+    trial_scenario_yaml,
+)
+from gbh_drake.scenario import Scenario
 
 pytestmark = pytest.mark.sim
 
@@ -92,3 +103,32 @@ def test_the_external_set_experiment_lists_every_object_of_the_set():
     assert len(experiment.objects) == 22 and len(experiment.methods) == 5
     assert experiment.protocols == ["stable", "natural"]
     assert np.isclose(len(make_tasks(experiment)), 22 * 5 * 5 * 2)
+
+
+def test_each_task_holds_its_trials_own_dump_whatever_the_objects_names(user_set):
+    """The task list dumps one scenario per method and protocol and sets the others' object
+    (name, set) in its node tree: the text is each trial's own full dump, for names YAML would
+    read as a number, an octal, a boolean or null unless quoted, and for a built-in object of
+    the set (no ``object.set``) after set objects."""
+    names = ["123", "0_7", "yes", "null"]
+    text = (user_set / "set.yaml").read_text()
+    for name in names:
+        text += (f"  - {{name: '{name}', mesh: block_cm.obj, scale: 0.01, mass: 0.3, "
+                 "rest: {as_given: true, reason: on its base}}\n")
+    (user_set / "set.yaml").write_text(text)
+    (user_set / "exp.yaml").write_text(
+        f"name: users\nbase: {SCENARIOS_DIR / 'default.yaml'}\nobject_set: set.yaml\n"
+        "trials: 2\nprotocols: [natural, stable]\n"
+        "methods: [{name: a, overrides: {scan: {num_views: 1}}}, {name: b, overrides: {}}]\n")
+    experiment = load_experiment(user_set / "exp.yaml")
+    assert experiment.objects == ["ring", "block", "teapot", *names]
+    tasks = make_tasks(experiment)
+    assert len(tasks) == 7 * 2 * 2 * 2
+    scenarios = method_scenarios(experiment)
+    objects = {o.name: o for o in experiment_objects(experiment)}
+    for task in tasks:  # each trial's scenario made and dumped alone, as trial_scenario does
+        scenario = copy.deepcopy(scenarios[task.method])
+        _set_trial(scenario, experiment, objects[task.object], task.trial, task.protocol)
+        assert task.scenario_yaml == trial_scenario_yaml(scenario), task.key
+        loaded = yaml_load_typed(schema=Scenario, data=task.scenario_yaml)
+        assert (loaded.object.name, loaded.seed) == (task.object, task.seed)
