@@ -701,14 +701,12 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
                         text = _with_object(dumped_text, name,
                                             _set_text(scenarios[method.name], objects[name]))
                         text = None if text is None else _with_seed(dumped_seed, text, seed)
-                        if text is not None:
-                            first.setdefault(key, (seed, text))
                     if text is None:
                         scenario = copy.deepcopy(scenarios[method.name])
                         _set_trial(scenario, experiment, objects[name], trial, protocol)
                         text = trial_scenario_yaml(scenario)
-                        first.setdefault(key, (seed, text))
                         dumped.setdefault((method.name, protocol), (seed, text))
+                    first.setdefault(key, (seed, text))
                     tasks.append(TrialTask(
                         experiment=experiment.name, object=name,
                         is_control=objects[name].control, object_tags=objects[name].tags,
