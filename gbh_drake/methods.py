@@ -137,17 +137,20 @@ def add_gbh(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
 
 
 def _pinch_params(scenario: Scenario, prefer_hanging: bool):
-    """The scenario's antipodal parameters, ``prefer_hanging`` turned on when asked."""
-    return dataclasses.replace(scenario.antipodal, prefer_hanging=True) if prefer_hanging \
-        else scenario.antipodal
+    """The scenario's antipodal parameters; with ``prefer_hanging`` (the pinch tiers of
+    ``gbh_plus`` and ``gbh_regrasp``, beyond the paper) ``prefer_hanging`` and ``side_pass``
+    turned on."""
+    return dataclasses.replace(scenario.antipodal, prefer_hanging=True, side_pass=True) \
+        if prefer_hanging else scenario.antipodal
 
 
 def add_antipodal(builder, scenario: Scenario, seeds: Seeds, scan: OutputPort,
                   systems: dict[str, System], *,
                   prefer_hanging: bool = False) -> AntipodalGraspSampler:
     """The antipodal sampler on ``scan``, keeping GbH's table clearance; ``prefer_hanging``:
-    its pinches ranked first by how little the object swings about the pinch axis (beyond the
-    paper, :attr:`~gbh_drake.core.params.AntipodalParams.prefer_hanging`)."""
+    its pinches ranked first by how little the object swings about the pinch axis, and a
+    second pass on the object's sides when the first finds nothing (beyond the paper,
+    :attr:`~gbh_drake.core.params.AntipodalParams.prefer_hanging` and ``side_pass``)."""
     sampler = _add(builder, systems, "antipodal_sampler", AntipodalGraspSampler(
         _pinch_params(scenario, prefer_hanging), seed=seeds.grasps,
         ground_clearance=scenario.gbh.ground_clearance))

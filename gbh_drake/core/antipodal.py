@@ -46,6 +46,16 @@ The sampler (after ``GenerateAntipodalGraspCandidate`` of Russ Tedrake's ``manip
    that goes down inside a ring lying flat, or beside a handle, no longer lands on the far
    side of the hole or the body behind it. The widest clear opening is the grasp's
    ``q_pregrasp``.
+7. The side pass (beyond the course; ``side_pass``, only when steps 1-6 keep nothing): an
+   object lying flat and thinner than about 13 mm (scissors, a small ring) offers the first
+   pass almost only its top and bottom faces, whose pinches close vertically, and its sides
+   sit too low for contacts ``min_contact_depth`` behind the tips. The second pass draws A
+   only among points whose normal lies within the friction cone of the table's plane, lays
+   the closing axis level, and moves the contacts to where upright rod faces first meet the
+   material (:func:`_widest`: the extremes along ``y_G`` within half a rod width of the
+   closing plane, near the pair and across the whole opening); the contacts may come down to
+   ``contact_tolerance`` above the rods' end faces. Steps 4-6 then run as before (same
+   clearance, same collision count). Its counts carry a ``side_`` prefix.
 
 The cost (lower is better), per candidate, in the course's spirit (``GraspCandidateCost``:
 ``cost = 20 R_WG[2, 1] - sum_points (n . x_G)^2``, where the WSG's +y is its approach and +x its
@@ -221,17 +231,94 @@ def plan_antipodal_grasps(
     t = time.perf_counter()
     ranked = _rank_collision_free(obj, pairs, cand, params, gripper, counts)
     timings["collision"] = time.perf_counter() - t
+    if not ranked and params.side_pass:
+        t = time.perf_counter()
+        ranked = _side_pass(obj, params, rng, gripper, counts)
+        timings["side_pass"] = time.perf_counter() - t
     return AntipodalResult(ranked, counts, timings)
 
 
+def _side_pass(obj: ObjectModel, params: AntipodalParams, rng: np.random.Generator,
+               gripper: HookGripperGeometry, counts: dict[str, int]) -> list[AntipodalGrasp]:
+    """The second pass (module docstring, step 7): contacts drawn only among the points whose
+    normal lies within the friction cone of the table's plane, and the contacts allowed down
+    to the rods' end faces. Its counts are kept under ``side_`` keys."""
+    up = unit(np.asarray(params.ground_normal, dtype=float))
+    sin_cone = np.sin(np.arctan(params.friction_coefficient))
+    pool = np.flatnonzero(np.abs(unit(obj.normals) @ up) <= sin_cone)
+    side: dict[str, int] = {}
+    pairs = _widest(obj, _contact_pairs(obj, params, rng, gripper, side, pool), params,
+                    gripper, up, side)
+    low = -0.5 * gripper.rod_width + params.contact_tolerance
+    cand = _poses(obj, pairs, params, gripper, side, min_contact_depth=low)
+    ranked = _rank_collision_free(obj, pairs, cand, params, gripper, side)
+    counts.update({f"side_{k}": v for k, v in side.items()})
+    return ranked
+
+
 # ---- step 1-3: contact pairs ---------------------------------------------------------------------
+def _widest(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalParams,
+            gripper: HookGripperGeometry, up: np.ndarray, counts: dict[str, int]
+            ) -> dict[str, np.ndarray]:
+    """The side pass's pairs as upright rod faces meet the material: each closing axis laid in
+    the table's plane, and the contacts moved to the material's extremes along it among the
+    points within half a rod width of the vertical plane through the pair (a rod face
+    touches the widest part of a rounded edge, not the sampled point): within the pair's own
+    width plus ``opening_margin`` of its midpoint (the local pinch), and within the open
+    hand's reach (the whole object between the rods: a ring whose hole the scan closed). A
+    flat face pushes along its own normal whatever the material's shape at the extreme (a
+    rounded side, the cut's rim), so the contact normals become -y_G and +y_G. Kept when
+    the width fits; rows: the local pinches, then the whole ones."""
+    keys = ("index", "p_A", "p_B", "n_A", "n_B", "y", "width", "q", "cos_A", "cos_B")
+    y = pairs["y"] - (pairs["y"] @ up)[:, None] * up
+    flat = np.linalg.norm(y, axis=1) > 1e-6
+    y[flat] = unit(y[flat])
+    x = np.cross(y, up)
+    half = 0.5 * gripper.rod_width
+    mid = 0.5 * (pairs["p_A"] + pairs["p_B"])
+    whole = gripper.q_open - half - params.opening_margin
+    variants = []
+    for reach in (0.5 * pairs["width"] + params.opening_margin,
+                  np.full(len(y), whole)):
+        out = {k: np.asarray(pairs[k]).copy() for k in keys}
+        keep = flat.copy()
+        near = obj.tree.query_ball_point(mid, np.sqrt(reach ** 2 + half ** 2
+                                                      + gripper.finger_length ** 2))
+        for i in np.flatnonzero(keep):
+            idx = np.asarray(near[i], dtype=np.int64)
+            d = obj.points[idx] - mid[i]
+            s = d @ y[i]
+            sel = (np.abs(d @ x[i]) <= half) & (np.abs(s) <= reach[i])
+            if sel.sum() < 2:
+                keep[i] = False
+                continue
+            a, b = idx[sel][np.argmin(s[sel])], idx[sel][np.argmax(s[sel])]
+            out["p_A"][i], out["p_B"][i] = obj.points[a], obj.points[b]
+            out["width"][i] = float((obj.points[b] - obj.points[a]) @ y[i])
+        out["y"] = y
+        out["q"] = 0.5 * out["width"] + half
+        out["n_A"], out["n_B"] = -y, y
+        out["cos_A"] = out["cos_B"] = np.ones(len(y))
+        keep &= (out["width"] >= params.min_width) & (out["q"] <= gripper.q_open
+                                                      - params.opening_margin)
+        variants.append({k: v[keep] for k, v in out.items()})
+    merged = {k: np.concatenate([v[k] for v in variants]) for k in keys}
+    counts["widest"] = len(merged["y"])
+    return merged
+
+
 def _contact_pairs(obj: ObjectModel, params: AntipodalParams, rng: np.random.Generator,
-                   gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
-    """Antipodal contact pairs (A, B) that fit between the rods, one row per kept sample."""
+                   gripper: HookGripperGeometry, counts: dict[str, int],
+                   pool: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Antipodal contact pairs (A, B) that fit between the rods, one row per kept sample;
+    A drawn among the surface points ``pool`` (indices; default all)."""
     from gbh_drake.core.o3d import open3d
     o3d = open3d()  # lazy: see gbh_drake.core.o3d
-    n = len(obj.points)
-    idx = rng.choice(n, size=min(params.n_samples, n), replace=False)
+    if pool is None:
+        n = len(obj.points)
+        idx = rng.choice(n, size=min(params.n_samples, n), replace=False)
+    else:
+        idx = np.sort(rng.choice(pool, size=min(params.n_samples, len(pool)), replace=False))
     counts["samples"] = len(idx)
     p_A = obj.points[idx]
     n_A = unit(obj.normals[idx])
@@ -265,9 +352,12 @@ def _contact_pairs(obj: ObjectModel, params: AntipodalParams, rng: np.random.Gen
 
 # ---- step 4-5: poses, cost, supporting surface ------------------------------------------------------
 def _poses(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalParams,
-           gripper: HookGripperGeometry, counts: dict[str, int]) -> dict[str, np.ndarray]:
+           gripper: HookGripperGeometry, counts: dict[str, int],
+           min_contact_depth: float | None = None) -> dict[str, np.ndarray]:
     """Every (pair, roll) pose that clears the supporting surface, with its cost, lowest first.
-    Rows index pairs through ``pair``."""
+    Rows index pairs through ``pair``. ``min_contact_depth``: instead of the params' one."""
+    if min_contact_depth is None:
+        min_contact_depth = params.min_contact_depth
     up = unit(np.asarray(params.ground_normal, dtype=float))
     y = pairs["y"]
     S = len(y)
@@ -308,7 +398,7 @@ def _poses(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalPara
         short = params.ground_clearance - height  # > 0: too low by this much
         need, can = short > 0.0, z_up < -1e-6  # backing off raises the hand only if it points down
         backoff = np.where(need & can, short / np.maximum(-z_up, 1e-6), 0.0)
-        max_backoff = params.contact_depth - params.min_contact_depth + 1e-12
+        max_backoff = params.contact_depth - min_contact_depth + 1e-12
         ok = ~need | (can & (backoff <= max_backoff))
         backoff = np.where(ok, backoff, 0.0)
         depth = depth - backoff

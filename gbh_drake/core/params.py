@@ -443,6 +443,14 @@ class AntipodalParams:
     down to the contacts plus ``opening_margin`` (:func:`~gbh_drake.core.antipodal.
     pregrasp_openings`), and approached so: a rod inside a ring lying flat no longer lands on
     its far side. False: the hand always approaches fully open (the baseline of before)."""
+    side_pass: bool = False
+    """Beyond the course (on in ``gbh_plus``'s and ``gbh_regrasp``'s pinch tiers, off for the
+    baseline): when no pinch clears the table and the collision count, a second pass draws
+    its contacts only on the object's sides (normals within the friction cone of the table's
+    plane), closes level, on the material's extremes, and lets the contacts come down to the
+    rods' end faces: a flat object thinner than the pads' reach above the table (scissors, a
+    ring lying flat), which the first pass cannot pinch (module :mod:`~gbh_drake.core.
+    antipodal`, step 7). It runs only when the first pass found nothing."""
     min_width: float = ranged(0.001, NonNeg(0.08, "m"))
     """m: thinner material between the contacts is not pinched."""
     friction_coefficient: float = ranged(0.4, Pos(10.0))
