@@ -186,14 +186,10 @@ def test_no_grasp_dips_below_the_table_or_collides(name):
     obj = prepare_object(mesh, GbhParams(n_points=params.n_points))
     grasps = sample_antipodal_grasps(obj, params, 1)
     assert grasps
-    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
     for g in grasps:
         assert g.n_collisions < params.p_c
         for q in (g.q_pregrasp, g.q):  # the open gripper and the gripper at the contacts
-            corners = np.concatenate([np.asarray(b.center) + signs * b.half_extents
-                                      for b in G.solid_boxes_G(q, bar_retracted=True)])
-            lowest = trimesh.transform_points(corners, g.X_WG)[:, 2].min()
-            assert lowest >= params.ground_clearance - 1e-9
+            assert _lowest_corner(g, q) >= params.ground_clearance - 1e-9
         assert g.ground_clearance >= params.ground_clearance - 1e-9
         # Independent count with the geometry module: open gripper and gripper at the contacts.
         p_G = trimesh.transform_points(obj.points, np.linalg.inv(g.X_WG))
@@ -274,6 +270,53 @@ def test_flat_object_on_the_table_has_no_pinch():
     # The paper's observation for its baseline: nothing for a clothes hanger lying flat.
     result = plan_antipodal_grasps(make_object("clothes_hanger").mesh, AntipodalParams(), 0)
     assert result.counts["friction"] > 0 and result.ranked == []
+
+
+def _lowest_corner(g, q: float) -> float:
+    """m: height of the bar-retracted solid model's lowest corner at finger position ``q``."""
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    corners = np.concatenate([np.asarray(b.center) + signs * b.half_extents
+                              for b in G.solid_boxes_G(q, bar_retracted=True)])
+    return float(trimesh.transform_points(corners, g.X_WG)[:, 2].min())
+
+
+@pytest.mark.parametrize(("name", "mesh", "widths"), [
+    # A ring lying flat, 13 mm tall (a torus of tube radius 6.5 mm), 4.5 cm across.
+    ("ring", lambda: _on_table(trimesh.creation.torus(0.016, 0.0065)), (0.013, 0.045)),
+    # A bar 10 mm thick, 2.4 cm wide and 12 cm long lying flat.
+    ("bar", lambda: _box_mesh((0.024, 0.12, 0.010)), (0.024,)),
+])
+def test_a_thin_object_lying_flat_is_pinched_by_the_side_pass_alone(name, mesh, widths):
+    """The first pass's contacts sit too low for the pads (the object is thinner than the pads'
+    reach above the table); the side pass closes level on the material's extremes, its rods'
+    lowest corners at the clearance or above, nothing in the swept hand."""
+    mesh = mesh()
+    first = plan_antipodal_grasps(mesh, AntipodalParams(), 0)
+    assert first.ranked == [] and first.counts["friction"] > 0
+    assert not any(k.startswith("side_") for k in first.counts)
+    params = AntipodalParams(side_pass=True)
+    result = plan_antipodal_grasps(mesh, params, 0)
+    assert result.counts["side_collision_free"] == len(result.ranked) > 0
+    obj = prepare_object(mesh, GbhParams(n_points=params.n_points), 0)
+    up = np.array([0.0, 0.0, 1.0])
+    for g in result.ranked:
+        assert abs(g.X_WG[:3, 1] @ up) < 1e-9  # the closing axis level
+        assert g.X_WG[:3, 2] @ up < -0.99  # from above
+        assert min(abs(g.width - w) for w in widths) < 0.002, g.width  # on the extremes
+        assert g.contact_depth < params.min_contact_depth  # below the first pass's limit
+        for q in (g.q_pregrasp, g.q):
+            assert _lowest_corner(g, q) >= params.ground_clearance - 1e-9
+        lo = [g.q + params.contact_tolerance]
+        assert count_in_swept_model(obj.points, g.X_WG[None], lo, [g.q_pregrasp], G, 0.0,
+                                    params.approach_distance)[0] == g.n_collisions < params.p_c
+
+
+def test_the_side_pass_runs_only_when_the_first_finds_nothing(box_grasps):
+    mesh, result = box_grasps
+    again = plan_antipodal_grasps(mesh, AntipodalParams(side_pass=True), 0)
+    assert not any(k.startswith("side_") for k in again.counts)
+    np.testing.assert_array_equal(np.stack([g.X_WG for g in again.ranked]),
+                                  np.stack([g.X_WG for g in result.ranked]))
 
 
 def _flat_ring() -> trimesh.Trimesh:

@@ -59,6 +59,12 @@ def test_each_method_adds_its_own_systems(name, present, absent, bar):
     plant = trial.station.plant
     bar_joint = plant.GetJointByName("bar_joint", plant.GetModelInstanceByName(GRIPPER))
     assert bar_joint.get_default_angle() == pytest.approx(bar)
+    # The pinch tiers beyond the paper rank by the swing and add the side pass; the baseline
+    # and gbh_fallback keep the scenario's sampler as it is.
+    if "antipodal_sampler" in present:
+        params = trial.source.systems["antipodal_sampler"].params
+        beyond = name in ("gbh_regrasp", "gbh_plus")
+        assert params.prefer_hanging == params.side_pass == beyond
 
 
 class NoGrasps(GraspMethod):
