@@ -139,7 +139,9 @@ def _drift(done: TrialRun) -> float:
     station = done.trial.station
     plant = station.plant
     context = plant.GetMyContextFromRoot(done.simulator.get_context())
-    p_WO = plant.GetFreeBodyPose(context, plant.GetBodyByName(station.object_name)).translation()
+    body = plant.GetBodyByName(station.object_name,
+                               plant.GetModelInstanceByName(station.object_name))
+    p_WO = plant.GetFreeBodyPose(context, body).translation()
     return float(np.linalg.norm((p_WO - station.X_WO_initial.translation())[:2]))
 
 

@@ -152,7 +152,11 @@ class CageMonitor(LeafSystem):
                                    process=True)
             self._mesh = (np.asarray(mesh.vertices), np.asarray(mesh.faces),
                           mesh_edges(mesh.faces))
-        body = plant.GetBodyByName(object_body_name)
+        # Its own model instance's body: a gripper body may have the same name (a user's
+        # mesh file bar.obj makes an object named "bar").
+        body = plant.GetBodyByName(object_body_name, plant.GetModelInstanceByName(
+            object_body_name)) if plant.HasModelInstanceNamed(object_body_name) \
+            else plant.GetBodyByName(object_body_name)
         self._object = body.index()
         gripper = plant.GetModelInstanceByName(GRIPPER)
         frame_G = plant.GetFrameByName("G", gripper)
