@@ -93,6 +93,25 @@ def test_a_grasp_of_the_mugs_wall_is_reported_as_a_pinch_or_a_drop(scenario):
         assert record.held_by == "pinch"
 
 
+def _antipodal_off_and_on(scenario, mesh, path, mass: float, field: str):
+    """One-view antipodal trials of ``mesh`` (kg ``mass``) set on the table at (0.55, 0.05),
+    written to ``path``, with ``antipodal.<field>`` off and on: the records by the field's
+    value, and the second trial and its simulator."""
+    from gbh_drake.scenario.loader import apply_overrides
+
+    mesh = mesh.copy()
+    mesh.apply_translation([0.0, 0.0, -mesh.bounds[0, 2]])
+    mesh.export(path)
+    layer = ("{grasp_method: antipodal, settle_time: 0.2, scan: {num_views: 1}, "
+             "pick: {set_down: false}, object: {mesh: " + str(path)
+             + f", scale: 1.0, mass: {mass:g}, " + "pose: {translation: [0.55, 0.05, 0.0]}}}")
+    records = {}
+    for on in (False, True):
+        trial = build_trial(apply_overrides(scenario, [layer, f"antipodal: {{{field}: {on}}}"]))
+        simulator, records[on] = simulate_trial(trial)
+    return records, trial, simulator
+
+
 @pytest.mark.trial
 def test_a_ring_lying_flat_is_pinched_with_the_hand_opened_less(scenario, tmp_path):
     """A flat ring (8 cm across, 2.7 cm high, a 2.6 cm hole) on the table, one view, the
@@ -102,19 +121,10 @@ def test_a_ring_lying_flat_is_pinched_with_the_hand_opened_less(scenario, tmp_pa
     import trimesh
 
     from gbh_drake.core.gripper import HOOK_GRIPPER
-    from gbh_drake.scenario.loader import apply_overrides
 
     ring = trimesh.creation.annulus(r_min=0.013, r_max=0.040, height=0.027, sections=64)
-    ring.apply_translation([0.0, 0.0, -ring.bounds[0, 2]])
-    ring.export(tmp_path / "ring.obj")
-    layer = ("{grasp_method: antipodal, settle_time: 0.2, scan: {num_views: 1}, "
-             "pick: {set_down: false}, object: {mesh: %s, scale: 1.0, mass: 0.1, "
-             "pose: {translation: [0.55, 0.05, 0.0]}}}" % (tmp_path / "ring.obj"))
-    records = {}
-    for narrow in (False, True):
-        s = apply_overrides(scenario, [layer, f"antipodal: {{narrow_pregrasp: {narrow}}}"])
-        trial = build_trial(s)
-        simulator, records[narrow] = simulate_trial(trial)
+    records, trial, simulator = _antipodal_off_and_on(scenario, ring, tmp_path / "ring.obj",
+                                                      0.1, "narrow_pregrasp")
     assert records[False].outcome == "no_grasp_found", records[False].reason
     record = records[True]
     assert record.success and record.held_by == "pinch", record.reason
@@ -133,18 +143,9 @@ def test_a_plate_lying_flat_thinner_than_the_pads_reach_is_pinched_by_the_side_p
     the lift or the carry: docs/fallback.md.)"""
     import trimesh
 
-    from gbh_drake.scenario.loader import apply_overrides
-
     plate = trimesh.creation.box(extents=(0.024, 0.12, 0.012))
-    plate.apply_translation([0.0, 0.0, -plate.bounds[0, 2]])
-    plate.export(tmp_path / "plate.obj")
-    layer = ("{grasp_method: antipodal, settle_time: 0.2, scan: {num_views: 1}, "
-             "pick: {set_down: false}, object: {mesh: %s, scale: 1.0, mass: 0.05, "
-             "pose: {translation: [0.55, 0.05, 0.0]}}}" % (tmp_path / "plate.obj"))
-    records = {}
-    for side in (False, True):
-        s = apply_overrides(scenario, [layer, f"antipodal: {{side_pass: {side}}}"])
-        records[side] = simulate_trial(build_trial(s))[1]
+    records = _antipodal_off_and_on(scenario, plate, tmp_path / "plate.obj", 0.05,
+                                    "side_pass")[0]
     assert records[False].outcome == "no_grasp_found", records[False].reason
     assert records[True].success and records[True].held_by == "pinch", records[True].reason
 
