@@ -139,9 +139,7 @@ def _drift(done: TrialRun) -> float:
     station = done.trial.station
     plant = station.plant
     context = plant.GetMyContextFromRoot(done.simulator.get_context())
-    body = plant.GetBodyByName(station.object_name,
-                               plant.GetModelInstanceByName(station.object_name))
-    p_WO = plant.GetFreeBodyPose(context, body).translation()
+    p_WO = plant.GetFreeBodyPose(context, station.object_body()).translation()
     return float(np.linalg.norm((p_WO - station.X_WO_initial.translation())[:2]))
 
 

@@ -75,7 +75,8 @@ class Station(Diagram):
     """The station sub-diagram (see the module docstring for its ports).
 
     Besides its ports it offers read-only model information: ``plant`` (for names and indices;
-    do not wire into it), ``object_name`` (the free object's body and model instance),
+    do not wire into it), ``object_name`` (the free object's body and model instance;
+    :meth:`object_body`),
     ``asset`` (the object), ``X_WO_initial`` and ``q_home``.
     """
 
@@ -178,6 +179,12 @@ class Station(Diagram):
         self.asset = asset
         self.X_WO_initial = X_WO
         self.q_home = q_home
+
+    def object_body(self):
+        """The free object's body, looked up in its own model instance (a gripper body may
+        have the same name: a user's mesh file ``bar.obj`` makes an object named ``bar``)."""
+        return self.plant.GetBodyByName(self.object_name,
+                                        self.plant.GetModelInstanceByName(self.object_name))
 
 
 def scene_query_port(renderer_name: str) -> str:

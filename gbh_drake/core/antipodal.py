@@ -271,19 +271,20 @@ def _widest(obj: ObjectModel, pairs: dict[str, np.ndarray], params: AntipodalPar
     the width fits; rows: the local pinches, then the whole ones."""
     keys = ("index", "p_A", "p_B", "n_A", "n_B", "y", "width", "q", "cos_A", "cos_B")
     y = pairs["y"] - (pairs["y"] @ up)[:, None] * up
-    flat = np.linalg.norm(y, axis=1) > 1e-6
-    y[flat] = unit(y[flat])
+    levels = np.linalg.norm(y, axis=1) > 1e-6  # a vertical closing axis has no level one
+    y[levels] = unit(y[levels])
     x = np.cross(y, up)
     half = 0.5 * gripper.rod_width
     mid = 0.5 * (pairs["p_A"] + pairs["p_B"])
     whole = gripper.q_open - half - params.opening_margin
+    # The points each rod column may meet, once for both reaches (the whole one is the larger).
+    near = obj.tree.query_ball_point(mid, np.sqrt(whole ** 2 + half ** 2
+                                                  + gripper.finger_length ** 2))
     variants = []
     for reach in (0.5 * pairs["width"] + params.opening_margin,
                   np.full(len(y), whole)):
         out = {k: np.asarray(pairs[k]).copy() for k in keys}
-        keep = flat.copy()
-        near = obj.tree.query_ball_point(mid, np.sqrt(reach ** 2 + half ** 2
-                                                      + gripper.finger_length ** 2))
+        keep = levels.copy()
         for i in np.flatnonzero(keep):
             idx = np.asarray(near[i], dtype=np.int64)
             d = obj.points[idx] - mid[i]

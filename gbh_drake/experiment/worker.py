@@ -152,9 +152,9 @@ def _reach(done):
     trial, context = done.trial, done.simulator.get_context()
     hangability = trial.source.hanging_structures.Eval(
         trial.source.hanging_structures.get_system().GetMyContextFromRoot(context))
-    plant, name = trial.station.plant, trial.station.object_name
-    body = plant.GetBodyByName(name, plant.GetModelInstanceByName(name))
-    X_WO = plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(context), body)
+    plant = trial.station.plant
+    X_WO = plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(context),
+                                     trial.station.object_body())
     true_mesh = trial.station.asset.mesh.copy().apply_transform(X_WO.GetAsMatrix4())
     return reach_of_trial(hangability.object, true_mesh, trial.scenario.gbh,
                           seed=trial.seeds.sampling, scan_structures=hangability.structures)

@@ -152,7 +152,8 @@ def test_a_plate_lying_flat_thinner_than_the_pads_reach_is_pinched_by_the_side_p
 
 def test_a_mesh_named_as_a_gripper_body_is_judged_as_the_object(scenario, tmp_path):
     """A user's mesh file ``bar.obj`` makes an object named ``bar``, as the gripper's bar body:
-    the monitor and the settle drift look the object up in its own model instance."""
+    the station (its ``object_body``, the settle drift's) and the monitor find the object in its
+    own model instance."""
     import trimesh
 
     from gbh_drake.scenario.loader import apply_overrides
@@ -165,8 +166,9 @@ def test_a_mesh_named_as_a_gripper_body_is_judged_as_the_object(scenario, tmp_pa
                         % (tmp_path / "bar.obj"))
     trial = build_trial(s)
     assert trial.station.object_name == "bar"
-    body = trial.station.plant.GetBodyByName("bar", trial.station.plant.GetModelInstanceByName(
-        "bar"))
+    body = trial.station.object_body()
+    plant = trial.station.plant
+    assert plant.GetModelInstanceName(body.model_instance()) == "bar"
     assert trial.monitor._object == body.index()
     simulate_trial(trial)
 
