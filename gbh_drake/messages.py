@@ -104,7 +104,7 @@ class PickStatus:
     """Whether the executed grasp came from ``fallback_grasps``."""
     source: str = ""
     """The input port the executed grasp came from (``grasps``, ``scoop_grasps``,
-    ``fallback_grasps``; "" until one is planned)."""
+    ``tall_scoop_grasps``, ``fallback_grasps``; "" until one is planned)."""
     refusals: list[Refusal] = field(default_factory=list)
     """Every grasp that was tried and could not be planned, with its reason."""
     plan_seconds: float = 0.0

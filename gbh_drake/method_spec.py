@@ -9,7 +9,7 @@ gives the machine the tiers, the report reads ``beyond_paper``; only
 :mod:`gbh_drake.methods` knows how a method's systems are built (its ``add_systems``)::
 
     spec = method_spec("gbh_plus")
-    spec.tiers   # (Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)
+    spec.tiers   # (Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.TALL_SCOOP, Tier.FALLBACK)
 
 A method of your own: :func:`gbh_drake.methods.register_method` registers its spec here, so a
 scenario can name it (in the process that registered it).
@@ -35,6 +35,10 @@ class Tier(enum.StrEnum):
     """The method's own grasps, best first (GbH's ranked hooks, or the baseline's pinches)."""
     SCOOP = "scoop_grasps"
     """Scoops of material lying flat on the table (the wedge bar slid under it)."""
+    TALL_SCOOP = "tall_scoop_grasps"
+    """Scoops of material taller than the wedge (a thick ring lying flat): lifted onto the bar
+    when its underside is round, pushed and pinched when it is square, which the scan cannot
+    tell (:mod:`gbh_drake.core.scoop`, *tall scoops*); so tried after the surer tiers."""
     REGRASP = "regrasp"
     """A pinch that sets the object down in a pose GbH can hook, then a re-scan (two ports:
     ``regrasp_poses`` and ``regrasp_grasps``)."""
@@ -113,14 +117,17 @@ for _spec in (
                "grasp, bar folded (the paper's Sec. 4 proposal)",
                tiers=(Tier.GRASPS, Tier.FALLBACK)),
     MethodSpec("gbh_scoop", "GbH first; then a scoop of material lying flat on the table (the "
-               "wedge gripper)", tiers=(Tier.GRASPS, Tier.SCOOP), gripper="wedge",
+               "wedge gripper), then one of taller material (a thick ring)",
+               tiers=(Tier.GRASPS, Tier.SCOOP, Tier.TALL_SCOOP), gripper="wedge",
                needs_gripper=True, beyond_paper=True),
     MethodSpec("gbh_regrasp", "GbH first; then a pinch sets the object down in a pose GbH can "
                "hook, a re-scan, and GbH hooks it there", tiers=(Tier.GRASPS, Tier.REGRASP),
                beyond_paper=True),
-    MethodSpec("gbh_plus", "GbH, the scoop, the regrasp, then the antipodal fallback; one retry "
-               "after a lift that came away empty, then the tiers after the failed one",
-               tiers=(Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK), gripper="wedge",
+    MethodSpec("gbh_plus", "GbH, the scoop, the regrasp, the scoop of taller material, then the "
+               "antipodal fallback; one retry after a lift that came away empty, then the tiers "
+               "after the failed one",
+               tiers=(Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.TALL_SCOOP, Tier.FALLBACK),
+               gripper="wedge",
                needs_gripper=True, max_retries=1, beyond_paper=True),
     MethodSpec("gbh_completed", "GbH on the scan completed by symmetry: the unseen side of a "
                "body of revolution added, the unseen space it calls free with confidence taken "

@@ -242,6 +242,12 @@ class GbhFallback(GraspMethod):
         return _gbh_source(systems, report, GraspTier(Tier.FALLBACK, sampler.get_output_port()))
 
 
+def _scoop_tiers(scoop: System) -> tuple[GraspTier, GraspTier]:
+    """The scoop tier and the tall scoops' tier of a ``ScoopSynthesizer``."""
+    return (GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")),
+            GraspTier(Tier.TALL_SCOOP, scoop.GetOutputPort("tall_scoop_grasps")))
+
+
 class GbhScoop(GraspMethod):
     """GbH first; when it offers nothing reachable, a scoop of material lying flat on the table
     (beyond the paper; the wedge gripper, ``robot.gripper: wedge``)."""
@@ -253,8 +259,7 @@ class GbhScoop(GraspMethod):
         add_gbh(builder, scenario, seeds, scan, systems)
         scoop = add_scoop(builder, scenario, systems)
         report = add_search(builder, systems, scan, hook=True, scenario=scenario)
-        return _gbh_source(systems, report,
-                           GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")))
+        return _gbh_source(systems, report, *_scoop_tiers(scoop)[:2])
 
 
 class GbhRegrasp(GraspMethod):
@@ -309,10 +314,11 @@ class GbhPlus(GraspMethod):
         planner = add_regrasp(builder, scenario, seeds, systems, prefer_hanging=True)
         report = add_search(builder, systems, scan, hook=True, scenario=scenario,
                              fallback=True)
-        return _gbh_source(systems, report,
-                           GraspTier(Tier.SCOOP, scoop.GetOutputPort("scoop_grasps")),
+        scoops, tall_scoops = _scoop_tiers(scoop)
+        return _gbh_source(systems, report, scoops,
                            GraspTier(Tier.REGRASP, sampler.get_output_port(),
                                      poses=planner.get_output_port()),
+                           tall_scoops,
                            GraspTier(Tier.FALLBACK, sampler.get_output_port()))
 
 

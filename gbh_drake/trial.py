@@ -130,7 +130,7 @@ class TrialRecord:
     fallback: bool = False
     grasp_source: str = ""
     """The list the executed grasp came from: ``grasps`` (the method's, e.g. GbH's ranked),
-    ``scoop_grasps`` or ``fallback_grasps``; "" if none was executed."""
+    ``scoop_grasps``, ``tall_scoop_grasps`` or ``fallback_grasps``; "" if none was executed."""
     regrasps: list[dict] = field(default_factory=list)
     """Each regrasp done before the judged pick (beyond the paper): the pinch's rank, the
     resting pose's turn (deg), probability and GbH's best score there, the extra yaw (deg),

@@ -513,6 +513,12 @@ class ScoopParams:
     """m: the material in the bar's path must lie this low (its top at most this far above the
     table): the wedge lifts what it slides under by its own height, one rod width (8 mm), so
     taller material (a tape roll's 19 mm wall) is pushed, not lifted onto the bar."""
+    tall: bool = True
+    """Offer the scoops that fail only ``max_height`` (and whose hand meets nothing) apart, as
+    *tall scoops* (:mod:`gbh_drake.core.scoop`): a round underside (a thick ring's) is lifted
+    onto the bar, a square one flush on the table (a tape roll's) is pushed and pinched, and the
+    scan, cut 4 mm above the table, cannot tell them apart; a method tries them after its surer
+    tiers (``gbh_plus``: after the regrasp). False: never offered."""
     rod_gap: float = ranged(0.0015, NonNeg(0.02, "m"))
     """m: the straight rod goes down this far inside the hole's edge (between its face and the
     material's inner surface), where it keeps the material from sliding away from the wedge."""

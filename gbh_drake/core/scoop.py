@@ -34,6 +34,19 @@ the material's inner surface; at most ``max_per_structure``, evenly spread):
 * *pushed*: the moving parts other than the wedge (the L rod above the bar, the L rod where it
   stops, the hand) meet ``p_sweep`` points or more while closing: material they would push.
 
+**Tall scoops** (``ranked_tall``; ``ScoopParams.tall``). Material taller than ``max_height``
+(a thick ring or torus lying flat, its section 26-40 mm) may still be lifted onto the bar: the
+wedge's edge slides under a round underside (the gap between a tube and the table opens from
+the line it rests on) and the ramp lifts it, the straight rod in the hole holding it; the L rod
+then meets the lifted material's outer side and stops there, the loop round the section (a cage
+when the gap left at the bar's tip is narrower than the section: the trial's cage test). But a
+square underside flush on the table (a tape roll's wall) is pushed against the straight rod and
+pinched, and the scan cannot tell them apart: it loses everything within ``scan.crop_z_min``
+(4 mm) of the table. So a scoop that fails only *too tall*, and whose hand meets nothing while
+closing (the L rod meeting the material in the bar's column is the lifted material, not
+material pushed), is offered apart, as a tier of its own that a method tries after the surer
+ones (``gbh_plus``: after the regrasp, which stands a roll on its rim and hooks it).
+
 **Score and order**: the paper's S_total = m S_beta S_alpha with a vertical grasp's terms
 (:func:`gbh_drake.core.scoring.score_grasps`: the approach is top-down, S_alpha = 1; beta is
 the angle between the opening a and the closing axis), best first; among equal scores (every
@@ -81,6 +94,12 @@ class ScoopResult:
     """(n,) m: the highest point above the table in each candidate's corridor (-inf: none)."""
     passed: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     """(n,) whether each candidate passes every rule (``ranked`` is the best ``top_k`` of them)."""
+    ranked_tall: list[GraspCandidate] = field(default_factory=list)
+    """Tall scoops (module docstring): the candidates that fail *too tall* and no other rule but
+    the L rod's part of *pushed*, best first, at most ``top_k`` (empty unless
+    ``ScoopParams.tall``)."""
+    tall: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    """(n,) whether each candidate is a tall scoop (``ranked_tall`` is the best ``top_k``)."""
     depth: np.ndarray = field(default_factory=lambda: np.zeros(0))
     """(n,) m: how far below its contact point h the object hangs from it (its lowest point
     with its centre of mass straight below h)."""
@@ -92,7 +111,8 @@ class ScoopResult:
         if self.structures == 0:
             return "no hanging structure lies flat on the table to scoop"
         removed = ", ".join(f"{rule} {n}" for rule, n in self.removed_by.items() if n)
-        return f"no scoop among {len(self.candidates)} poses ({removed})"
+        tall = f"; {len(self.ranked_tall)} tall scoops offered apart" if self.ranked_tall else ""
+        return f"no scoop among {len(self.candidates)} poses ({removed}){tall}"
 
 
 def flat_structures(structures: list[HangingStructure], params: GbhParams,
@@ -171,37 +191,40 @@ def scoop_regions_G(gripper: HookGripperGeometry = WEDGE_GRIPPER
 
 def check_scoops(obj: ObjectModel, candidates: list[GraspCandidate], params: GbhParams,
                  scoop: ScoopParams, gripper: HookGripperGeometry = WEDGE_GRIPPER
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Counts the rules' points for every candidate, in place (``n_collisions``: N_c of the
     open gripper; ``n_sweep_collisions``: points the other moving parts meet; ``ground_distance``:
-    the rods' tips above the table) and returns (N_c, scooped, tallest, pushed), each (n,):
-    scooped counts the corridor's points at the bar's height, tallest (m) is the highest point
-    above the table in the corridor (-inf: none)."""
+    the rods' tips above the table) and returns (N_c, scooped, tallest, pushed, pushed_by_hand),
+    each (n,): scooped counts the corridor's points at the bar's height, tallest (m) is the
+    highest point above the table in the corridor (-inf: none), pushed_by_hand the points the
+    hand alone meets (of those in pushed)."""
     n = len(candidates)
     zeros = np.zeros(n, dtype=int)
     if n == 0:
-        return zeros, zeros.copy(), np.zeros(0), zeros.copy()
+        return zeros, zeros.copy(), np.zeros(0), zeros.copy(), zeros.copy()
     g = gripper
     up = unit(np.asarray(params.ground_normal, dtype=float))
     X = np.stack([c.X_WG for c in candidates])
     points = np.asarray(obj.points, dtype=float)
     height = points @ up - params.ground_height  # (N,) above the table
     open_boxes, corridor, pushers = scoop_regions_G(g)
-    n_open, scooped, pushed = zeros.copy(), zeros.copy(), zeros.copy()
+    n_open, scooped, pushed, by_hand = zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy()
     tallest = np.full(n, -np.inf)
     tip_height = np.array([(c.X_WG[:3, 3] @ up) - params.ground_height
                            - (g.finger_length + 0.5 * g.rod_width) for c in candidates])
     margin = params.collision_margin
-    for sl, (inside_open, in_corridor, in_pushers) in chunked_box_masks(
-            points, X, [open_boxes, [corridor], pushers], [margin, 0.0, margin]):
+    *l_rod, hand = pushers
+    for sl, (inside_open, in_corridor, in_l_rod, in_hand) in chunked_box_masks(
+            points, X, [open_boxes, [corridor], l_rod, [hand]], [margin, 0.0, margin, margin]):
         n_open[sl] = inside_open.sum(axis=1)
         low = height[None, :] <= tip_height[sl, None] + g.rod_width
         scooped[sl] = (in_corridor & low).sum(axis=1)
         tallest[sl] = np.where(in_corridor, height[None, :], -np.inf).max(axis=1)
-        pushed[sl] = (in_pushers & ~inside_open).sum(axis=1)
+        pushed[sl] = ((in_l_rod | in_hand) & ~inside_open).sum(axis=1)
+        by_hand[sl] = (in_hand & ~inside_open).sum(axis=1)
     for c, nc, p, d in zip(candidates, n_open, pushed, tip_height, strict=True):
         c.n_collisions, c.n_sweep_collisions, c.ground_distance = int(nc), int(p), float(d)
-    return n_open, scooped, tallest, pushed
+    return n_open, scooped, tallest, pushed, by_hand
 
 
 def plan_scoops(obj: ObjectModel, structures: list[HangingStructure], params: GbhParams,
@@ -217,7 +240,8 @@ def plan_scoops(obj: ObjectModel, structures: list[HangingStructure], params: Gb
                          removed_by=dict.fromkeys(RULES, 0))
     if not candidates:
         return result
-    n_open, scooped, tallest, pushed = check_scoops(obj, candidates, params, scoop, gripper)
+    n_open, scooped, tallest, pushed, by_hand = check_scoops(obj, candidates, params, scoop,
+                                                             gripper)
     score_grasps(candidates, params)
     failed = np.stack([n_open >= params.p_c, scooped < scoop.min_scooped,
                        tallest > scoop.max_height, pushed >= scoop.p_sweep])  # (rules, n)
@@ -228,8 +252,17 @@ def plan_scoops(obj: ObjectModel, structures: list[HangingStructure], params: Gb
     result.depth = np.array([float(c.h @ up) - hanging_lowest_height(obj.points, obj.com, c.h, up)
                              for c in candidates])
     result.passed = first < 0
-    passing = np.flatnonzero(result.passed).tolist()
-    order = sorted(passing, key=lambda i: (-round(candidates[i].score, 6),
-                                           round(float(result.depth[i]), 4), i))
-    result.ranked = [candidates[i] for i in order[: params.top_k]]
+    result.tall = (scoop.tall & ~failed[0] & ~failed[1] & failed[2]
+                   & (by_hand < scoop.p_sweep))
+    result.ranked = _best(candidates, result.passed, result.depth, params.top_k)
+    result.ranked_tall = _best(candidates, result.tall, result.depth, params.top_k)
     return result
+
+
+def _best(candidates: list[GraspCandidate], keep: np.ndarray, depth: np.ndarray,
+          top_k: int) -> list[GraspCandidate]:
+    """The kept candidates, best score first, then the one the object hangs least deep from
+    (``depth``, m), at most ``top_k``."""
+    order = sorted(np.flatnonzero(keep).tolist(),
+                   key=lambda i: (-round(candidates[i].score, 6), round(float(depth[i]), 4), i))
+    return [candidates[i] for i in order[:top_k]]

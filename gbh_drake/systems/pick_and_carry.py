@@ -21,9 +21,10 @@ and, for a retry after a lift that came away empty (beyond the paper)::
 
 PLAN reads the method's grasps tier by tier (:class:`~gbh_drake.method_spec.Tier`, in the
 order the machine was given: the method's own ``grasps``, then, beyond the paper,
-``scoop_grasps`` (the wedge bar slid under material lying on the table), a regrasp, then
-``fallback_grasps`` (an antipodal grasp with the bar folded); evaluating a tier runs the grasp
-pipeline on the scan once) and tries them in order from the measured configuration
+``scoop_grasps`` (the wedge bar slid under material lying on the table), a regrasp,
+``tall_scoop_grasps`` (the same under taller material), then ``fallback_grasps`` (an
+antipodal grasp with the bar folded); evaluating a tier runs the grasp pipeline on the scan
+once) and tries them in order from the measured configuration
 (:func:`gbh_drake.planning.choice.choose` over :func:`gbh_drake.planning.pick.plan_pick`),
 keeping each refusal's reason. When nothing can be planned the machine ends in NO_GRASP or
 NO_REACHABLE_GRASP. A scoop's
@@ -174,6 +175,7 @@ class PickAndCarry(LeafSystem):
         input_ports:
         - grasps
         - scoop_grasps (a scoop tier)
+        - tall_scoop_grasps (a tall scoop tier)
         - regrasp_poses (a regrasp tier)
         - regrasp_grasps (a regrasp tier)
         - fallback_grasps (a fallback tier)
@@ -189,8 +191,8 @@ class PickAndCarry(LeafSystem):
 
     One input per grasp tier it was given (``tiers``, default the ``grasps`` alone), tried in
     that order; a tier's input left unconnected is passed over. ``grasps``, ``scoop_grasps``,
-    ``fallback_grasps``: lists of grasps, best first, each with ``X_WG`` (4, 4, the open
-    gripper's pose in W) and ``kind`` (``parallel``,
+    ``tall_scoop_grasps``, ``fallback_grasps``: lists of grasps, best first, each with ``X_WG``
+    (4, 4, the open gripper's pose in W) and ``kind`` (``parallel``,
     ``vertical``, ``scoop`` or ``antipodal``; an antipodal grasp is executed with the bar
     folded). ``regrasp_poses`` (``list[RegraspPose]``, the
     :class:`~gbh_drake.systems.regrasp_planner.RegraspPlanner`'s) and ``regrasp_grasps`` (pinches,
@@ -751,7 +753,7 @@ class PickAndCarry(LeafSystem):
         far = None
         if self._config.plan_paths and len(points) >= 4:
             far = PlanningModel(self._robot, obstacles=[scan.mesh_W])
-        if Tier.SCOOP in self._tiers and self._table_level is None:
+        if {Tier.SCOOP, Tier.TALL_SCOOP} & set(self._tiers) and self._table_level is None:
             # A scoop touches the table by design: its last segments are checked against
             # everything else (the arm's own links, other models).
             self._table_level = PlanningModel(self._robot, padding=0.0, ignore_models=(TABLE,))

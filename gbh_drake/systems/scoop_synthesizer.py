@@ -24,12 +24,15 @@ class ScoopSynthesizer(LeafSystem):
         output_ports:
         - scoops
         - scoop_grasps
+        - tall_scoop_grasps
 
     ``hanging_structures``: the detector's
     :class:`~gbh_drake.systems.hangability_detector.Hangability`. ``scoops``: the
     :class:`~gbh_drake.core.scoop.ScoopResult` (every pose, the rules' counts, why none passed);
     ``scoop_grasps``: its ranked scoops (``list[GraspCandidate]`` of kind ``scoop``, best
-    first), what a :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` executes. Cached;
+    first), what a :class:`~gbh_drake.systems.pick_and_carry.PickAndCarry` executes;
+    ``tall_scoop_grasps``: the tall scoops (material taller than the wedge, offered apart,
+    :attr:`~gbh_drake.core.scoop.ScoopResult.ranked_tall`). Cached;
     computed once per new input object (kept with it, as an
     :class:`~gbh_drake.systems.stage.AbstractStage` does, with a
     :class:`~gbh_drake.systems.stage.LastResult`: Drake re-validates
@@ -54,6 +57,10 @@ class ScoopSynthesizer(LeafSystem):
         self.DeclareAbstractOutputPort(
             "scoop_grasps", lambda: AbstractValue.Make([]),
             lambda context, output: output.set_value(self._result.Eval(context).ranked),
+            prerequisites_of_calc={self._result.cache_entry().ticket()})
+        self.DeclareAbstractOutputPort(
+            "tall_scoop_grasps", lambda: AbstractValue.Make([]),
+            lambda context, output: output.set_value(self._result.Eval(context).ranked_tall),
             prerequisites_of_calc={self._result.cache_entry().ticket()})
 
     def _calc_result(self, context, output) -> None:

@@ -131,7 +131,7 @@ COLUMNS: tuple[Column, ...] = (
     _row("gbh_preset", STR, "str", "GbH rules: '' ours, 'paper'", "record", "gbh_preset",
          csv=False),
     _row("grasp_source", STR, "str", "the executed grasp's source (grasps, scoop_grasps, "
-         "fallback_grasps)", "record", "grasp_source", csv=False),
+         "tall_scoop_grasps, fallback_grasps)", "record", "grasp_source", csv=False),
     _row("regrasps", INT, "list", "set-downs in a new pose before the pick", "record", "regrasps",
          csv=False),
     _row("attempts", INT, "list", "lifts that came away empty (each followed by a retry)",
@@ -317,7 +317,8 @@ def held_how_of(v: dict) -> str:
     source = v["grasp_source"] or (
         "fallback_grasps" if v["fallback"] is True else "grasps")
     how = {"grasps": "hook" if _text(v["grasp_kind"]) != "antipodal" else "pinch",
-           "scoop_grasps": "scoop", "fallback_grasps": "fallback pinch"}.get(source, source)
+           "scoop_grasps": "scoop", "tall_scoop_grasps": "tall scoop",
+           "fallback_grasps": "fallback pinch"}.get(source, source)
     regrasped = v["regrasps"] is not None and v["regrasps"] > 0
     return f"regrasp, {how}" if regrasped else how
 
