@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import trimesh
@@ -56,11 +58,58 @@ def test_a_key_ring_lying_flat_is_scooped_with_the_rod_in_its_hole():
         assert g.n_collisions < PARAMS.p_c and g.n_sweep_collisions < ScoopParams().p_sweep
 
 
-def test_a_tape_roll_lying_flat_is_too_tall_to_scoop():
+def test_a_tape_roll_lying_flat_is_too_tall_to_scoop_and_offered_apart():
+    """Its 19 mm wall is taller than the wedge: no scoop passes; but a round underside would be
+    lifted and the scan cannot tell, so its scoops are offered apart, as tall scoops."""
     _, _, result = scoops_of(on_table(make_object("tape_roll").mesh))
     assert result.structures >= 1 and result.candidates and not result.ranked
     assert result.removed_by["too tall"] == len(result.candidates)
-    assert "too tall" in result.reason()
+    assert "too tall" in result.reason() and "tall scoops offered apart" in result.reason()
+    assert result.ranked_tall and set(map(id, result.ranked_tall)) <= {
+        id(result.candidates[i]) for i in np.flatnonzero(result.tall)}
+    assert not scoops_of(on_table(make_object("tape_roll").mesh),
+                         scoop=ScoopParams(tall=False))[2].ranked_tall
+
+
+@pytest.mark.parametrize("tube", [0.013, 0.02])
+def test_a_thick_torus_lying_flat_gets_tall_scoops_from_inside_its_hole(tube):
+    """A torus whose tube (26 or 40 mm thick) is taller than the wedge: every scoop is too tall,
+    the L rod meets the tube above the bar (the lifted material), the hand nothing: tall scoops,
+    the straight rod in the hole and the L rod outside, top-down, best first."""
+    radius = 0.027 + tube
+    mesh = on_table(_to_trimesh(_torus(radius, tube)))
+    _, _, result = scoops_of(mesh)
+    assert not result.ranked and result.removed_by["too tall"] == len(result.candidates)
+    assert result.ranked_tall, result.reason()
+    assert len(result.ranked_tall) == min(PARAMS.top_k, int(result.tall.sum()))
+    scores = [g.score for g in result.ranked_tall]
+    assert scores == sorted(scores, reverse=True)
+    for g in result.ranked_tall:
+        rod, l_rod = rod_and_l_rod_W(g.X_WG)
+        assert np.linalg.norm(rod - [0.55, 0.0]) < radius - tube
+        assert np.linalg.norm(l_rod - [0.55, 0.0]) > radius + tube
+        np.testing.assert_allclose(g.X_WG[:3, 2], [0, 0, -1], atol=1e-9)
+        assert g.n_collisions < PARAMS.p_c
+
+
+def test_a_tall_scoop_whose_hand_would_push_material_is_not_offered():
+    """A pipe standing on its end (5 cm tall: tall scoops), and material where one scoop's hand,
+    following the fingers, sweeps while closing (clear of the open gripper): that scoop (and the
+    neighbours whose hands pass there too) is no longer offered, the others are."""
+    pipe = on_table(trimesh.creation.annulus(r_min=0.02, r_max=0.03, height=0.05, sections=64))
+    obj, structures, result = scoops_of(pipe)
+    assert result.ranked_tall and not result.ranked
+    k = result.candidates.index(result.ranked_tall[0])
+    X = result.candidates[k].X_WG
+    hand = scoop_regions_G(WEDGE_GRIPPER)[2][-1]
+    # Points at the far end of the hand's sweep (+y_G), where the open hand is not.
+    p_G = np.asarray(hand.center) + [0.0, hand.half_extents[1] - 0.002, 0.0]
+    extra = (p_G + np.linspace(-0.002, 0.002, 3)[:, None]) @ X[:3, :3].T + X[:3, 3]
+    pushed = dataclasses.replace(obj, points=np.vstack([obj.points, extra]),
+                                 normals=np.vstack([obj.normals, np.tile([0, 0, 1.0], (3, 1))]))
+    again = plan_scoops(pushed, structures, PARAMS)
+    assert again.removed_by == result.removed_by  # no rule of the surer scoops sees it
+    assert not again.tall[k] and 0 < again.tall.sum() < result.tall.sum()
 
 
 def test_an_upright_mug_has_nothing_flat_to_scoop():

@@ -67,6 +67,15 @@ def test_each_method_adds_its_own_systems(name, present, absent, bar):
         assert params.prefer_hanging == params.side_pass == beyond
 
 
+def test_tall_scoops_come_after_the_surer_tiers_and_before_the_pinch():
+    """A tall scoop may only pinch (a square underside the scan cannot see): gbh_plus tries it
+    after its hooks, scoops and the regrasp, before the fallback's pinch; gbh_scoop after its
+    scoops."""
+    plus = method_spec("gbh_plus").tiers
+    assert plus.index(Tier.REGRASP) < plus.index(Tier.TALL_SCOOP) < plus.index(Tier.FALLBACK)
+    assert method_spec("gbh_scoop").tiers == (Tier.GRASPS, Tier.SCOOP, Tier.TALL_SCOOP)
+
+
 class NoGrasps(GraspMethod):
     """A method of one's own: offers nothing, and says why in its own words."""
 

@@ -5,7 +5,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from gbh_drake.method_spec import Tier
+from gbh_drake.method_spec import Tier, method_spec
 from gbh_drake.planning.choice import Offer, at_failed_pose, choose, tiers_after_empty_lifts
 
 
@@ -125,7 +125,7 @@ def test_an_offer_the_caller_refuses_raises():
                is_plan=is_plan, max_grasps=10, check=check)
 
 
-PLUS = (Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)
+PLUS = method_spec("gbh_plus").tiers
 
 
 @pytest.mark.parametrize(("failed", "max_retries", "left"), [
@@ -133,9 +133,10 @@ PLUS = (Tier.GRASPS, Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)
     ([Tier.GRASPS], 0, ()),  # the paper: an empty lift ends the trial
     ([Tier.GRASPS], 1, PLUS),  # the retry: every tier again (the failed grasps skipped)
     # The retry came away empty too: on to the tiers after the hook's (the fallback pinch).
-    ([Tier.GRASPS, Tier.GRASPS], 1, (Tier.SCOOP, Tier.REGRASP, Tier.FALLBACK)),
-    ([Tier.SCOOP, Tier.SCOOP], 1, (Tier.REGRASP, Tier.FALLBACK)),
-    ([Tier.GRASPS, Tier.GRASPS, Tier.SCOOP], 1, (Tier.REGRASP, Tier.FALLBACK)),
+    ([Tier.GRASPS, Tier.GRASPS], 1, (Tier.SCOOP, Tier.REGRASP, Tier.TALL_SCOOP, Tier.FALLBACK)),
+    ([Tier.SCOOP, Tier.SCOOP], 1, (Tier.REGRASP, Tier.TALL_SCOOP, Tier.FALLBACK)),
+    ([Tier.GRASPS, Tier.GRASPS, Tier.SCOOP], 1, (Tier.REGRASP, Tier.TALL_SCOOP, Tier.FALLBACK)),
+    ([Tier.GRASPS, Tier.GRASPS, Tier.TALL_SCOOP], 1, (Tier.FALLBACK,)),
     ([Tier.GRASPS, Tier.FALLBACK], 1, ()),  # nothing after the last tier
     ([Tier.GRASPS, Tier.GRASPS], 2, PLUS),
 ])
@@ -153,6 +154,7 @@ def test_an_empty_retry_goes_on_to_the_fallback_skipping_what_was_tried():
     tiers = tiers_after_empty_lifts(PLUS, failed, max_retries=1)
     offers = {Tier.GRASPS: Offer(Tier.GRASPS, evaluated(["a0", "a1", "a2"], seen, Tier.GRASPS)),
               Tier.SCOOP: Offer(Tier.SCOOP, evaluated([], seen, Tier.SCOOP)),
+              Tier.TALL_SCOOP: Offer(Tier.TALL_SCOOP, evaluated([], seen, Tier.TALL_SCOOP)),
               Tier.REGRASP: Offer(Tier.REGRASP, evaluated(["p0"], seen, Tier.REGRASP),
                                   poses=lambda: []),
               Tier.FALLBACK: Offer(Tier.FALLBACK, evaluated(["f0"], seen, Tier.FALLBACK))}

@@ -97,15 +97,18 @@ def test_the_scoop_synthesizer_plans_once_per_hangability_object(monkeypatch):
     builder.Connect(detector.get_output_port(), scoops.get_input_port())
     builder.ExportInput(detector.get_input_port(), "mesh_W")
     builder.ExportOutput(scoops.GetOutputPort("scoop_grasps"), "scoop_grasps")
+    builder.ExportOutput(scoops.GetOutputPort("tall_scoop_grasps"), "tall_scoop_grasps")
     diagram = builder.Build()
     plan, runs = module.plan_scoops, []
     monkeypatch.setattr(module, "plan_scoops", lambda *a, **k: runs.append(1) or plan(*a, **k))
     context = diagram.CreateDefaultContext()
     scan = ScanResult(ring, ring.vertices)
     diagram.get_input_port().FixValue(context, scan)
-    first = diagram.get_output_port().Eval(context)
+    first = diagram.GetOutputPort("scoop_grasps").Eval(context)
     diagram.get_input_port().FixValue(context, copy.deepcopy(scan))
-    assert diagram.get_output_port().Eval(context) is first and len(runs) == 1
+    assert diagram.GetOutputPort("scoop_grasps").Eval(context) is first and len(runs) == 1
     diagram.get_input_port().FixValue(context, ScanResult(ring.copy(), ring.vertices))
-    again = diagram.get_output_port().Eval(context)
+    again = diagram.GetOutputPort("scoop_grasps").Eval(context)
     assert len(runs) == 2 and len(again) == len(first) > 0
+    # The ring's 2.5 mm wire is no taller than the wedge: no tall scoop, from the same plan.
+    assert diagram.GetOutputPort("tall_scoop_grasps").Eval(context) == [] and len(runs) == 2
