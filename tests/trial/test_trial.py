@@ -150,6 +150,29 @@ def test_a_plate_lying_flat_thinner_than_the_pads_reach_is_pinched_by_the_side_p
     assert records[True].success and records[True].held_by == "pinch", records[True].reason
 
 
+@pytest.mark.trial
+def test_a_thick_torus_lying_flat_is_caged_by_a_tall_scoop(scenario, tmp_path):
+    """A torus lying flat, its tube 26 mm thick (taller than the wedge, wider than the closed
+    loop): no hook clears the table and no scoop passes the wedge's height; the tall scoop's
+    wedge slides under the round tube, lifts it onto the bar, and the L rod stops on its outer
+    side: carried, and the cage test finds a cage (the gap at the bar's tip narrower than the
+    tube)."""
+    import trimesh
+
+    from gbh_drake.scenario.loader import apply_overrides
+
+    torus = trimesh.creation.torus(major_radius=0.027, minor_radius=0.013)
+    torus.apply_translation([0.0, 0.0, -torus.bounds[0, 2]])
+    torus.export(tmp_path / "torus.obj")
+    s = apply_overrides(scenario, "{grasp_method: gbh_scoop, settle_time: 0.2, "
+                        "pick: {set_down: false}, object: {mesh: %s, scale: 1.0, mass: 0.1, "
+                        "pose: {translation: [0.55, 0.05, 0.0]}}}" % (tmp_path / "torus.obj"))
+    record = simulate_trial(build_trial(s))[1]
+    assert record.grasp_source == "tall_scoop_grasps" and record.grasp_kind == "scoop", \
+        record.reason
+    assert record.success and record.held_by == "cage", record.reason
+
+
 def test_a_mesh_named_as_a_gripper_body_is_judged_as_the_object(scenario, tmp_path):
     """A user's mesh file ``bar.obj`` makes an object named ``bar``, as the gripper's bar body:
     the station (its ``object_body``, the settle drift's) and the monitor find the object in its
