@@ -16,14 +16,16 @@ Shipped (``Scenario.grasp_method``):
 * ``gbh_fallback`` (:class:`GbhFallback`): GbH, then an antipodal grasp with the bar folded
   when GbH offers nothing reachable (the revolute joint the paper's Sec. 4 proposes);
 * ``gbh_scoop`` (:class:`GbhScoop`, beyond the paper): GbH, then a scoop of material lying flat
-  on the table (the wedge gripper's bar slid under it, :mod:`gbh_drake.core.scoop`);
+  on the table (the wedge gripper's bar slid under it, :mod:`gbh_drake.core.scoop`), then a
+  tall scoop (under material taller than the wedge);
 * ``gbh_regrasp`` (:class:`GbhRegrasp`, beyond the paper): GbH, then, when it finds a structure
   but no hook grasp of the object as it lies, a regrasp: a pinch sets the object down in a
   resting pose in which GbH can hook it, a re-scan, and GbH on the new scan;
 * ``gbh_completed`` (:class:`GbhCompleted`, beyond the paper): GbH on the scan completed by
   symmetry (:mod:`gbh_drake.core.completion`);
 * ``gbh_plus`` (:class:`GbhPlus`, beyond the paper): all of it in one: GbH, the scoop, the
-  regrasp, then the antipodal fallback; after a lift that came away empty, one retry.
+  regrasp, the tall scoop, then the antipodal fallback; after a lift that came away empty, one
+  retry.
 
 Each method's facts (gripper, bar, retries, its ordered grasp tiers) are its
 :class:`~gbh_drake.method_spec.MethodSpec`; a method here only builds the systems that offer
@@ -249,8 +251,8 @@ def _scoop_tiers(scoop: System) -> tuple[GraspTier, GraspTier]:
 
 
 class GbhScoop(GraspMethod):
-    """GbH first; when it offers nothing reachable, a scoop of material lying flat on the table
-    (beyond the paper; the wedge gripper, ``robot.gripper: wedge``)."""
+    """GbH first; when it offers nothing reachable, a scoop of material lying flat on the table,
+    then a tall scoop (beyond the paper; the wedge gripper, ``robot.gripper: wedge``)."""
 
     spec = method_spec("gbh_scoop")
 
@@ -299,8 +301,9 @@ class GbhCompleted(GraspMethod):
 
 class GbhPlus(GraspMethod):
     """Everything in one (beyond the paper): GbH; then a scoop of material lying flat; then a
-    regrasp into a pose GbH can hook; then the antipodal fallback, bar folded; and, when a lift
-    comes away empty, a re-scan and one more try (the grasps near the failed one skipped)."""
+    regrasp into a pose GbH can hook; then a tall scoop (material taller than the wedge); then
+    the antipodal fallback, bar folded; and, when a lift comes away empty, a re-scan and one
+    more try (the grasps near the failed one skipped)."""
 
     spec = method_spec("gbh_plus")
 
