@@ -164,3 +164,20 @@ def test_any_ring_lying_flat_is_scooped_from_inside_its_hole(radius, wire, yaw, 
         rod, l_rod = rod_and_l_rod_W(g.X_WG)
         assert np.linalg.norm(rod - [x, y]) < radius - wire - 0.0035
         assert np.linalg.norm(l_rod - [x, y]) > radius + wire
+
+
+@settings(max_examples=8, deadline=None)
+@given(tube=st.floats(0.0075, 0.02), hole=st.floats(0.012, 0.03), yaw=st.floats(-np.pi, np.pi),
+       x=st.floats(0.45, 0.62), y=st.floats(-0.15, 0.15))
+def test_any_thick_ring_lying_flat_gets_tall_scoops_from_inside_its_hole(tube, hole, yaw, x, y):
+    """A torus lying flat whose tube (15-40 mm thick) stands taller than the wedge, its hole 2.4-6
+    cm across, anywhere on the table: no scoop, tall scoops, each with the straight rod in the
+    hole and the L rod outside the ring."""
+    radius = hole + tube
+    mesh = on_table(_to_trimesh(_torus(radius, tube)), x, y, yaw)
+    _, _, result = scoops_of(mesh)
+    assert not result.ranked and result.ranked_tall, result.reason()
+    for g in result.ranked_tall:
+        rod, l_rod = rod_and_l_rod_W(g.X_WG)
+        assert np.linalg.norm(rod - [x, y]) < hole
+        assert np.linalg.norm(l_rod - [x, y]) > radius + tube
