@@ -19,7 +19,6 @@ timed) and the load average: the machine is shared (2 cores).
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import os
 import statistics
 import time
@@ -74,7 +73,7 @@ def tall_scoops(repeats: int) -> None:
         obj, structures = detect(on_table(mesh), GbhParams(), 0)
         line = [f"tall scoop {name:12s}"]
         for on in (False, True):
-            scoop = dataclasses.replace(ScoopParams(), tall=on)
+            scoop = ScoopParams(tall=on)
             best, median, result = timed(
                 lambda s=scoop, o=obj, h=structures: plan_scoops(o, h, GbhParams(), s), repeats)
             line.append(f"{'on' if on else 'off'}: {len(result.ranked)} scoops, "

@@ -3,9 +3,9 @@
 A method's facts live here and nowhere else: its gripper variant, the bar's angle before a grasp
 is chosen, how often an empty lift is retried, whether it goes beyond the paper, and the ordered
 **tiers** of grasps it offers the pick-and-carry machine (its own grasps first, then, when none
-of those can be executed, the next tier: a scoop, a regrasp, a tall scoop, a fallback pinch). The scenario
-validates ``grasp_method`` against the registry, the station reads the bar's angle, the trial
-gives the machine the tiers, the report reads ``beyond_paper``; only
+of those can be executed, the next tier: a scoop, a regrasp, a tall scoop, a fallback pinch).
+The scenario validates ``grasp_method`` against the registry, the station reads the bar's
+angle, the trial gives the machine the tiers, the report reads ``beyond_paper``; only
 :mod:`gbh_drake.methods` knows how a method's systems are built (its ``add_systems``)::
 
     spec = method_spec("gbh_plus")

@@ -261,7 +261,7 @@ class GbhScoop(GraspMethod):
         add_gbh(builder, scenario, seeds, scan, systems)
         scoop = add_scoop(builder, scenario, systems)
         report = add_search(builder, systems, scan, hook=True, scenario=scenario)
-        return _gbh_source(systems, report, *_scoop_tiers(scoop)[:2])
+        return _gbh_source(systems, report, *_scoop_tiers(scoop))
 
 
 class GbhRegrasp(GraspMethod):

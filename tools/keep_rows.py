@@ -6,10 +6,11 @@ experiment then runs only the others (it resumes: a trial with a row is not run 
 
 A change that adds a tier late in a method's order (the tall scoops of ``gbh_plus``, after its
 hooks, scoops and regrasp) changes only the trials that reached that tier: the successes taken
-from an earlier tier cannot change. Kept: the successes whose ``grasp_source`` is one of the
+from an earlier tier cannot change. Kept: the successes whose ``grasp_source``, and the source
+of every earlier lift that came away empty (``record.attempts``), is one of the
 ``--keep-source`` values (default: ``grasps``, ``scoop_grasps``: the regrasp's hook is a
-``grasps`` success) and the controls on which GbH found no hanging structure (no tier beyond the
-pinch acts without one). Everything else is left to run. A kept row keeps its commit (the report
+``grasps`` success), and the controls on which GbH found no hanging structure (no scoop acts
+without one). Everything else is left to run. A kept row keeps its commit (the report
 lists each row's) and gets the current task's ``scenario_digest`` (a new field of the scenario
 changes every digest, so ``--reuse`` would match none); the EXPERIMENT and ``--set`` overrides
 must be those the experiment is then run with. Prints how many rows were kept and how many
@@ -31,7 +32,9 @@ def unchanged(row: dict, sources: set[str]) -> bool:
     record = row.get("record") or {}
     if row.get("is_control") and not record.get("n_structures"):
         return True
-    return bool(row.get("success")) and record.get("grasp_source") in sources
+    earlier = [a.get("source") for a in record.get("attempts") or []]
+    return bool(row.get("success")) and record.get("grasp_source") in sources and \
+        all(s in sources for s in earlier)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -196,8 +196,8 @@ def check_scoops(obj: ObjectModel, candidates: list[GraspCandidate], params: Gbh
     open gripper; ``n_sweep_collisions``: points the other moving parts meet; ``ground_distance``:
     the rods' tips above the table) and returns (N_c, scooped, tallest, pushed, pushed_by_hand),
     each (n,): scooped counts the corridor's points at the bar's height, tallest (m) is the
-    highest point above the table in the corridor (-inf: none), pushed_by_hand the points the
-    hand alone meets (of those in pushed)."""
+    highest point above the table in the corridor (-inf: none), pushed_by_hand the points in
+    the hand's sweep (of those in pushed; the L rod's may meet them too)."""
     n = len(candidates)
     zeros = np.zeros(n, dtype=int)
     if n == 0:
@@ -213,7 +213,7 @@ def check_scoops(obj: ObjectModel, candidates: list[GraspCandidate], params: Gbh
     tip_height = np.array([(c.X_WG[:3, 3] @ up) - params.ground_height
                            - (g.finger_length + 0.5 * g.rod_width) for c in candidates])
     margin = params.collision_margin
-    *l_rod, hand = pushers
+    l_rod, hand = pushers[:-1], pushers[-1]  # scoop_regions_G gives the hand's sweep last
     for sl, (inside_open, in_corridor, in_l_rod, in_hand) in chunked_box_masks(
             points, X, [open_boxes, [corridor], l_rod, [hand]], [margin, 0.0, margin, margin]):
         n_open[sl] = inside_open.sum(axis=1)

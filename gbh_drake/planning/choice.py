@@ -1,10 +1,10 @@
 """The plan choice: the first grasp that can be planned, tier by tier (pure: no Drake system).
 
 A method offers its grasps in ordered tiers (:class:`~gbh_drake.method_spec.Tier`: its own,
-then a scoop, a regrasp, a tall scoop, a fallback pinch). :func:`choose` tries every grasp of a tier, best
-first, before it looks at the next tier; a tier's grasps are evaluated only when it is reached
-(evaluating GbH's or the sampler's output runs them on the scan). Planning one grasp is the
-caller's (:func:`gbh_drake.planning.pick.plan_pick` from the measured arm, or
+then a scoop, a regrasp, a tall scoop, a fallback pinch). :func:`choose` tries every grasp of a
+tier, best first, before it looks at the next tier; a tier's grasps are evaluated only when it
+is reached (evaluating GbH's or the sampler's output runs them on the scan). Planning one grasp
+is the caller's (:func:`gbh_drake.planning.pick.plan_pick` from the measured arm, or
 :func:`gbh_drake.planning.regrasp.plan_regrasp`); every refusal is kept, in order, and the wall
 time of each evaluation and of each grasp planned is measured.
 

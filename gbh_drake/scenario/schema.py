@@ -271,8 +271,8 @@ class Scenario:
     """How grasps are chosen: a registered method (:mod:`gbh_drake.method_spec`): ``gbh`` (the
     paper), ``antipodal`` (the two-straight-finger baseline), ``gbh_fallback`` (GbH, then an
     antipodal grasp with the bar folded), and beyond the paper ``gbh_scoop``, ``gbh_regrasp``,
-    ``gbh_plus`` (GbH, scoop, regrasp, tall scoop, fallback, one retry) and ``gbh_completed`` (GbH on the
-    scan completed by symmetry, ``completion``)."""
+    ``gbh_plus`` (GbH, scoop, regrasp, tall scoop, fallback, one retry) and ``gbh_completed``
+    (GbH on the scan completed by symmetry, ``completion``)."""
     antipodal: AntipodalParams = field(default_factory=AntipodalParams)
     """The antipodal grasp sampler (methods ``antipodal`` and ``gbh_fallback``)."""
     scoop: ScoopParams = section(ScoopParams, Relation(

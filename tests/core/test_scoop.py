@@ -90,6 +90,8 @@ def test_a_thick_torus_lying_flat_gets_tall_scoops_from_inside_its_hole(tube):
         assert np.linalg.norm(l_rod - [0.55, 0.0]) > radius + tube
         np.testing.assert_allclose(g.X_WG[:3, 2], [0, 0, -1], atol=1e-9)
         assert g.n_collisions < PARAMS.p_c
+        # The L rod, closing, meets the tube above the bar: pushed, were it not the lifted tube.
+        assert g.n_sweep_collisions >= ScoopParams().p_sweep
 
 
 def test_a_tall_scoop_whose_hand_would_push_material_is_not_offered():
@@ -108,7 +110,6 @@ def test_a_tall_scoop_whose_hand_would_push_material_is_not_offered():
     pushed = dataclasses.replace(obj, points=np.vstack([obj.points, extra]),
                                  normals=np.vstack([obj.normals, np.tile([0, 0, 1.0], (3, 1))]))
     again = plan_scoops(pushed, structures, PARAMS)
-    assert again.removed_by == result.removed_by  # no rule of the surer scoops sees it
     assert not again.tall[k] and 0 < again.tall.sum() < result.tall.sum()
 
 

@@ -27,6 +27,12 @@ def test_only_what_an_earlier_tier_carried_and_bare_controls_are_kept():
     assert not keep_rows.unchanged(row(False), SOURCES)
     assert keep_rows.unchanged(row(False, control=True, structures=0), SOURCES)
     assert not keep_rows.unchanged(row(False, control=True, structures=1), SOURCES)
+    # A hook after a fallback pinch came away empty: the first plan may now take the late tier.
+    retried = row(True, "grasps")
+    retried["record"]["attempts"] = [{"source": "fallback_grasps"}]
+    assert not keep_rows.unchanged(retried, SOURCES)
+    retried["record"]["attempts"] = [{"source": "grasps"}]
+    assert keep_rows.unchanged(retried, SOURCES)
 
 
 def test_kept_rows_get_the_tasks_digest(tmp_path):

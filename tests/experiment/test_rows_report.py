@@ -441,7 +441,8 @@ def test_every_success_beyond_the_loops_reach_is_counted_once_by_how_it_was_take
 
     ways = [("grasps", False, "parallel"), ("scoop_grasps", False, "scoop"),
             ("grasps", True, "parallel"), ("fallback_grasps", True, "antipodal"),
-            ("fallback_grasps", False, "antipodal")]
+            ("fallback_grasps", False, "antipodal"), ("tall_scoop_grasps", False, "scoop"),
+            ("tall_scoop_grasps", True, "scoop")]
     rows = []
     for trial, (source, regrasp, kind) in enumerate(ways):
         r = make_row("key_ring", "gbh+", trial)
@@ -450,13 +451,14 @@ def test_every_success_beyond_the_loops_reach_is_counted_once_by_how_it_was_take
         rows.append(r)
     assert all(held_how(r) in HELD_HOW for r in rows)
     assert held_how(rows[3]) == "regrasp, fallback pinch"
-    data = ReportInput(name="x", objects=["key_ring"], methods=["gbh+"], trials=5, paper={},
-                       rows=rows)
+    assert held_how(rows[6]) == "regrasp, tall scoop"
+    data = ReportInput(name="x", objects=["key_ring"], methods=["gbh+"], trials=len(rows),
+                       paper={}, rows=rows)
     from gbh_drake.experiment.report import beyond
 
     line = next(s for s in flat(beyond(data)).splitlines() if s.startswith("| gbh+ "))
     cells = [c.strip() for c in line.strip("|").split("|")]
-    assert cells[2].startswith("5 ") and sum(int(c) for c in cells[4:]) == 5
+    assert cells[2].startswith(f"{len(rows)} ") and sum(int(c) for c in cells[4:]) == len(rows)
 
 
 def test_rows_that_ended_after_the_cage_test_are_not_counted_as_kept_on_the_bar(made_up):

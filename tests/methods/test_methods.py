@@ -56,6 +56,9 @@ def test_each_method_adds_its_own_systems(name, present, absent, bar):
               for i in range(trial.pick.num_input_ports())}
     for tier in Tier:
         assert (set(tier.ports) <= inputs) == (tier in method_spec(name).tiers), tier
+    for offered in trial.source.tiers:  # each scoop tier is fed by its own port
+        if offered.tier in (Tier.SCOOP, Tier.TALL_SCOOP):
+            assert offered.grasps.get_name() == offered.tier.value
     plant = trial.station.plant
     bar_joint = plant.GetJointByName("bar_joint", plant.GetModelInstanceByName(GRIPPER))
     assert bar_joint.get_default_angle() == pytest.approx(bar)

@@ -110,5 +110,13 @@ def test_the_scoop_synthesizer_plans_once_per_hangability_object(monkeypatch):
     diagram.get_input_port().FixValue(context, ScanResult(ring.copy(), ring.vertices))
     again = diagram.GetOutputPort("scoop_grasps").Eval(context)
     assert len(runs) == 2 and len(again) == len(first) > 0
-    # The ring's 2.5 mm wire is no taller than the wedge: no tall scoop, from the same plan.
+    # The ring's 2.5 mm wire is no taller than the wedge: no tall scoop, from the same plan;
+    # the tape roll's 19 mm wall: tall scoops only, the plan's ranked_tall.
     assert diagram.GetOutputPort("tall_scoop_grasps").Eval(context) == [] and len(runs) == 2
+    roll = make_object("tape_roll").mesh.copy()
+    roll.apply_translation([0.55, 0.0, -roll.bounds[0][2]])
+    diagram.get_input_port().FixValue(context, ScanResult(roll, roll.vertices))
+    tall = diagram.GetOutputPort("tall_scoop_grasps").Eval(context)
+    result = scoops.GetOutputPort("scoops").Eval(scoops.GetMyContextFromRoot(context))
+    assert tall and tall == result.ranked_tall and len(runs) == 3
+    assert diagram.GetOutputPort("scoop_grasps").Eval(context) == []

@@ -209,15 +209,16 @@ def test_a_target_out_of_reach_gives_no_reachable_grasp_with_reasons(scenario):
 
 
 def test_a_trial_may_last_max_time_for_each_pick_its_method_may_start(scenario):
-    """The paper's one attempt: max_time. gbh+ hooks, retries once, scoops, regrasps once and
-    pinches: each a pick begun anew, each with max_time (a gbh+ trial of the own set, a spray
-    bottle hooked after a retry and a regrasp, was cut off in its cage test at 60 s)."""
+    """The paper's one attempt: max_time. gbh+ hooks, retries once, scoops, regrasps once,
+    scoops taller material and pinches: each a pick begun anew, each with max_time (a gbh+
+    trial of the own set, a spray bottle hooked after a retry and a regrasp, was cut off in its
+    cage test at 60 s)."""
     scenario.max_time = 40.0
     assert trial_duration(build_trial(scenario)) == 40.0
     scenario.grasp_method = "gbh_plus"
     trial = build_trial(scenario)
-    assert trial.pick.max_attempts == 5  # 4 lifts (3 lifting tiers, 1 retry), 1 regrasp
-    assert trial_duration(trial) == 200.0
+    assert trial.pick.max_attempts == 6  # 5 lifts (4 lifting tiers, 1 retry), 1 regrasp
+    assert trial_duration(trial) == 240.0
     scenario.task = "settle"
     assert trial_duration(build_trial(scenario)) == scenario.settle_time
     with pytest.raises(TypeError, match="trial_duration.*a Trial"):

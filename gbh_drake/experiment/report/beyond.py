@@ -49,7 +49,8 @@ def beyond(data: ReportInput) -> list[str]:
         f"material lying on the table) and of the cups ({names['cup']}) lying on their side, "
         "resting on their handle: out of reach of the paper's grasps as the object lies "
         "(docs/reach.md). *Success by*: a hook as it lay; a scoop (the wedge bar slid under the "
-        "material, core/scoop.py); a hook or scoop after a regrasp (set down in a pose GbH can "
+        "material, core/scoop.py); a tall scoop (the same under material taller than the "
+        "wedge); a hook or a scoop after a regrasp (set down in a pose GbH can "
         "hook, scanned again, core/regrasp.py); the antipodal fallback's pinch. *Cage*: "
         "successes the cage test found held on the closed loop." + (
             f" Objects the report has no facts about ({names[UNKNOWN]}) are not counted here."
@@ -68,7 +69,8 @@ def beyond(data: ReportInput) -> list[str]:
         for obj in [o for o in one.objects if "control" not in one_tags.get(o, ())]:
             cells.append([obj, *(_tally_cell(mine, obj, m) for m in compared)])
         lines += ["", f"### Per object{suffix}", ""] + table(["Object", *compared], cells)
-    rows = [[label, len(mine), int((mine.success & mine.held_how.isin(["hook", "scoop"])).sum()),
+    hooked = ["hook", "scoop", "tall scoop"]
+    rows = [[label, len(mine), int((mine.success & mine.held_how.isin(hooked)).sum()),
              int((mine.success & mine.held_how.str.contains("pinch")).sum())]
             for (label, method, _), (_, mine) in zip(groups(data),
                                                      per_group(data, controls(data.frame)),

@@ -164,8 +164,8 @@ BY_NAME = {c.name: c for c in COLUMNS}
 REACH_CLASSES = ("out of reach", "candidate set missed", "lost in the scan", "undecided",
                  "not analysed")
 #: The ways a success came (:func:`held_how_of`).
-HELD_HOW = ("hook", "scoop", "regrasp, hook", "regrasp, scoop", "regrasp, fallback pinch",
-            "fallback pinch", "pinch")
+HELD_HOW = ("hook", "scoop", "tall scoop", "regrasp, hook", "regrasp, scoop",
+            "regrasp, tall scoop", "regrasp, fallback pinch", "fallback pinch", "pinch")
 
 _KIND_WORDS = {"str": "a string", "int": "an integer", "float": "a finite number",
                "bool": "true or false", "names": "a list of strings",
@@ -312,8 +312,9 @@ def reach_class_of(true, scan) -> str:
 
 def held_how_of(v: dict) -> str:
     """How a success's object was taken (:data:`HELD_HOW`), from a row's values: ``hook`` (a
-    GbH grasp as it lay), ``scoop``, ``regrasp, hook`` / ``regrasp, scoop`` / ``regrasp,
-    fallback pinch`` (after setting it down anew), ``fallback pinch``, ``pinch``."""
+    GbH grasp as it lay), ``scoop``, ``tall scoop``, ``regrasp, hook`` / ``regrasp, scoop`` /
+    ``regrasp, tall scoop`` / ``regrasp, fallback pinch`` (after setting it down anew),
+    ``fallback pinch``, ``pinch``."""
     source = v["grasp_source"] or (
         "fallback_grasps" if v["fallback"] is True else "grasps")
     how = {"grasps": "hook" if _text(v["grasp_kind"]) != "antipodal" else "pinch",
