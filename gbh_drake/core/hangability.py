@@ -237,6 +237,9 @@ def cluster_positions(
     frac = np.arange(1, params.n_segment_samples + 1) / params.n_segment_samples
     samples = p[:, None] + d[:, None] * (free[:, None, None] * frac[None, :, None])
     dist = obj.approx_distance(samples.reshape(-1, 3)).reshape(len(p), -1)
+    seen = active_free_space(obj, params) if params.hang_segment_seen else None
+    if seen is not None:
+        dist[~seen_prefix(obj, seen, samples, params)] = -np.inf
     k = dist.argmax(axis=1)
     member_c = samples[np.arange(len(p)), k]
     member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the chosen below
@@ -252,6 +255,29 @@ def cluster_positions(
     else:
         member_clear[first] = obj.distance(member_c[first])
     return member_c[first], member_clear[first], p[first]
+
+
+def seen_prefix(obj: ObjectModel, free: FreeSpace, samples: np.ndarray, params: GbhParams
+                ) -> np.ndarray:
+    """Mask (P, K): the samples (P, K, 3, W) of each contact-to-CoM segment, in order from the
+    contact, that come before the segment first leaves the space the cameras saw free
+    (``GbhParams.hang_segment_seen``). The samples before the first seen-free one are kept (a
+    free-space margin round the contact's own surface is never seen free), and so are those
+    below the table band (:func:`unknown_floor`, which no camera sees into; none without a
+    supporting surface, ``ground_clearance`` < 0). A segment that
+    runs from seen-free space into unseen space has passed through material the scan lost (a
+    gap the TSDF left in a wall behind a handle): the free ball beyond it lies in a cavity,
+    no hook reaches it that way, and it is refused by the exit proof, while the cluster's
+    true position (in the handle, short of the wall) would have passed. A segment nowhere
+    seen free is kept whole."""
+    n = np.asarray(params.ground_normal, dtype=float)
+    floor = unknown_floor(obj, free, params) if params.ground_clearance >= 0 else -np.inf
+    free_mask = samples @ (n / np.linalg.norm(n)) <= floor
+    ask = ~free_mask
+    free_mask[ask] = free.known_free(samples[ask])
+    after_free = np.cumsum(free_mask, axis=1) - free_mask > 0  # a seen-free sample before
+    left = np.cumsum(~free_mask & after_free, axis=1) > 0
+    return ~left
 
 
 def _merge_coincident(c: np.ndarray, clearance: np.ndarray, factor: float) -> np.ndarray:

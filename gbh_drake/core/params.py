@@ -112,6 +112,16 @@ class GbhParams:
     then lies inside the cup or in a corner where nothing fits, and the handle is lost (a mug
     and a teapot of the external set, issue 42). Provisional: 1 (the paper's) until swept;
     preset ``robust``: 4 (docs/robustness.md says which sweep decides it)."""
+    hang_segment_seen: bool = True
+    """Ours, with ``unknown_is_occupied``: a contact's hanging position is searched only on
+    the part of its segment toward the CoM that the cameras saw free, up to where the segment
+    first enters unseen space (:func:`~gbh_drake.core.hangability.seen_prefix`). A scanned
+    wall behind a handle can keep a gap the TSDF did not close; the segment then runs through
+    it into the cup's unseen cavity, whose larger free ball wins the cluster, and the exit
+    proof refuses it: the handle is lost (two mugs of the external set lying upside down or
+    on their side, docs/robustness.md). A position in unseen space is always refused by the
+    exit proof, so this only moves a cluster's choice to positions the proof may accept.
+    False: the segment up to the mesh (the paper's reading)."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
