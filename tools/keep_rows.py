@@ -2,7 +2,7 @@
 experiment then runs only the others (it resumes: a trial with a row is not run again).
 
     python tools/keep_rows.py EXPERIMENT.yaml BEFORE/trials.jsonl OUT [--set YAML ...]
-        [--keep-source grasps --keep-source scoop_grasps]
+        [--keep-source grasps --keep-source scoop_grasps] [--screen SCREEN.jsonl]
 
 A change that adds a tier late in a method's order (the tall scoops of ``gbh_plus``, after its
 hooks, scoops and regrasp) changes only the trials that reached that tier: the successes taken
@@ -15,6 +15,11 @@ lists each row's) and gets the current task's ``scenario_digest`` (a new field o
 changes every digest, so ``--reuse`` would match none); the EXPERIMENT and ``--set`` overrides
 must be those the experiment is then run with. Prints how many rows were kept and how many
 trials are left.
+
+``--screen`` (a change of the hangability detector's rules instead of a late tier): kept are
+the rows whose trial ``tools/screen_rule.py`` found with the same hanging structures either
+way and that took no re-scan (no regrasp, no lift that came away empty: a re-scan meets the
+detector again, on a scan the screen never saw).
 """
 
 from __future__ import annotations
@@ -37,6 +42,15 @@ def unchanged(row: dict, sources: set[str]) -> bool:
         all(s in sources for s in earlier)
 
 
+def screened_same(row: dict, screen: dict[tuple, bool]) -> bool:
+    """Whether ``row``'s trial had the same hanging structures before and after a detector
+    change (``screen``: :func:`gbh_drake.experiment.rows.row_key` to ``same``) and took no
+    re-scan."""
+    record = row.get("record") or {}
+    return bool(screen.get(row_key(row))) and not record.get("regrasps") and \
+        not record.get("attempts")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("experiment", type=Path)
@@ -46,7 +60,15 @@ def main(argv: list[str] | None = None) -> int:
                         help="YAML over the experiment file, as gbh experiment --set")
     parser.add_argument("--keep-source", action="append", dest="sources",
                         help="a grasp_source whose successes are kept (repeatable)")
+    parser.add_argument("--screen", type=Path,
+                        help="tools/screen_rule.py's rows: keep the trials it found unchanged")
     args = parser.parse_args(argv)
+    screen = None
+    if args.screen is not None:
+        screen = {}
+        for line in args.screen.read_text().splitlines():
+            r = json.loads(line)
+            screen[(r["object"], r["method"], int(r["trial"]), r["protocol"])] = bool(r["same"])
     sources = set(args.sources or ("grasps", "scoop_grasps"))
     tasks = {t.key: t for t in make_tasks(load_experiment(args.experiment,
                                                           overrides=args.overrides))}
@@ -55,7 +77,8 @@ def main(argv: list[str] | None = None) -> int:
         for line in f:
             row = json.loads(line)
             task = tasks.get(row_key(row))
-            if task is not None and unchanged(row, sources):
+            keep = unchanged(row, sources) if screen is None else screened_same(row, screen)
+            if task is not None and keep:
                 row["scenario_digest"] = task.digest
                 kept.append(row)
     args.out.mkdir(parents=True, exist_ok=True)

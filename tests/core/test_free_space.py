@@ -283,3 +283,69 @@ def test_an_eroded_view_does_not_see_past_a_thin_rod_beside_its_pixel():
                                       depth_max=2.0)
     assert fs2.observed_free(near_nan[None]).all()
     assert not fs2.eroded().observed_free(near_nan[None]).any()
+
+
+def _mug_with_a_lost_wall(radius: float = 0.04, hole: float = 0.014):
+    """A cylinder (radius ``radius``, 9 cm tall, about the origin) with a handle (the outer half
+    of a torus of major radius ``hole``, tube 5 mm, axis y) on its +x side; the scan (the true
+    mesh less the wall faces behind the handle: a gap a TSDF can leave there) and the free
+    space of five views of the true object."""
+    body = trimesh.creation.cylinder(radius=radius, height=0.09, sections=64)
+    handle = trimesh.creation.torus(hole, 0.005, major_sections=48, minor_sections=16)
+    handle.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
+    handle.apply_translation([radius + 0.006, 0.0, 0.0])
+    handle = handle.submesh([np.flatnonzero(handle.triangles_center[:, 0] > radius - 0.001)],
+                            append=True)
+    truth = trimesh.util.concatenate([body, handle])
+    tc = body.triangles_center
+    wall = body.submesh([np.flatnonzero(~((tc[:, 0] > 0.7 * radius) & (abs(tc[:, 2]) < 0.02)))],
+                        append=True)
+    scan = trimesh.util.concatenate([wall, handle])
+    eyes = [(0.5, 0.3, 0.3), (0.5, -0.3, 0.3), (0.1, 0.0, 0.6), (0.3, 0.5, 0.0), (0.3, -0.5, 0.0)]
+    Xs = [camera_X_CW(e, (0.02, 0.0, 0.0)) for e in eyes]
+    fs = FreeSpace.from_depth_images([rendered_depth(truth, X, 160, 120, 150.0) for X in Xs],
+                                     150.0, 150.0, 79.5, 59.5, Xs, 0.0025, 3.0)
+    return scan, fs
+
+
+@pytest.mark.parametrize("radius,hole", [(0.04, 0.014), (0.05, 0.018)])
+def test_a_handle_whose_wall_the_scan_lost_keeps_its_structure(params, radius, hole):
+    """The handle's contacts' segments toward the CoM pass through the gap into the body's
+    unseen inside, whose free ball is larger than the handle's: searched to the mesh, the
+    cluster's position lies in the cavity and is refused (not a through-hole), the handle is
+    lost; searched only while the cameras saw it free (``hang_segment_seen``), the position
+    is in the handle's hole, and the hole is proven."""
+    from gbh_drake.core.hangability import detect_with_report
+
+    scan, fs = _mug_with_a_lost_wall(radius, hole)
+
+    def handles(flag: bool):
+        found, report = detect_with_report(
+            scan, dataclasses.replace(params, hang_segment_seen=flag), free_space=fs)
+        return [s for s in found if radius < s.c[0] < radius + 2 * hole], report
+
+    lost, report = handles(False)
+    assert not lost and report.refused_by()["not a through-hole"] >= 1
+    assert any(np.linalg.norm(r.c[:2]) < radius for r in report.refused)  # in the cavity
+    kept, _ = handles(True)
+    assert len(kept) == 1 and abs(kept[0].v[1]) > 0.9  # the handle's axis, y
+
+
+def test_the_seen_prefix_ends_where_a_segment_leaves_seen_free_space(params):
+    """From the handle's far side toward the body's centre: seen free through the handle's
+    hole, unseen from the wall on (the scan's gap does not free it); samples before the first
+    seen-free one (the contact's own margin) are kept, a segment never seen free is kept whole,
+    and with no supporting surface nothing is taken as the table's band."""
+    from gbh_drake.core.hangability import seen_prefix
+    from gbh_drake.core.object_model import prepare_object
+
+    scan, fs = _mug_with_a_lost_wall()
+    obj = prepare_object(scan, params, 0, fs)
+    t = np.linspace(0.0, 0.05, 41)
+    through_gap = np.array([0.0548, 0.0, 0.0]) + t[:, None] * np.array([-1.0, 0.0, 0.0])
+    inside = np.array([0.0, 0.0, 0.03]) + t[:, None] * np.array([0.0, 0.0, -1.0])
+    mask = seen_prefix(obj, fs, np.stack([through_gap, inside]), params)
+    last = np.flatnonzero(mask[0]).max()
+    assert mask[0, : last + 1].all() and not mask[0, last + 1:].any()
+    assert 0.04 - 0.0025 <= through_gap[last, 0] <= 0.04 + 0.005  # at the wall the scan lost
+    assert mask[1].all()  # inside the body: never seen free, kept whole

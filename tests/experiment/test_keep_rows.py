@@ -49,3 +49,38 @@ def test_kept_rows_get_the_tasks_digest(tmp_path):
     assert all(r["scenario_digest"] == digests[keep_rows.row_key(r)] for r in kept)
     with pytest.raises(SystemExit):  # never over a folder's rows
         keep_rows.main([str(experiment), str(before), str(tmp_path / "out")])
+
+
+def test_a_screen_keeps_the_trials_it_found_unchanged_that_took_no_rescan(tmp_path):
+    """``--screen``: kept only where tools/screen_rule.py found the same structures, and the
+    trial met the detector once (a regrasp or a retry re-scans)."""
+    key = ("mug", "gbh+", 0, "stable")
+    same = {key: True, ("mug", "gbh+", 1, "stable"): False}
+    r = {"object": "mug", "method": "gbh+", "trial": 0, "protocol": "stable", **row(True, "grasps")}
+    assert keep_rows.screened_same(r, same)
+    assert not keep_rows.screened_same({**r, "trial": 1}, same)  # changed
+    assert not keep_rows.screened_same({**r, "trial": 2}, same)  # never screened
+    regrasped = json.loads(json.dumps(r))
+    regrasped["record"]["regrasps"] = [{"turn_deg": 90.0}]
+    assert not keep_rows.screened_same(regrasped, same)
+    retried = json.loads(json.dumps(r))
+    retried["record"]["attempts"] = [{"source": "grasps"}]
+    assert not keep_rows.screened_same(retried, same)
+    failed = {**r, "success": False}  # a failure stands as well as a success when unchanged
+    assert keep_rows.screened_same(failed, same)
+
+    experiment = Path(__file__).parents[2] / "scenarios" / "experiment_small.yaml"
+    tasks = keep_rows.make_tasks(keep_rows.load_experiment(experiment))
+    rows = [{"object": t.object, "method": t.method, "trial": t.trial, "protocol": t.protocol,
+             "scenario_digest": "old", **row(False)} for t in tasks]
+    screen = tmp_path / "screen.jsonl"
+    screen.write_text("".join(json.dumps({"object": t.object, "method": t.method,
+                                          "trial": t.trial, "protocol": t.protocol,
+                                          "same": i == 0}) + "\n"
+                              for i, t in enumerate(tasks)))
+    before = tmp_path / "before.jsonl"
+    before.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    assert keep_rows.main([str(experiment), str(before), str(tmp_path / "out"),
+                           "--screen", str(screen)]) == 0
+    kept = [json.loads(line) for line in (tmp_path / "out" / "trials.jsonl").open()]
+    assert [keep_rows.row_key(k) for k in kept] == [tasks[0].key]
