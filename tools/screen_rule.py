@@ -22,7 +22,9 @@ from __future__ import annotations
 import argparse
 import copy
 import dataclasses
+import functools
 import hashlib
+import importlib.util
 import json
 from pathlib import Path
 
@@ -59,26 +61,30 @@ def same_structures(a, b) -> bool:
         for s, t in zip(a, b, strict=True))
 
 
+@functools.cache
+def _sweep_thresholds():
+    """tools/sweep_thresholds.py as a module (its ``scanned_trial``)."""
+    spec = importlib.util.spec_from_file_location(
+        "sweep_thresholds", Path(__file__).with_name("sweep_thresholds.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def screen(scenario, before: dict) -> dict:
     """The detector's structures on ``scenario``'s scan, now and with ``before`` (a dict of
-    GbhParams fields)."""
+    GbhParams fields). The trial is simulated until its scan is taken, as the threshold
+    sweeps do (``tools/sweep_thresholds.py``)."""
     from gbh_drake.core.pipeline import detect_reported
     from gbh_drake.core.results import GbhInputError
+    from gbh_drake.experiment.config import trial_scenario_yaml
     from gbh_drake.systems.hangability_detector import HangabilityDetector
-    from gbh_drake.trial import build_trial, simulate_trial
 
-    scenario.pick.set_down = False
-    trial = build_trial(scenario)
+    _, trial, simulator, _ = _sweep_thresholds().scanned_trial(trial_scenario_yaml(scenario),
+                                                               scenario.source_path)
     detector = next(s for s in trial.source.systems.values()
                     if isinstance(s, HangabilityDetector))
-    simulator, _ = simulate_trial(trial, max_time=1.0)
-    t = 1.0
-    while True:
-        context = detector.GetMyContextFromRoot(simulator.get_context())
-        if detector.get_output_port(0).Eval(context).message != "no input yet" or t > 60.0:
-            break
-        t += 0.5
-        simulator.AdvanceTo(t)
+    context = detector.GetMyContextFromRoot(simulator.get_context())
     scan = detector.get_input_port(0).Eval(context)
     out = {"now": detector.get_output_port(0).Eval(context).structures}
     if getattr(scan, "empty", False):
