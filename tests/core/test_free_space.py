@@ -4,6 +4,7 @@ core's through-hole test and closing sweep with a synthetic one-view scan."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 import pytest
@@ -285,6 +286,7 @@ def test_an_eroded_view_does_not_see_past_a_thin_rod_beside_its_pixel():
     assert not fs2.eroded().observed_free(near_nan[None]).any()
 
 
+@functools.cache
 def _mug_with_a_lost_wall(radius: float = 0.04, hole: float = 0.014):
     """A cylinder (radius ``radius``, 9 cm tall, about the origin) with a handle (the outer half
     of a torus of major radius ``hole``, tube 5 mm, axis y) on its +x side; the scan (the true
@@ -303,8 +305,8 @@ def _mug_with_a_lost_wall(radius: float = 0.04, hole: float = 0.014):
     scan = trimesh.util.concatenate([wall, handle])
     eyes = [(0.5, 0.3, 0.3), (0.5, -0.3, 0.3), (0.1, 0.0, 0.6), (0.3, 0.5, 0.0), (0.3, -0.5, 0.0)]
     Xs = [camera_X_CW(e, (0.02, 0.0, 0.0)) for e in eyes]
-    fs = FreeSpace.from_depth_images([rendered_depth(truth, X, 160, 120, 150.0) for X in Xs],
-                                     150.0, 150.0, 79.5, 59.5, Xs, 0.0025, 3.0)
+    fs = FreeSpace.from_depth_images([rendered_depth(truth, X, 120, 90, 112.5) for X in Xs],
+                                     112.5, 112.5, 59.5, 44.5, Xs, 0.0025, 3.0)
     return scan, fs
 
 
@@ -339,7 +341,7 @@ def test_the_seen_prefix_ends_where_a_segment_leaves_seen_free_space(params):
     from gbh_drake.core.hangability import seen_prefix
     from gbh_drake.core.object_model import prepare_object
 
-    scan, fs = _mug_with_a_lost_wall()
+    scan, fs = _mug_with_a_lost_wall(0.04, 0.014)
     obj = prepare_object(scan, params, 0, fs)
     t = np.linspace(0.0, 0.05, 41)
     through_gap = np.array([0.0548, 0.0, 0.0]) + t[:, None] * np.array([-1.0, 0.0, 0.0])
