@@ -120,8 +120,9 @@ class GbhParams:
     it into the cup's unseen cavity, whose larger free ball wins the cluster, and the exit
     proof refuses it: the handle is lost (two mugs of the external set lying upside down or
     on their side, docs/robustness.md). A position in unseen space is always refused by the
-    exit proof, so this only moves a cluster's choice to positions the proof may accept.
-    False: the segment up to the mesh (the paper's reading)."""
+    exit proof; one seen free again beyond an unseen stretch is given up too (the hook would
+    pass where the scan may have lost material). False: the segment up to the mesh (the
+    paper's reading)."""
     dedup_radius_factor: float = ranged(1.0, NonNeg(100.0))
     """Two hanging positions coincide when one lies within this factor times the other's
     clearance (its free ball); the one with more clearance is kept. Dimensionless."""
