@@ -68,7 +68,7 @@ def main(argv: list[str] | None = None) -> int:
         screen = {}
         for line in args.screen.read_text().splitlines():
             r = json.loads(line)
-            screen[(r["object"], r["method"], int(r["trial"]), r["protocol"])] = bool(r["same"])
+            screen[row_key(r)] = bool(r["same"])
     sources = set(args.sources or ("grasps", "scoop_grasps"))
     tasks = {t.key: t for t in make_tasks(load_experiment(args.experiment,
                                                           overrides=args.overrides))}
