@@ -738,14 +738,33 @@ def trial_scenario(experiment: Experiment | str | Path, object_name: str, method
     return scenario
 
 
-def experiment_yaml(experiment: Experiment) -> str:
+def experiment_yaml(experiment: Experiment, folder: Path | None = None) -> str:
     """The resolved experiment as YAML (written into its folder; ``gbh report`` reads it),
-    without where its trials ran (:data:`WHERE_FIELDS`: the same text whatever the engine)."""
+    without where its trials ran (:data:`WHERE_FIELDS`: the same text whatever the engine).
+
+    ``folder``: the folder the text is written into. Its ``base`` and ``object_set`` are then
+    written relative to that folder and its ``output_dir`` is the folder itself (``.``), so
+    ``gbh experiment FOLDER/experiment.yaml`` runs the same trials into the same folder (it
+    resumes); the trials' scenarios, and so their digests, do not depend on it."""
     experiment = copy.copy(experiment)
+    if folder is not None:
+        experiment.base = _path_from(experiment.base_path, folder)
+        if experiment.object_set:
+            experiment.object_set = _path_from(experiment.object_set_path, folder)
+        experiment.output_dir = "."
     experiment.source_path = ""
     root = compose_own(yaml_dump_typed(experiment))
     root.value = [(k, v) for k, v in root.value if k.value not in WHERE_FIELDS]
     return serialize(root)
+
+
+def _path_from(path: Path, folder: Path) -> str:
+    """``path`` relative to ``folder`` (posix separators), or absolute where it cannot be (on
+    another drive)."""
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), Path(folder).resolve())).as_posix()
+    except ValueError:
+        return Path(path).resolve().as_posix()
 
 
 def git_commit(repo: Path | None = None) -> str:

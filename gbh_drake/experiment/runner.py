@@ -17,7 +17,8 @@ The folder::
     success.png, .svg     success rate per method with Wilson error bars: totals, then per object
     causes.png, .svg      the failures per method stacked by cause
     experiment.yaml       the resolved experiment (gbh report reads it), without where it ran
-                          (engine, ray_address: runs.jsonl says)
+                          (engine, ray_address: runs.jsonl says); its paths relative to the
+                          folder and its output the folder: gbh experiment on it resumes there
     scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
     replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial (``__<protocol>``
                           before ``.html`` for a protocol other than ``stable``)
@@ -270,7 +271,7 @@ def _finished(store: RowStore, tasks, *, warn=None) -> dict:
 
 def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> None:
     """``experiment.yaml`` and each method's scenario, for reports and reruns."""
-    write_atomically(folder / EXPERIMENT_FILE, experiment_yaml(experiment))
+    write_atomically(folder / EXPERIMENT_FILE, experiment_yaml(experiment, folder))
     (folder / "scenarios").mkdir(exist_ok=True)
     for name, scenario in scenarios.items():
         write_atomically(folder / "scenarios" / f"{name}.yaml", trial_scenario_yaml(scenario))

@@ -79,6 +79,16 @@ def test_a_users_set_runs_resumes_and_reports(user_set, capsys):
     assert "0 to run" in capsys.readouterr().out
     summary = (out / "summary.md").read_text()
     assert all(name in summary for name in ("ring", "block", "teapot"))
+    # The folder's own experiment.yaml, run from elsewhere, is the same experiment (its base and
+    # manifest found from the folder) writing into the same folder: it resumes, nothing to run.
+    saved = load_experiment(out / "experiment.yaml")
+    assert saved.base_path.resolve() == (SCENARIOS_DIR / "default.yaml").resolve()
+    assert saved.object_set_path.resolve() == (user_set / "set.yaml").resolve()
+    assert saved.output_path().resolve() == out.resolve()
+    assert [t.digest for t in make_tasks(saved)] == [t.digest for t in tasks]
+    assert main(["experiment", str(out / "experiment.yaml"), "--workers", "1",
+                 "--no-progress"]) == 0
+    assert "0 to run" in capsys.readouterr().out
 
 
 def test_an_object_neither_in_the_set_nor_built_in_is_refused(user_set):
