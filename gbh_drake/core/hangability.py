@@ -82,15 +82,76 @@ def detect_with_report(
     labels = cluster_points(obj.points[idx], params.cluster_radius * obj.spacing,
                             params.min_cluster_size)
     sel = _subsample_clusters(labels, params.max_contacts_per_cluster)
-    c_all, clear_all, contact_all = cluster_positions(obj, idx[sel], labels[sel], params)
+    lab = labels[sel]
+    members = member_positions(obj, idx[sel], lab, params)
+    first, clear_all = chosen_members(obj, members, lab, params)
+    c_all, contact_all = members[0][first], members[2][first]
     keep, small = select_positions(c_all, clear_all, params)
     c, clearance, contact = c_all[keep], clear_all[keep], contact_all[keep]
-    report.clusters, report.positions = len(np.unique(labels[sel])), len(keep)
+    report.clusters, report.positions = len(np.unique(lab)), len(keep)
     report.merged = len(c_all) - len(small) - len(keep)
     report.refused += [RefusedPosition(c_all[i], float(clear_all[i]), "too small")
                        for i in small]
     if len(c) == 0:
         return [], report
+    v, t, dirs, mesh_through, through = _tested_positions(obj, free, c, params)
+    report.refused += _refusals(c, clearance, v, t, mesh_through, through)
+    if params.cluster_fallback:
+        more = fallback_positions(obj, members, lab, np.delete(first, small), c, clearance,
+                                  through, params)
+        if len(more):
+            c2, contact2 = members[0][more], members[2][more]
+            clear2 = obj.distance(c2)
+            v2, t2, dirs2, mesh2, through2 = _tested_positions(obj, free, c2, params)
+            tried = _tried_in_order(lab[more], through2, params.positions_per_cluster)
+            report.positions += int(tried.sum())
+            report.refused += _refusals(c2[tried], clear2[tried], v2[tried], t2[tried],
+                                        mesh2[tried], through2[tried])
+            take = tried & through2
+            c, clearance, contact = np.r_[c, c2[take]], np.r_[clearance, clear2[take]], \
+                np.r_[contact, contact2[take]]
+            v, t, dirs = np.r_[v, v2[take]], np.r_[t, t2[take]], np.r_[dirs, dirs2[take]]
+            through = np.r_[through, through2[take]]
+    structures = [
+        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i], obj.com,
+                   RIM_TOLERANCE_SPACINGS * obj.spacing)
+        for i in np.flatnonzero(through)
+    ]
+    structures.sort(key=lambda s: (-s.m, -s.clearance))
+    report.structures = len(structures)
+    return structures, report
+
+
+def _refusals(c: np.ndarray, clearance: np.ndarray, v: np.ndarray, t: np.ndarray,
+              mesh_through: np.ndarray, through: np.ndarray) -> list[RefusedPosition]:
+    """The refused positions among ``c`` (P, 3), rule by rule (the mesh's through-hole test,
+    then the exit proof)."""
+    m = np.isfinite(t).mean(axis=1)
+    return [RefusedPosition(c[i], float(clearance[i]), rule, v[i], float(m[i]))
+            for rule, refused in (("not a through-hole", ~mesh_through),
+                                  ("exit proof", mesh_through & ~through))
+            for i in np.flatnonzero(refused)]
+
+
+def _tried_in_order(labels: np.ndarray, passing: np.ndarray, per_cluster: int) -> np.ndarray:
+    """Mask of the positions (in order, ``labels`` their clusters') tried before each cluster
+    has ``per_cluster`` passing ones: a cluster's later positions are not needed."""
+    tried = np.zeros(len(labels), dtype=bool)
+    found: dict[int, int] = {}
+    for i, label in enumerate(labels):
+        if found.get(int(label), 0) < per_cluster:
+            tried[i] = True
+            found[int(label)] = found.get(int(label), 0) + int(passing[i])
+    return tried
+
+
+def _tested_positions(obj: ObjectModel, free: FreeSpace | None, c: np.ndarray,
+                      params: GbhParams
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(v, t, dirs, mesh_through, through) of the hanging positions ``c`` (P, 3): their
+    hanging directions (:func:`hanging_directions`), whether the mesh makes each a
+    through-hole, and whether it is one (with the cameras' free space ``free``, by the exit
+    proof too)."""
     v, t, dirs = hanging_directions(obj, c, params)
     mesh_through = through_hole(obj, c, v)
     through = mesh_through.copy()
@@ -113,19 +174,7 @@ def detect_with_report(
         else:
             through &= observed_through(obj, free, c, v, params.ground_normal, floor,
                                         params.through_proof_length)
-    m = np.isfinite(t).mean(axis=1)
-    for rule, refused in (("not a through-hole", ~mesh_through),
-                          ("exit proof", mesh_through & ~through)):
-        report.refused += [RefusedPosition(c[i], float(clearance[i]), rule, v[i], float(m[i]))
-                           for i in np.flatnonzero(refused)]
-    structures = [
-        _structure(c[i], v[i], t[i], dirs[i], clearance[i], contact[i], obj.com,
-                   RIM_TOLERANCE_SPACINGS * obj.spacing)
-        for i in np.flatnonzero(through)
-    ]
-    structures.sort(key=lambda s: (-s.m, -s.clearance))
-    report.structures = len(structures)
-    return structures, report
+    return v, t, dirs, mesh_through, through
 
 
 def _best_contact_angle(obj: ObjectModel) -> float:
@@ -215,19 +264,26 @@ def cluster_positions(
     obj: ObjectModel, idx: np.ndarray, labels: np.ndarray, params: GbhParams
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The hanging positions of the clusters (P, 3), their exact clearances (P,) and contact
-    points (P, 3), metres, in the order of the clusters' labels.
+    points (P, 3), metres, in the order of the clusters' labels: :func:`member_positions`,
+    then :func:`chosen_members`."""
+    members = member_positions(obj, idx, labels, params)
+    first, clearance = chosen_members(obj, members, labels, params)
+    return members[0][first], clearance, members[2][first]
+
+
+def member_positions(
+    obj: ObjectModel, idx: np.ndarray, labels: np.ndarray, params: GbhParams
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each contact candidate's hanging position (M, 3), its approximate clearance (M,) and the
+    contact point (M, 3), metres (``idx``: sample indices, ``labels`` their clusters').
 
     For each member, the free part of its segment to the CoM (up to the first hit, at most
-    ``max_hanging_distance`` long) is sampled and its sample farthest from the surface is the
-    member's position. A cluster keeps the position of its member with the largest such
-    (approximate) clearance, the paper's one per cluster, or, with ``positions_per_cluster``
-    > 1, up to that many by non-maximum suppression over its members' exact clearances:
-    largest first, each kept position removing the others inside its free ball, so a cluster
-    that spans a cup's inside and its handle keeps both."""
-    empty = (np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3)))
-    if len(idx) == 0:
-        return empty
+    ``max_hanging_distance`` long; with ``hang_segment_seen`` only up to where it leaves the
+    space the cameras saw free, :func:`seen_prefix`) is sampled and its sample farthest from
+    the surface is the member's position."""
     p = obj.points[idx]
+    if len(p) == 0:
+        return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
     d = obj.com - p
     length = np.linalg.norm(d, axis=1)
     d /= length[:, None]
@@ -241,20 +297,64 @@ def cluster_positions(
     if seen is not None:
         dist[~seen_prefix(obj, seen, samples, params)] = -np.inf
     k = dist.argmax(axis=1)
-    member_c = samples[np.arange(len(p)), k]
-    member_clear = dist[np.arange(len(p)), k]  # approximate; exact for the chosen below
-    # Best member per cluster: sort by (label, -clearance) and take each label's first row.
+    return samples[np.arange(len(p)), k], dist[np.arange(len(p)), k], p
+
+
+def chosen_members(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, np.ndarray],
+                   labels: np.ndarray, params: GbhParams) -> tuple[np.ndarray, np.ndarray]:
+    """(indices (P,) of the members whose positions the clusters keep, in the order of the
+    clusters' labels; their exact clearances (P,), m). A cluster keeps the position of its
+    member with the largest approximate clearance, the paper's one per cluster, or, with
+    ``positions_per_cluster`` > 1, up to that many by non-maximum suppression over its
+    members' exact clearances: largest first, each kept position removing the others inside
+    its free ball, so a cluster that spans a cup's inside and its handle keeps both."""
+    member_c, member_clear, _ = members
+    if len(member_c) == 0:
+        return np.zeros(0, dtype=int), np.zeros(0)
     order = np.lexsort((-member_clear, labels))
     first = order[np.r_[True, np.diff(labels[order]) != 0]]
     if params.positions_per_cluster > 1:
-        member_clear = obj.distance(member_c)
+        exact = obj.distance(member_c)
         first = np.concatenate([
-            members[_merge_coincident(member_c[members], member_clear[members],
-                                      params.dedup_radius_factor)[:params.positions_per_cluster]]
-            for members in (np.flatnonzero(labels == lab) for lab in np.unique(labels))])
-    else:
-        member_clear[first] = obj.distance(member_c[first])
-    return member_c[first], member_clear[first], p[first]
+            members_of[_merge_coincident(member_c[members_of], exact[members_of],
+                                         params.dedup_radius_factor)
+                       [:params.positions_per_cluster]]
+            for members_of in (np.flatnonzero(labels == lab) for lab in np.unique(labels))])
+        return first, exact[first]
+    return first, obj.distance(member_c[first])
+
+
+def fallback_positions(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, np.ndarray],
+                       labels: np.ndarray, chosen: np.ndarray, c: np.ndarray,
+                       clearance: np.ndarray, through: np.ndarray, params: GbhParams
+                       ) -> np.ndarray:
+    """Indices of the members (in order: cluster by cluster, largest exact clearance first)
+    whose positions a cluster tries next when no position it chose stands as a hanging
+    structure (``GbhParams.cluster_fallback``): each was refused, or merged into a position
+    that was. ``chosen``: the members whose positions the clusters chose (at least
+    ``min_clearance``); ``c`` (P, 3): the positions tested, with their ``clearance`` (P,) and
+    verdict ``through`` (P,). A candidate lies outside the free ball of every tested position
+    (inside one it is that position again), has at least ``min_clearance``, and is not inside
+    a better candidate's ball (non-maximum suppression, as :func:`chosen_members`)."""
+    member_c = members[0]
+    radius = params.dedup_radius_factor * clearance
+    passing_c, passing_r = c[through], radius[through]
+    stands = np.any(np.linalg.norm(member_c[chosen, None] - passing_c[None], axis=2)
+                    < passing_r[None], axis=1) if len(passing_c) else \
+        np.zeros(len(chosen), dtype=bool)
+    lost = np.setdiff1d(labels[chosen], labels[chosen[stands]])
+    out = []
+    for label in lost:
+        mine = np.flatnonzero(labels == label)
+        mine = mine[np.all(np.linalg.norm(member_c[mine, None] - c[None], axis=2)
+                           >= radius[None], axis=1)]
+        if len(mine) == 0:
+            continue
+        exact = obj.distance(member_c[mine])
+        big = exact >= params.min_clearance
+        mine, exact = mine[big], exact[big]
+        out.append(mine[_merge_coincident(member_c[mine], exact, params.dedup_radius_factor)])
+    return np.concatenate(out) if out else np.zeros(0, dtype=int)
 
 
 def seen_prefix(obj: ObjectModel, free: FreeSpace, samples: np.ndarray, params: GbhParams

@@ -112,6 +112,16 @@ class GbhParams:
     then lies inside the cup or in a corner where nothing fits, and the handle is lost (a mug
     and a teapot of the external set, issue 42). Provisional: 1 (the paper's) until swept;
     preset ``robust``: 4 (docs/robustness.md says which sweep decides it)."""
+    cluster_fallback: bool = False
+    """Ours: a cluster all of whose kept positions are refused (not a through-hole, or by the
+    exit proof) tries its other members' positions, largest exact clearance first (outside
+    the refused positions' free balls, non-maximum suppressed), until ``positions_per_cluster``
+    pass (:func:`~gbh_drake.core.hangability.fallback_positions`). Single linkage joins a
+    handle's contacts to the body's next to it; the cluster's one position then lies in the
+    cup or a corner, is refused, and the handle is lost, and which contacts chain into one
+    cluster turns on a tenth of a millimetre (a basket's handle lost by a start 0.1 mm higher,
+    docs/candidates.md). A cluster whose position passes is unchanged; no threshold. Off until
+    measured on both object sets (docs/robustness.md)."""
     hang_segment_seen: bool = True
     """Ours, with ``unknown_is_occupied``: a contact's hanging position is searched only on
     the part of its segment toward the CoM that the cameras saw free, up to where the segment
