@@ -174,3 +174,40 @@ def test_a_cluster_keeps_every_handle_position():
     assert several.ranked and on_handle(several.ranked[0])
     assert GbhParams().with_preset("paper").positions_per_cluster == 1
     assert GbhParams(preset="robust").positions_per_cluster == 4
+
+
+@pytest.mark.parametrize("shape", ["ring", "mug", "hook", "bottle"])
+def test_the_cluster_fallback_keeps_every_structure_that_stands(shape, params, request):
+    """``cluster_fallback`` only adds: a cluster whose chosen position stands keeps it, so
+    every structure found without the fallback is found with it, the same (and the bottle,
+    with nothing to hang by, stays empty)."""
+    import dataclasses
+
+    mesh = request.getfixturevalue(shape)
+    without = detect_hangable_structures(mesh, params)
+    with_it = detect_hangable_structures(mesh, dataclasses.replace(params,
+                                                                   cluster_fallback=True))
+    for s in without:
+        assert any(np.allclose(s.c, t.c) and np.allclose(s.v, t.v) for t in with_it)
+    if shape == "bottle":
+        assert with_it == []
+
+
+@pytest.mark.parametrize("radius_spacings", [30.0, 100.0])
+def test_a_cluster_whose_position_is_refused_tries_its_next_member(mug, params, radius_spacings):
+    """Single linkage at a radius that chains the handle's contacts to the cup's into one
+    cluster: its one position, the largest ball, is the cup's mouth, refused (the bottom closes
+    it), and the handle is lost. With ``cluster_fallback`` the cluster tries its members'
+    positions outside that ball, largest first, and the handle's hole stands; the mouth stays
+    among the refused."""
+    import dataclasses
+
+    from gbh_drake.core.hangability import detect_with_report
+
+    chained = dataclasses.replace(params, cluster_radius=radius_spacings)
+    lost, before = detect_with_report(mug, chained)
+    assert lost == [] and before.clusters == 1 and before.refused_by()["not a through-hole"] == 1
+    (s,), after = detect_with_report(mug, dataclasses.replace(chained, cluster_fallback=True))
+    assert CUP_RADIUS < s.c[0] < HANDLE_CENTER[0] + 0.02 and abs(s.v @ [0, 1, 0]) > COS_3_DEG
+    assert after.positions == 2 and after.refused_by()["not a through-hole"] == 1
+    assert np.linalg.norm(after.refused[0].c[:2]) < CUP_RADIUS  # the mouth, on the cup's axis
