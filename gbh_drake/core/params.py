@@ -120,8 +120,9 @@ class GbhParams:
     handle's contacts to the body's next to it; the cluster's one position then lies in the
     cup or a corner, is refused, and the handle is lost, and which contacts chain into one
     cluster turns on a tenth of a millimetre (a basket's handle lost by a start 0.1 mm higher,
-    docs/candidates.md). A cluster whose position passes is unchanged; no threshold. Off until
-    measured on both object sets (docs/robustness.md)."""
+    docs/candidates.md). A cluster whose position passes is unchanged; no threshold. Measured on
+    ``gbh-10`` over both object sets (no verdict changed; the knife edge one fewer); off until
+    ``gbh+`` and the one-view methods are screened with it (docs/robustness.md)."""
     hang_segment_seen: bool = True
     """Ours, with ``unknown_is_occupied``: a contact's hanging position is searched only on
     the part of its segment toward the CoM that the cameras saw free, up to where the segment

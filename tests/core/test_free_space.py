@@ -351,4 +351,3 @@ def test_the_seen_prefix_ends_where_a_segment_leaves_seen_free_space(params):
     assert mask[0, : last + 1].all() and not mask[0, last + 1:].any()
     assert 0.04 - 0.0025 <= through_gap[last, 0] <= 0.04 + 0.005  # at the wall the scan lost
     assert mask[1].all()  # inside the body: never seen free, kept whole
-

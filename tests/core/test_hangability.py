@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import trimesh
@@ -181,8 +183,6 @@ def test_the_cluster_fallback_keeps_every_structure_that_stands(shape, params, r
     """``cluster_fallback`` only adds: a cluster whose chosen position stands keeps it, so
     every structure found without the fallback is found with it, the same (and the bottle,
     with nothing to hang by, stays empty)."""
-    import dataclasses
-
     mesh = request.getfixturevalue(shape)
     without = detect_hangable_structures(mesh, params)
     with_it = detect_hangable_structures(mesh, dataclasses.replace(params,
@@ -200,8 +200,6 @@ def test_a_cluster_whose_position_is_refused_tries_its_next_member(mug, params, 
     it), and the handle is lost. With ``cluster_fallback`` the cluster tries its members'
     positions outside that ball, largest first, and the handle's hole stands; the mouth stays
     among the refused."""
-    import dataclasses
-
     from gbh_drake.core.hangability import detect_with_report
 
     chained = dataclasses.replace(params, cluster_radius=radius_spacings)
