@@ -101,7 +101,7 @@ class LoopEnclosure:
         return ("its material passes through the loop, which "
                 + ("links it" if self.linked else "does not link it")
                 + (f"; a {1000 * self.gap:.1f} mm gap, the material "
-                   f"{1000 * self.thickness:.1f} mm" if self.gap > 0 else ""))
+                   f"{1000 * self.thickness:.1f} mm" if round(1000 * self.gap, 1) > 0 else ""))
 
 
 def bar_tip_pivot(gripper: HookGripperGeometry = HOOK_GRIPPER) -> np.ndarray:

@@ -107,6 +107,16 @@ def test_an_open_gap_encloses_only_material_thicker_than_it(q, encloses):
     assert e.encloses is encloses
 
 
+@pytest.mark.parametrize(("q", "clause"), [(Q, False), (Q + 1e-5, False), (0.019, True)])
+def test_the_reason_names_a_gap_only_when_it_shows(q, clause):
+    """A loop stopped a hundredth of a millimetre open (the physics' last digits) reads as a
+    closed one; a 4 mm gap is named, with the material's thickness."""
+    text = enclosure(mug_on_the_bar(), q, q).text()
+    assert text.startswith("its material passes through the loop, which links it")
+    assert ("mm gap, the material" in text) is clause
+    assert "0.0 mm gap" not in text
+
+
 def test_the_wedge_closes_at_its_sharp_edge():
     """The wedge bar's tip-most point is its outer edge (a rod's half width past the bar's
     centre line, away from the palm): its loop closes there, so a wire ring whose strand sits

@@ -6,6 +6,8 @@ from replay_pages import fetched, tracks
 
 import gbh_drake
 from gbh_drake import SCENARIOS_DIR
+from gbh_drake.objects.catalog import make_object
+from gbh_drake.replay import extent
 from gbh_drake.run import run
 from gbh_drake.scenario import Scenario, ScenarioError, load_scenario
 
@@ -42,8 +44,15 @@ def _check_the_replay(page: str, record):
         assert f"{key}</div>" in page, key
     animation = tracks(page)
     moved = np.array([k["value"] for k in animation["/drake"][".position"]])
-    carried = -moved[-1]  # the scene moves back by as much as the mug moved
-    assert np.linalg.norm(carried[:2] - (np.array(record.place[:2]) - record.pose[:2])) < 0.05
+    carried = -moved[-1]  # the scene moves back by as much as the mug's box centre moved
+    # ... which is where the mug's origin ended (the monitor's last look) but for the centre's
+    # turn: at most twice its distance from the origin (the mug lowered on its side, or pushed
+    # by the retreat, differs from one processor to the next; a view that stayed put is 27 cm
+    # off).
+    centre_O, _ = extent(make_object("mug_classic"))
+    ended = np.array(record.verdict.released_at[:2]) - record.pose[:2]
+    assert np.linalg.norm(carried[:2] - ended) <= 2 * np.linalg.norm(centre_O) + 0.005
+    assert np.linalg.norm(ended) > 2 * np.linalg.norm(centre_O) + 0.005  # so it can tell
     assert np.allclose(animation["/Grid"][".position"][-1]["value"], moved[-1])
     fps = 16.0
     for path in ("/drake/gbh/grasps", "/drake/gbh/chosen"):
