@@ -97,11 +97,10 @@ def detect_with_report(
     v, t, dirs, mesh_through, through = _tested_positions(obj, free, c, params)
     report.refused += _refusals(c, clearance, v, t, mesh_through, through)
     if params.cluster_fallback:
-        more = fallback_positions(obj, members, lab, np.delete(first, small), c, clearance,
-                                  through, params)
+        more, clear2 = fallback_positions(obj, members, lab, np.delete(first, small), c,
+                                          clearance, through, params)
         if len(more):
             c2, contact2 = members[0][more], members[2][more]
-            clear2 = obj.distance(c2)
             v2, t2, dirs2, mesh2, through2 = _tested_positions(obj, free, c2, params)
             tried = _tried_in_order(lab[more], through2, params.positions_per_cluster)
             report.positions += int(tried.sum())
@@ -327,11 +326,11 @@ def chosen_members(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, np.n
 def fallback_positions(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, np.ndarray],
                        labels: np.ndarray, chosen: np.ndarray, c: np.ndarray,
                        clearance: np.ndarray, through: np.ndarray, params: GbhParams
-                       ) -> np.ndarray:
-    """Indices of the members (in order: cluster by cluster, largest exact clearance first)
-    whose positions a cluster tries next when no position it chose stands as a hanging
-    structure (``GbhParams.cluster_fallback``): each was refused, or merged into a position
-    that was. ``chosen``: the members whose positions the clusters chose (at least
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """(indices, exact clearances (m)) of the members (in order: cluster by cluster, largest
+    exact clearance first) whose positions a cluster tries next when no position it chose
+    stands as a hanging structure (``GbhParams.cluster_fallback``): each was refused, or merged
+    into a position that was. ``chosen``: the members whose positions the clusters chose (at least
     ``min_clearance``); ``c`` (P, 3): the positions tested, with their ``clearance`` (P,) and
     verdict ``through`` (P,). A candidate lies outside the free ball of every tested position
     (inside one it is that position again), has at least ``min_clearance``, and is not inside
@@ -343,7 +342,7 @@ def fallback_positions(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, 
                     < passing_r[None], axis=1) if len(passing_c) else \
         np.zeros(len(chosen), dtype=bool)
     lost = np.setdiff1d(labels[chosen], labels[chosen[stands]])
-    out = []
+    out, out_clear = [], []
     for label in lost:
         mine = np.flatnonzero(labels == label)
         mine = mine[np.all(np.linalg.norm(member_c[mine, None] - c[None], axis=2)
@@ -353,8 +352,12 @@ def fallback_positions(obj: ObjectModel, members: tuple[np.ndarray, np.ndarray, 
         exact = obj.distance(member_c[mine])
         big = exact >= params.min_clearance
         mine, exact = mine[big], exact[big]
-        out.append(mine[_merge_coincident(member_c[mine], exact, params.dedup_radius_factor)])
-    return np.concatenate(out) if out else np.zeros(0, dtype=int)
+        kept = _merge_coincident(member_c[mine], exact, params.dedup_radius_factor)
+        out.append(mine[kept])
+        out_clear.append(exact[kept])
+    if not out:
+        return np.zeros(0, dtype=int), np.zeros(0)
+    return np.concatenate(out), np.concatenate(out_clear)
 
 
 def seen_prefix(obj: ObjectModel, free: FreeSpace, samples: np.ndarray, params: GbhParams
