@@ -260,6 +260,8 @@ class Verdict:
     or once more after each regrasp (where it was set down anew and scanned again)."""
     released_at: list[float] = field(default_factory=list)
     """The object's position (W) at the end, after release."""
+    released_pose: list[float] = field(default_factory=list)
+    """The object's pose at the end (W: x, y, z m, roll, pitch, yaw rad)."""
     released_on_table: bool = False
     """Whether the object lies on the table, free of the gripper, at the end."""
     earlier_attempts: list[dict] = field(default_factory=list)

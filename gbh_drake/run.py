@@ -73,11 +73,13 @@ class RunSummary:
             if r.grasp_rank >= 0:
                 lines.append(f"  executed grasp #{r.grasp_rank + 1} ({r.grasp_kind}"
                              f"{', fallback' if r.fallback else ''}, score {r.grasp_score:.3g}); "
-                             f"lift {r.lift * 100:.1f} cm, released at "
-                             f"({r.place[0]:.2f}, {r.place[1]:.2f}) m")
+                             f"lift {r.lift * 100:.1f} cm, hook point to "
+                             f"({r.place[0]:.2f}, {r.place[1]:.2f}) m at the place")
             verdict = "SUCCESS" if r.success else "FAILURE"
             held = f" [{r.held_by}]" if r.held_by else ""
             lines.append(f"  verdict: {verdict}{held}: {r.outcome}: {r.reason}")
+            if "release" in r.phases and v.released_pose:
+                lines.append(f"  set down: {set_down_in_words(v.released_pose, v.released_on_table)}")
             if v.squeeze_force == v.squeeze_force:  # not nan
                 squeeze = f"squeeze {v.squeeze_force:.0f} N while carried"
                 if v.loop_closed and v.squeeze_force < LOOP_SQUEEZE:
@@ -87,6 +89,15 @@ class RunSummary:
             lines.append("  timings: " + ", ".join(f"{k} {t:.2f} s" for k, t in r.timings.items()))
         lines.append(f"  replay: {self.replay}")
         return "\n".join(lines)
+
+
+def set_down_in_words(pose: list[float], on_table: bool) -> str:
+    """Where the released object ended: ``pose`` (W: x, y, z m, roll, pitch, yaw rad) and
+    whether it lies free on the table."""
+    where = f"at ({pose[0]:.2f}, {pose[1]:.2f}) m"
+    if not on_table:
+        return f"it ended {where}, not free on the table"
+    return f"it ended free on the table {where}, {rest_in_words(pose)}"
 
 
 def _touching(touching: dict[str, list[str]]) -> str:

@@ -347,6 +347,7 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
         w.cage_look = None
     if mode == Mode.DONE:
         v.released_at = list(o.p_WO)
+        v.released_pose = list(o.pose)
         v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
     conclude(w, status, cfg, search)
     w.last_phase = mode.value

@@ -13,7 +13,7 @@ from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
 from gbh_drake.messages import Mode
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.objects import list_objects
-from gbh_drake.run import RunSummary
+from gbh_drake.run import RunSummary, set_down_in_words
 from gbh_drake.seeds import derive_seeds
 from gbh_drake.trial import build_trial, make_record, simulate_trial, trial_duration
 
@@ -62,6 +62,9 @@ def test_mug_hooked_by_its_handle_is_carried_released_and_caged(scenario):
     assert record.verdict.squeeze_force < 5.0
     text = RunSummary("s.yaml", "pick", record, "replay.html", 0.0).to_text()
     assert "verdict: SUCCESS [cage]" in text and "the loop closed on its stop" in text
+    # Where the object ended once let go, from the monitor's last look (not the planned place).
+    assert record.verdict.released_pose[:3] == record.verdict.released_at
+    assert f"set down: {set_down_in_words(record.verdict.released_pose, True)}" in text
     # Carried to the place position and lowered there (the object hangs with its CoM below
     # the hook and stands up when set down: within a body radius or so of the place).
     place = np.asarray(scenario.pick.place_position)
@@ -290,3 +293,12 @@ def test_every_object_gets_a_plan_or_true_reasons(scenario, name):
             if record.outcome == "no_grasp_found" and record.n_candidates:
                 assert sum(record.rejected_by.values()) == record.n_candidates
                 assert "closest: a " in record.reason, record.reason
+
+
+def test_set_down_in_words_says_where_and_how_the_object_rests():
+    upright = [0.478, 0.258, 0.04, 0.0, 0.0, 1.0]
+    on_side = [0.478, 0.258, 0.04, np.pi / 2, 0.0, 1.0]
+    assert set_down_in_words(upright, True) == \
+        "it ended free on the table at (0.48, 0.26) m, upright (tilted 0 deg)"
+    assert "on its side (tilted 90 deg)" in set_down_in_words(on_side, True)
+    assert set_down_in_words(on_side, False) == "it ended at (0.48, 0.26) m, not free on the table"
