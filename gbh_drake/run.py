@@ -73,8 +73,7 @@ class RunSummary:
             if r.grasp_rank >= 0:
                 lines.append(f"  executed grasp #{r.grasp_rank + 1} ({r.grasp_kind}"
                              f"{', fallback' if r.fallback else ''}, score {r.grasp_score:.3g}); "
-                             f"lift {r.lift * 100:.1f} cm, hook point to "
-                             f"({r.place[0]:.2f}, {r.place[1]:.2f}) m at the place")
+                             + _lift_in_words(r))
             verdict = "SUCCESS" if r.success else "FAILURE"
             held = f" [{r.held_by}]" if r.held_by else ""
             lines.append(f"  verdict: {verdict}{held}: {r.outcome}: {r.reason}")
@@ -89,6 +88,15 @@ class RunSummary:
             lines.append("  timings: " + ", ".join(f"{k} {t:.2f} s" for k, t in r.timings.items()))
         lines.append(f"  replay: {self.replay}")
         return "\n".join(lines)
+
+
+def _lift_in_words(r: TrialRecord) -> str:
+    """The executed grasp's lift (the hand's, m -> cm) and place, as planned: said as done once
+    the hand has lifted (its carry began), as planned and not reached before."""
+    if "carry" in r.phases:  # lifted: the carry began
+        return (f"lift {r.lift * 100:.1f} cm, hook point to ({r.place[0]:.2f}, "
+                f"{r.place[1]:.2f}) m at the place")
+    return f"lift {r.lift * 100:.1f} cm planned, not reached (the verdict says where it ended)"
 
 
 def set_down_in_words(pose: list[float], on_table: bool) -> str:

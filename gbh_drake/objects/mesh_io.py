@@ -51,8 +51,10 @@ log = logging.getLogger(__name__)
 _LOGGED: set[tuple[str, str]] = set()
 
 SUPPORTED_SUFFIXES = (".obj", ".stl", ".ply", ".glb", ".gltf", ".off")
-#: Volumes (m^3) at or below this count as zero (a 1 mm cube is 1e-9 m^3).
-MIN_VOLUME = 1e-12
+#: Volumes at or below this fraction of the cube of the mesh's largest extent count as zero (a
+#: 10 cm object: 1e-12 m^3; relative, so that a mesh read at the wrong scale, 0.1 mm across, is
+#: refused for its size, with the unit hint, not called flat).
+MIN_VOLUME_FRACTION = 1e-9
 #: Meshes with more triangles are decimated to this many (with a warning).
 DECIMATE_ABOVE = 200_000
 #: Meshes with more triangles are refused (decimating them would take minutes).
@@ -232,14 +234,16 @@ def _repair(mesh: trimesh.Trimesh) -> list[str]:
 
 
 def _check_volume(mesh: trimesh.Trimesh, fail) -> None:
-    """Refuse flat or inside-out meshes."""
+    """Refuse flat or inside-out meshes (a volume at most :data:`MIN_VOLUME_FRACTION` of the
+    largest extent cubed)."""
+    min_volume = MIN_VOLUME_FRACTION * float(np.max(mesh.extents)) ** 3
     if mesh.is_watertight:
-        if mesh.volume <= MIN_VOLUME:
+        if mesh.volume <= min_volume:
             raise fail(f"zero or negative volume ({mesh.volume:.3g} m^3)")
         return
     try:  # scipy directly: trimesh would retry and log qhull's traceback (at debug level)
         hull_volume = float(ConvexHull(np.asarray(mesh.vertices)).volume)
     except (QhullError, ValueError):  # flat or degenerate input
         hull_volume = 0.0
-    if hull_volume <= MIN_VOLUME:
+    if hull_volume <= min_volume:
         raise fail(f"zero volume: the mesh is flat (convex hull {hull_volume:.3g} m^3)")

@@ -43,6 +43,20 @@ def test_flat_mesh_has_zero_volume(tmp_path):
     _raises_naming(path, "zero volume")
 
 
+def test_a_body_read_at_a_tiny_scale_is_not_called_flat(tmp_path):
+    """A 10 cm box at scale 0.001 (a metres file given as millimetres) is 0.1 mm across and
+    1e-12 m^3: it loads, so that the size check can refuse it with the unit hint."""
+    path = tmp_path / "box.obj"
+    trimesh.creation.box((0.1, 0.1, 0.1)).export(path)
+    mesh = load_mesh_file(path, scale=0.001)
+    assert mesh.volume == pytest.approx(1e-12)
+    flat = tmp_path / "flat.obj"  # still flat at any scale
+    flat.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1e-10\n"
+                    "f 1 2 3\nf 1 3 4\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n")
+    with pytest.raises(MeshImportError, match="zero"):
+        load_mesh_file(flat, scale=0.001)
+
+
 def test_non_finite_vertices(tmp_path):
     path = tmp_path / "nan.obj"
     path.write_text("v 0 0 0\nv 1 0 0\nv nan 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n")

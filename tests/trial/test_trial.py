@@ -10,12 +10,12 @@ import pytest
 from pydrake.systems.analysis import Simulator
 
 from gbh_drake.core.antipodal import AntipodalParams, sample_antipodal_grasps
-from gbh_drake.messages import Mode
+from gbh_drake.messages import Mode, Outcome
 from gbh_drake.modeling.object_asset import initial_object_pose, load_object_asset
 from gbh_drake.objects import list_objects
 from gbh_drake.run import RunSummary, set_down_in_words
 from gbh_drake.seeds import derive_seeds
-from gbh_drake.trial import build_trial, make_record, simulate_trial, trial_duration
+from gbh_drake.trial import TrialRecord, build_trial, make_record, simulate_trial, trial_duration
 
 pytestmark = pytest.mark.sim
 
@@ -302,3 +302,17 @@ def test_set_down_in_words_says_where_and_how_the_object_rests():
         "it ended free on the table at (0.48, 0.26) m, upright (tilted 0 deg)"
     assert "on its side (tilted 90 deg)" in set_down_in_words(on_side, True)
     assert set_down_in_words(on_side, False) == "it ended at (0.48, 0.26) m, not free on the table"
+
+
+def test_a_trial_cut_off_before_its_lift_prints_the_lift_as_planned_not_done():
+    record = TrialRecord(object="mug", source="s", object_mass=0.3, seed=0, method="gbh",
+                         num_views=10, gbh_preset="", pose=[0.55, 0, 0, 0, 0, 0],
+                         outcome=Outcome.INCOMPLETE, success=False, reason="cut off",
+                         held_by="", grasp_rank=0, grasp_kind="parallel", grasp_score=0.9,
+                         lift=0.117, place=[0.4, 0.3, 0.2],
+                         phases={"settle": 0.0, "plan": 0.5, "approach": 0.52})
+    text = RunSummary("s.yaml", "pick", record, "replay.html", 0.0).to_text()
+    assert "lift 11.7 cm planned, not reached" in text and "at the place" not in text
+    record.phases["carry"] = 4.6
+    text = RunSummary("s.yaml", "pick", record, "replay.html", 0.0).to_text()
+    assert "lift 11.7 cm, hook point to (0.40, 0.30) m at the place" in text
