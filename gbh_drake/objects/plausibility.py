@@ -77,10 +77,12 @@ def extent_warnings(mesh: trimesh.Trimesh, scale: float = 1.0) -> list[str]:
     return [f"{what}: {hint}"]
 
 
-def size_refusal(mesh: trimesh.Trimesh, scale: float = 1.0) -> str | None:
+def size_refusal(mesh: trimesh.Trimesh, scale: float = 1.0, *,
+                 field: str = FIELD_SCALE) -> str | None:
     """Why an object of ``mesh`` (m, after ``scale``) cannot be simulated at all, with the
-    ``scale`` hint, or None: its largest extent is outside [REFUSE_MIN_EXTENT,
-    REFUSE_MAX_EXTENT] (the warnings' range is narrower: :func:`extent_warnings`)."""
+    hint naming ``field`` (:func:`scale_hint`), or None: its largest extent is outside
+    [REFUSE_MIN_EXTENT, REFUSE_MAX_EXTENT] (the warnings' range is narrower:
+    :func:`extent_warnings`)."""
     extent = float(np.max(mesh.extents)) if len(mesh.vertices) else 0.0
     if not np.isfinite(extent) or REFUSE_MIN_EXTENT <= extent <= REFUSE_MAX_EXTENT:
         return None
@@ -89,24 +91,28 @@ def size_refusal(mesh: trimesh.Trimesh, scale: float = 1.0) -> str | None:
     bound = REFUSE_MAX_EXTENT if extent > REFUSE_MAX_EXTENT else REFUSE_MIN_EXTENT
     sign = ">" if extent > REFUSE_MAX_EXTENT else "<"
     return (f"largest extent {_length(extent)} is {what} ({sign} {_length(bound)}): "
-            f"{scale_hint(extent, scale)}")
+            f"{scale_hint(extent, scale, field=field)}")
 
 
-def scale_hint(extent: float, scale: float = 1.0) -> str:
-    """The hint for a mesh of largest ``extent`` (m) read at ``scale``: which total ``scale``
-    brings it to a plausible size, e.g. ``"looks like centimetres: give scale: 0.01"``."""
-    if extent > MAX_EXTENT:
+def scale_hint(extent: float, scale: float = 1.0, *, field: str = FIELD_SCALE,
+               within: tuple[float, float] = (MIN_EXTENT, MAX_EXTENT)) -> str:
+    """The hint for a mesh of largest ``extent`` (m) read at ``scale``: which total scale
+    brings it ``within`` the plausible range (m; default a hand-held object's), e.g.
+    ``"looks like centimetres: give scale: 0.01"``. ``field`` names the setting: a scenario's
+    field (``scale: 0.01``) or a command's option (``--scale``: ``--scale 0.01``)."""
+    low, high = within
+    if extent > high:
         options = [(name, f) for name, f in UNITS_TOO_BIG]
     else:
         options = [(f"{f:g}x too small", f) for f in FACTORS_TOO_SMALL]
     fitting = [(abs(np.log(extent * f / TYPICAL_EXTENT)), name, f) for name, f in options
-               if MIN_EXTENT <= extent * f <= MAX_EXTENT]
+               if low <= extent * f <= high]
     if not fitting:
-        return f"check the file's unit and give {FIELD_SCALE} (now {scale:g})"
+        return f"check the file's unit and give {field} (now {scale:g})"
     _, name, factor = min(fitting)
-    looks = f"looks like {name}" if extent > MAX_EXTENT else f"looks {name}"
-    return (f"{looks}: give {FIELD_SCALE}: {scale * factor:g} "
-            f"(then {_length(extent * factor)})")
+    looks = f"looks like {name}" if extent > high else f"looks {name}"
+    give = f"{field} " if field.startswith("--") else f"{field}: "
+    return f"{looks}: give {give}{scale * factor:g} (then {_length(extent * factor)})"
 
 
 def plausibility_warnings(

@@ -24,23 +24,27 @@ from gbh_drake.scan_grasps.errors import GraspsInputError
 from gbh_drake.scan_grasps.result import GraspsResult
 
 
-def grasps(input, *, table_z: float | None = None, table_plane=None, frame=None, target=None,
-           params=None, preset: str | None = None, seed: int | None = None,
-           top: int | None = None, pick=None) -> GraspsResult:
+def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_plane=None,
+           frame=None, target=None, params=None, preset: str | None = None,
+           seed: int | None = None, top: int | None = None, pick=None) -> GraspsResult:
     """Ranked hook grasps for the object in ``input`` (a path: a mesh, a point cloud, or a
     folder of depth images with its ``views.yaml``), in the robot's base frame B.
 
-    ``table_z`` (m) or ``table_plane`` ((a, b, c, d): a x + b y + c z + d = 0, in B): the table
-    (default: the views file's, else fitted, else under the object). ``frame``: the pose
-    (4, 4) of the input's own frame in B, when it is not B. ``target`` (3,): where the object
-    is (default: where the views look, or the cloud's middle). ``params``: ``GbhParams``
+    ``scale``: the file's units in metres (a mesh's or a point cloud's: 0.001 for
+    millimetres), applied before ``frame``. ``table_z`` (m) or ``table_plane`` ((a, b, c, d):
+    a x + b y + c z + d = 0, in B): the table (default: the views file's, else fitted, else
+    under the object). ``frame``: the pose (4, 4) of the input's own frame in B, when it is
+    not B. ``target`` (3,): where the object is (default: where the views look, or the cloud's
+    middle). ``params``: ``GbhParams``
     (default: the views file's ``gbh``, else gbh_drake's), ``preset`` (``"paper"``), ``seed``
     (the surface sampler's; default the file's, else 0), ``top`` (how many; default
     ``top_k``), ``pick``: a ``PickConfig`` for the waypoints (approach distance, lift).
 
-    Raises :class:`~gbh_drake.scan_grasps.errors.GraspsInputError` for an input that cannot
-    be used. An empty scan, nothing hangable or no collision-free grasp are results
-    (``result.none`` says which and why)."""
+    Raises ValueError for a bad argument, and
+    :class:`~gbh_drake.scan_grasps.errors.GraspsInputError` for an input that cannot be used
+    (e.g. an object smaller than 5 mm or larger than 1.2 m, as ``gbh run``; a given table
+    above most of the object). An empty scan, nothing hangable or no collision-free grasp are
+    results (``result.none`` says which and why)."""
     from gbh_drake.core.gripper import HOOK_GRIPPER
     from gbh_drake.core.pipeline import plan_grasps
     from gbh_drake.scan_grasps.inputs import InputOptions, load_input
@@ -48,9 +52,15 @@ def grasps(input, *, table_z: float | None = None, table_plane=None, frame=None,
 
     start = time.perf_counter()
     path = Path(input)
+    if isinstance(scale, bool) or not isinstance(scale, int | float | np.number) \
+            or not (np.isfinite(scale) and scale > 0):
+        raise ValueError(f"scale: the file's units in metres, a positive finite number; got "
+                         f"{scale!r}")
     options = InputOptions(None if frame is None else np.asarray(frame, dtype=float),
                            _table(table_z, table_plane),
-                           None if target is None else np.asarray(target, dtype=float))
+                           None if target is None else np.asarray(target, dtype=float),
+                           float(scale),
+                           "--table-z" if table_z is not None else "--table-plane")
     scan_input = load_input(path, options)
     scan = scan_input.scan
     read = time.perf_counter()
@@ -105,7 +115,7 @@ def _table(table_z: float | None, table_plane) -> tuple[np.ndarray, float] | Non
     a = np.asarray(table_plane, dtype=float).reshape(-1)
     if len(a) != 4 or not np.isfinite(a).all() or not np.linalg.norm(a[:3]) > 0:
         raise ValueError(f"table_plane is a, b, c, d (a x + b y + c z + d = 0), got "
-                         f"{list(table_plane)}")
+                         f"{a.tolist()}")
     n = np.linalg.norm(a[:3])
     normal, height = a[:3] / n, -a[3] / n
     if normal[2] < 0:

@@ -25,9 +25,11 @@ EPILOG = """\
 examples:
   gbh grasps output/default/views                 # the views gbh run --save-views wrote
   gbh grasps mug.obj --table-z 0.0 --html mug.html
+  gbh grasps mug_mm.stl --scale 0.001             # a mesh in millimetres
   gbh grasps cloud.npy --frame 0.4,0,0.5,180,0,90 --out cloud_grasps.json
 Exit 0 with grasps or with a reason there are none (in the output's "none"); 2 for an input
-that cannot be used (one line naming the file and the field)."""
+that cannot be used or an output that cannot be written (one line naming the file and the
+field or option; nothing is written)."""
 
 
 def add_subcommand(sub) -> None:
@@ -38,6 +40,10 @@ def add_subcommand(sub) -> None:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", help="a mesh, a point cloud, or a folder of depth images (or its "
                                  "views.yaml)")
+    p.add_argument("--scale", type=float, metavar="S", default=1.0,
+                   help="the file's units in metres, for a mesh or a point cloud (0.001: "
+                        "millimetres, 0.01: centimetres, 0.0254: inches), applied before "
+                        "--frame; default 1")
     table = p.add_mutually_exclusive_group()
     table.add_argument("--table-z", type=float, metavar="Z",
                        help="the table top is the horizontal plane z = Z (m, in B); default: the "
@@ -77,15 +83,22 @@ def _numbers(text: str, n: int, flag: str):
 
 
 def run_command(args, parser) -> int:
-    """Runs ``gbh grasps`` with parsed ``args`` (``parser.error`` for a bad flag)."""
+    """Runs ``gbh grasps`` with parsed ``args`` (``parser.error`` for a bad flag). The output
+    files are checked before the work and written together at the end, whole or not at
+    all."""
     import numpy as np
 
-    from gbh_drake.outputs import OutputError, reason, write_atomically
     from gbh_drake.scan_grasps.api import grasps
     from gbh_drake.scan_grasps.document import document, to_json, to_yaml
     from gbh_drake.scan_grasps.poses import parse_pose
 
+    out = args.out or ("grasps.yaml" if args.yaml else "grasps.json")
+    files = {flag: Path(path) for flag, path in (("--out", out), ("--html", args.html))
+             if path and path != "-"}
     try:
+        if not (np.isfinite(args.scale) and args.scale > 0):
+            raise ValueError(f"--scale: the file's units in metres, a positive finite number; "
+                             f"got {args.scale}")
         frame = parse_pose(args.frame) if args.frame else None
         plane = _numbers(args.table_plane, 4, "--table-plane") if args.table_plane else None
         target = _numbers(args.target, 3, "--target") if args.target else None
@@ -93,8 +106,13 @@ def run_command(args, parser) -> int:
             raise ValueError(f"--top: 1 to 100, got {args.top}")
         if args.table_z is not None and not np.isfinite(args.table_z):
             raise ValueError(f"--table-z: a finite height, got {args.table_z}")
-        result = grasps(args.input, table_z=args.table_z, table_plane=plane, frame=frame,
-                        target=target, preset=args.preset, seed=args.seed, top=args.top)
+        for flag, path in files.items():
+            check_writable(path, flag)
+        if len(files) == 2 and files["--html"].resolve() == files["--out"].resolve():
+            raise ValueError(f"--html {args.html}: the same file as --out")
+        result = grasps(args.input, scale=args.scale, table_z=args.table_z, table_plane=plane,
+                        frame=frame, target=target, preset=args.preset, seed=args.seed,
+                        top=args.top)
     except ValueError as e:
         from gbh_drake.scan_grasps.errors import GraspsInputError
 
@@ -103,31 +121,74 @@ def run_command(args, parser) -> int:
         parser.error(str(e))
     doc = document(result)
     text = to_yaml(doc) if args.yaml else to_json(doc)
-    out = args.out or ("grasps.yaml" if args.yaml else "grasps.json")
+    contents = {"--out": text}
+    if args.html:
+        from gbh_drake.scan_grasps.page import grasps_page
+
+        contents["--html"] = grasps_page(result)
+    write_together([(path, contents[flag]) for flag, path in files.items()])
     if out == "-":
         print(text, end="")
     else:
         print(summary_text(result))
-        try:
-            write_atomically(Path(out), text)
-        except OSError as e:
-            raise OutputError(out, f"could not write it ({reason(e)})") from None
-        print(f"wrote {out}")
-    if args.html:
-        from gbh_drake.scan_grasps.page import grasps_page
-
-        html = grasps_page(result)
-        write_atomically(Path(args.html), html)
-        if out != "-":
-            print(f"wrote {args.html}")
+        for path in files.values():
+            print(f"wrote {path}")
     return 0
+
+
+def check_writable(path: Path, option: str) -> None:
+    """Raises ``OutputError`` (naming ``path`` and ``option``) when ``path`` cannot be
+    written: a folder, in a folder that does not exist or is not writable."""
+    import os
+
+    from gbh_drake.outputs import OutputError, reason
+
+    if "\0" in str(path):
+        raise OutputError(repr(str(path)), f"{option}: holds a NUL character")
+    folder = path.parent
+    try:
+        if path.is_dir():
+            problem = "is a folder"
+        elif not folder.is_dir():
+            problem = (f"its folder {folder} is not a folder" if folder.exists() else
+                       f"its folder {folder} does not exist")
+        elif not os.access(folder, os.W_OK | os.X_OK):
+            problem = f"its folder {folder} is not writable"
+        else:
+            return
+    except OSError as e:  # a name too long, a folder that cannot be looked into
+        problem = f"cannot be used ({reason(e)})"
+    raise OutputError(path, f"{option}: {problem}")
+
+
+def write_together(files: list[tuple[Path, str]]) -> None:
+    """Writes each (path, text) of ``files`` whole, or none of them: all to temporary files
+    first, then renamed into place (``outputs.write_file``); raises ``OutputError``."""
+    import os
+
+    from gbh_drake.outputs import OutputError, reason, remove, write_file
+
+    staged: list[tuple[Path, Path]] = []
+    try:
+        for path, data in files:
+            staged.append((write_file(path, data), path))
+        for tmp, path in staged:
+            try:
+                os.replace(tmp, path)
+            except OSError as e:
+                raise OutputError(path, f"could not write it ({reason(e)})") from None
+    finally:
+        for tmp, _ in staged:
+            remove(tmp)
 
 
 def summary_text(result) -> str:
     """What ``gbh grasps`` found, in a few lines."""
-    t = result.table
+    from gbh_drake.scan_grasps.table import plane_text
+
     lines = [f"input {result.input_path} ({result.input_kind.replace('_', ' ')}; free space: "
-             f"{'yes' if result.free_space else 'no'}); table {_plane(t)} ({result.table_source})"]
+             f"{'yes' if result.free_space else 'no'}); table {plane_text(result.table)} "
+             f"({result.table_source})"]
     lines += [f"  note: {n}" for n in result.notes]
     lines += [f"  warning: {w}" for w in result.warnings]
     lines.append(f"grasps: {len(result.structures)} hanging structures, {result.n_candidates} "
@@ -143,11 +204,3 @@ def summary_text(result) -> str:
     lines.append(f"  time {result.timings.get('total', 0.0):.2f} s")
     return "\n".join(lines)
 
-
-def _plane(table) -> str:
-    import numpy as np
-
-    n = table.normal_W
-    if np.allclose(n, [0.0, 0.0, 1.0]):
-        return f"z = {table.height:.4f} m"
-    return f"{np.round(n, 4).tolist()} . p = {table.height:.4f} m"

@@ -27,15 +27,23 @@ from pathlib import Path
 import numpy as np
 
 from gbh_drake.scan_grasps.errors import GraspsInputError
-from gbh_drake.scan_grasps.table import table_plane, under
+from gbh_drake.scan_grasps.table import plane_text, table_plane, under
 
 #: Suffixes read as meshes, and as point clouds (a .ply is a cloud when it has no faces).
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".glb", ".gltf", ".off")
 CLOUD_SUFFIXES = (".ply", ".pcd", ".npy")
-#: An input whose largest extent (in its own units) exceeds this is not in metres.
+#: A point cloud whose largest extent (m, after ``scale``) exceeds this is not in metres (the
+#: object itself is held to ``gbh run``'s sizes: ``objects.plausibility.size_refusal``).
 MAX_INPUT_EXTENT = 20.0
-#: ... and an object (segmented, or a mesh) larger than this (m) is not one hand-held object.
-MAX_OBJECT_EXTENT = 1.2
+#: m: a point this far below a given table is under it (more than a scan's noise or a
+#: rounded base).
+BELOW_TABLE = 0.005
+#: A given table above more than this share of the object's points is refused (it cuts
+#: the object, or lies elsewhere); above at least :data:`BELOW_TABLE_WARNING` of them, warned of.
+BELOW_TABLE_REFUSAL = 0.5
+BELOW_TABLE_WARNING = 0.01
+#: The option that scales an input, as the size hints name it.
+SCALE_OPTION = "--scale"
 
 #: The note when there is no free space (a mesh, a point cloud).
 NO_FREE_SPACE = ("no free space: the input says where the surface is, not what the camera saw "
@@ -77,12 +85,19 @@ class InputOptions:
     fitted)."""
     target: np.ndarray | None = None
     """(3,) where in B to look for the object (None: the file's, or the input's own middle)."""
+    scale: float = 1.0
+    """The file's units in metres (a mesh's or a point cloud's; applied before ``X_BI``)."""
+    table_option: str = "table"
+    """What gave ``table``, as a refusal of it names it (``--table-z``, ``--table-plane``)."""
 
 
 def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
     """Reads ``path`` (a mesh, a point cloud, a folder of depth images or its views.yaml)."""
     path = Path(path)
     if path.is_dir() or path.suffix.lower() in (".yaml", ".yml"):
+        if options.scale != 1.0:
+            raise GraspsInputError(path, SCALE_OPTION, "scales a mesh or a point cloud; depth "
+                                   "images are scaled by depth_scale in views.yaml")
         return _depth_images(path, options)
     if not path.exists():
         raise GraspsInputError(path, "", "file not found")
@@ -95,7 +110,8 @@ def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
     from gbh_drake.scan_grasps.cloud import read_cloud
 
     if suffix in (".pcd", ".npy") or (suffix == ".ply" and not _ply_has_faces(path)):
-        points = read_cloud(path)
+        points = read_cloud(path) * options.scale
+        check_units(path, points, "points", options.scale)
         return _point_cloud(path, _transformed(points, options.X_BI), options)
     return _mesh(path, options)
 
@@ -114,23 +130,57 @@ def _transformed(points: np.ndarray, X_BI: np.ndarray | None) -> np.ndarray:
     return points @ X_BI[:3, :3].T + X_BI[:3, 3]
 
 
-def check_units(path: Path, points: np.ndarray, what: str) -> None:
-    """Refuses coordinates that are not metres (a cloud or mesh in millimetres or
-    centimetres): a largest extent over :data:`MAX_INPUT_EXTENT` units."""
+def check_units(path: Path, points: np.ndarray, what: str, scale: float = 1.0) -> None:
+    """Refuses a point cloud whose coordinates (``points`` (n, 3), m after ``scale``) are not
+    metres: a largest extent over :data:`MAX_INPUT_EXTENT`, with the ``--scale`` that brings it
+    under (``objects.plausibility.scale_hint``)."""
+    from gbh_drake.objects.plausibility import MIN_EXTENT, scale_hint
+
     extent = points.max(axis=0) - points.min(axis=0)
     if float(extent.max()) > MAX_INPUT_EXTENT:
+        units = "its units" if scale == 1.0 else f"its units x {scale:g}"
+        hint = scale_hint(float(extent.max()), scale, field=SCALE_OPTION,
+                          within=(MIN_EXTENT, MAX_INPUT_EXTENT))
         raise GraspsInputError(path, what, f"spans {' x '.join(f'{e:.4g}' for e in extent)} "
-                               f"(its units): not metres; millimetres? give metres (x 0.001)")
+                                           f"({units}): not metres; {hint}")
 
 
-def check_object_size(path: Path, mesh, what: str) -> None:
-    """Refuses an object larger than :data:`MAX_OBJECT_EXTENT` (m): centimetres, or not one
-    object."""
-    extent = float(np.max(mesh.extents)) if len(mesh.vertices) else 0.0
-    if extent > MAX_OBJECT_EXTENT:
-        raise GraspsInputError(path, what, f"the object spans {extent:.3g} m (at most "
-                               f"{MAX_OBJECT_EXTENT:g} m): centimetres? give metres (x 0.01), or "
-                               "crop it to one object")
+def check_object_size(path: Path, mesh, what: str, scale: float = 1.0) -> None:
+    """Refuses an object (``mesh``, m after ``scale``, in B) ``gbh run`` refuses: smaller than
+    the scan and the gripper sense or larger than the workspace
+    (``objects.plausibility.size_refusal``), with the ``--scale`` that fixes it."""
+    from gbh_drake.objects.plausibility import size_refusal
+
+    refusal = size_refusal(mesh, scale, field=SCALE_OPTION)
+    if refusal:
+        raise GraspsInputError(path, what, refusal)
+
+
+def check_table_under(path: Path, option: str, table, points: np.ndarray, what: str
+                      ) -> list[str]:
+    """Refuses a given ``table`` that lies above most of the object's ``points`` (n, 3, m, in
+    B; more than :data:`BELOW_TABLE_REFUSAL` of them over :data:`BELOW_TABLE` under it): a
+    table in another frame or at the wrong height, which GbH would take the object for lying
+    under. Returns the warning when it cuts off fewer (at least
+    :data:`BELOW_TABLE_WARNING`), else none. ``option`` names what gave the table, ``what``
+    the points."""
+    if not len(points):
+        return []
+    heights = table.heights(points)
+    below = heights < -BELOW_TABLE
+    share = float(np.mean(below))
+    if share < BELOW_TABLE_WARNING:
+        return []
+    z = points[:, 2]
+    where = (f"the table {plane_text(table)} lies above {100 * share:.0f} % of {what} (z "
+             f"{z.min():.3f} to {z.max():.3f} m in B; down to {-heights.min() * 1e3:.0f} mm "
+             "below it)")
+    if share > BELOW_TABLE_REFUSAL:
+        raise GraspsInputError(path, option, f"{where}: a table under the object lies at its "
+                                             f"lowest point or below (z = {z.min():.4f} m); or "
+                                             "give the input's pose in B with --frame")
+    return [f"{where}: GbH takes that part for under the table; is {option} where the object "
+            "stands?"]
 
 
 def _mesh(path: Path, options: InputOptions) -> ScanInput:
@@ -142,18 +192,20 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
     level = objects_log.level
     objects_log.setLevel(logging.ERROR)
     try:
-        mesh = load_mesh_file(path)
+        mesh = load_mesh_file(path, scale=options.scale)
     except MeshImportError as e:
         raise GraspsInputError(path, "", str(e).removeprefix(f"{path}: ")) from None
     finally:
         objects_log.setLevel(level)
-    check_units(path, np.asarray(mesh.vertices), "vertices")
     if options.X_BI is not None:
         mesh.apply_transform(options.X_BI)
-    check_object_size(path, mesh, "vertices")
+    check_object_size(path, mesh, "vertices", options.scale)
     vertices = np.asarray(mesh.vertices, dtype=float)
     table = table_plane(options.table) if options.table is not None else under(vertices)
     warnings = [w for w in mesh.metadata.get("gbh_warnings", []) if "extent" not in w]
+    if options.table is not None:
+        warnings += check_table_under(path, options.table_option, table, vertices,
+                                      "the mesh's vertices")
     scan = ScanResult(mesh, vertices, table=table, warnings=warnings)
     notes = [NO_FREE_SPACE]
     if table.source == "lowest point":
@@ -165,15 +217,21 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
 
 def _point_cloud(path: Path, points: np.ndarray, options: InputOptions) -> ScanInput:
     from gbh_drake.perception.config import ScanConfig
-    from gbh_drake.scan_grasps.cloud import fuse_cloud
+    from gbh_drake.scan_grasps.cloud import find_object, fuse_object
 
-    check_units(path, points, "points")
+    config = ScanConfig()
     table = table_plane(options.table) if options.table is not None else None
-    fused = fuse_cloud(points, ScanConfig(), table=table, target=options.target)
+    found = find_object(points, config, table=table, target=options.target)
+    warnings = [] if table is None else check_table_under(
+        path, options.table_option, table, found.column,
+        "the object's points (with the cloud's under it)" if found.object_points is not None
+        else "the cloud's points")
+    fused = fuse_object(found, config)
+    fused.scan.warnings += warnings
     if not fused.scan.empty:
-        check_object_size(path, fused.scan.mesh_W, "points")
+        check_object_size(path, fused.scan.mesh_W, "points", options.scale)
     return ScanInput("point_cloud", str(path), fused.scan, fused.table_source,
-                     [NO_FREE_SPACE, fused.note])
+                     [NO_FREE_SPACE] + ([fused.note] if fused.note else []))
 
 
 def _depth_images(path: Path, options: InputOptions) -> ScanInput:

@@ -23,3 +23,18 @@ def under(points: np.ndarray):
     from gbh_drake.perception.table import TablePlane
 
     return TablePlane.horizontal(float(points[:, 2].min()), "lowest point")
+
+
+def plane_text(table) -> str:
+    """The plane of ``table`` in words (m, in B): ``z = 0.0000 m`` when horizontal, else
+    ``[nx, ny, nz] . p = h m``."""
+    n = table.normal_W
+    if np.allclose(n, [0.0, 0.0, 1.0]):
+        return f"z = {table.height:.4f} m"
+    return f"{np.round(n, 4).tolist()} . p = {table.height:.4f} m"
+
+
+def point_text(p) -> str:
+    """The point ``p`` (3,) in words: ``(0.550, 0.000, 0.050) m`` (mm precision, no -0.000)."""
+    x, y, z = np.round(np.asarray(p, dtype=float), 3) + 0.0
+    return f"({x:.3f}, {y:.3f}, {z:.3f}) m"

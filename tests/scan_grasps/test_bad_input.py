@@ -1,6 +1,8 @@
 """Bad input to ``gbh grasps``: one line naming the file and the field, exit 2, before any work.
 
-A cloud in millimetres, an empty or all-NaN depth image, a camera pose that is not a rotation or
+A cloud or a mesh in millimetres (the hint's --scale follows from the size), an object ``gbh run``
+refuses (under 5 mm, over 1.2 m), a table given above the object, a cloud array that is not
+(n, 3) or (n, 6), an empty or all-NaN depth image, a camera pose that is not a rotation or
 holds a NaN, intrinsics that do not fit the image, depth images of the wrong size, a depth scale
 that puts every pixel out of range, an 8-bit depth PNG, an unknown key, masks (of the object's
 or the robot's pixels) of the wrong size or for some views only."""
@@ -12,6 +14,7 @@ import pytest
 import trimesh
 import yaml
 
+import gbh_drake
 from gbh_drake.cli import main
 from gbh_drake.scan_grasps.errors import GraspsInputError
 from gbh_drake.scan_grasps.views import read_views, write_png
@@ -199,3 +202,136 @@ def test_bad_flags_are_usage_errors(tmp_path, capsys, flag, value, words):
         main(["grasps", str(tmp_path / "box.stl"), flag, value])
     assert exit_.value.code == 2
     assert words in capsys.readouterr().err
+
+
+def _box_file(path, extents, z0: float = 0.0):
+    """A box mesh of ``extents`` (in the file's units) standing at z = ``z0`` at x = 0.55 m."""
+    box = trimesh.creation.box(extents)
+    box.apply_translation([0.55, 0.0, z0 + extents[2] / 2])
+    box.export(path)
+    return path
+
+
+@pytest.mark.parametrize(("extents", "refusal"), [
+    ((0.82, 1.22, 1.0), "largest extent 1.22 m is larger than the workspace (> 1.2 m): looks "
+                        "like inches: give {} 0.0254 (then 3.1 cm)"),
+    ((82.0, 121.6, 100.0), "largest extent 122 m is larger than the workspace (> 1.2 m): looks "
+                           "like millimetres: give {} 0.001 (then 12.2 cm)"),
+    ((8.2, 12.16, 10.0), "largest extent 12.2 m is larger than the workspace (> 1.2 m): looks "
+                         "like centimetres: give {} 0.01 (then 12.2 cm)"),
+    ((0.0025, 0.0036, 0.003), "largest extent 3.6 mm is smaller than the scan and the gripper "
+                              "can sense (< 5 mm): looks 100x too small: give {} 100 (then "
+                              "36 cm)"),
+])
+def test_sizes_gbh_run_refuses_are_refused_with_its_hint_naming_scale(tmp_path, capsys, extents,
+                                                                      refusal):
+    """The thresholds, words and unit hint of ``gbh run``'s refusal (object.scale), the hint
+    naming --scale: the factor follows from the size."""
+    from gbh_drake.objects.plausibility import size_refusal
+
+    path = _box_file(tmp_path / "box.stl", extents)
+    assert main(["grasps", str(path)]) == 2
+    assert _one_line(capsys) == f"gbh: invalid input: {path}: vertices: {refusal.format('--scale')}"
+    assert size_refusal(trimesh.load(path)) == refusal.format("scale:")  # gbh run's words
+
+
+def test_scale_gives_the_file_in_metres_and_the_hint_counts_it(tmp_path, capsys):
+    """--scale 0.1 on a file in millimetres: still 12 m; the hint gives the total scale."""
+    path = _box_file(tmp_path / "box.stl", (82.0, 121.6, 100.0))
+    assert main(["grasps", str(path), "--scale", "0.1"]) == 2
+    assert _one_line(capsys) == (f"gbh: invalid input: {path}: vertices: largest extent 12.2 m "
+                                 "is larger than the workspace (> 1.2 m): looks like "
+                                 "centimetres: give --scale 0.001 (then 12.2 cm)")
+
+
+def test_a_cloud_in_millimetres_gets_the_scale_its_size_asks(tmp_path, capsys):
+    box = trimesh.creation.box([82.0, 121.6, 100.0])
+    points = np.vstack([box.vertices, trimesh.sample.sample_surface(box, 2000, seed=0)[0]])
+    np.save(tmp_path / "cloud.npy", points + [550.0, 0.0, 50.0])
+    assert main(["grasps", str(tmp_path / "cloud.npy")]) == 2
+    assert _one_line(capsys) == (f"gbh: invalid input: {tmp_path / 'cloud.npy'}: points: spans "
+                                 "82 x 121.6 x 100 (its units): not metres; looks like "
+                                 "millimetres: give --scale 0.001 (then 12.2 cm)")
+
+
+@pytest.mark.parametrize(("value", "words"), [
+    ("0", "--scale: the file's units in metres, a positive finite number; got 0.0"),
+    ("nan", "--scale: the file's units in metres, a positive finite number; got nan"),
+])
+def test_a_bad_scale_is_a_usage_error(tmp_path, capsys, value, words):
+    path = _box_file(tmp_path / "box.stl", (0.08, 0.08, 0.1))
+    with pytest.raises(SystemExit) as exit_:
+        main(["grasps", str(path), "--scale", value])
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.endswith(f"gbh: error: {words}\n")
+    with pytest.raises(ValueError, match="^scale: the file's units in metres, a positive "
+                                         "finite number; got -1.0$"):
+        gbh_drake.grasps(path, scale=-1.0)
+
+
+def test_scale_on_depth_images_is_refused(tmp_path, capsys):
+    _write(tmp_path, _views(tmp_path))
+    assert main(["grasps", str(tmp_path), "--scale", "0.001"]) == 2
+    assert _one_line(capsys) == (f"gbh: invalid input: {tmp_path}: --scale: scales a mesh or a "
+                                 "point cloud; depth images are scaled by depth_scale in "
+                                 "views.yaml")
+
+
+def test_a_table_above_the_object_is_refused_naming_the_option(tmp_path, capsys):
+    path = _box_file(tmp_path / "box.stl", (0.08, 0.08, 0.1))
+    assert main(["grasps", str(path), "--table-z", "0.5"]) == 2
+    assert _one_line(capsys) == (
+        f"gbh: invalid input: {path}: --table-z: the table z = 0.5000 m lies above 100 % of the "
+        "mesh's vertices (z 0.000 to 0.100 m in B; down to 500 mm below it): a table under the "
+        "object lies at its lowest point or below (z = 0.0000 m); or give the input's pose in B "
+        "with --frame")
+    with pytest.raises(GraspsInputError) as error:  # the plane names its own option
+        gbh_drake.grasps(path, table_plane=[0.0, 0.0, 2.0, -1.0])
+    assert str(error.value).startswith(f"{path}: --table-plane: the table z = 0.5000 m lies "
+                                       "above 100 % of the mesh's vertices")
+
+
+def test_a_table_above_a_cloud_is_refused(tmp_path, capsys):
+    box = trimesh.creation.box([0.08, 0.08, 0.1])
+    points = trimesh.sample.sample_surface(box, 2000, seed=0)[0] + [0.55, 0.0, 0.05]
+    np.save(tmp_path / "c.npy", points)
+    assert main(["grasps", str(tmp_path / "c.npy"), "--table-z", "0.5"]) == 2
+    assert _one_line(capsys) == (
+        f"gbh: invalid input: {tmp_path / 'c.npy'}: --table-z: the table z = 0.5000 m lies above "
+        "100 % of the cloud's points (z 0.000 to 0.100 m in B; down to 500 mm below it): a "
+        "table under the object lies at its lowest point or below (z = 0.0000 m); or give the "
+        "input's pose in B with --frame")
+
+
+def test_a_table_through_the_object_is_warned_of(tmp_path):
+    """Half the box's vertices 3 cm under the given table: read, with a warning."""
+    from gbh_drake.scan_grasps.inputs import InputOptions, load_input
+
+    path = _box_file(tmp_path / "box.stl", (0.08, 0.08, 0.1))
+    options = InputOptions(table=(np.array([0.0, 0.0, 1.0]), 0.03), table_option="--table-z")
+    scan = load_input(path, options).scan
+    assert scan.table.height == 0.03 and scan.table.source == "given"
+    assert scan.warnings[-1] == (
+        "the table z = 0.0300 m lies above 50 % of the mesh's vertices (z 0.000 to 0.100 m in B; "
+        "down to 30 mm below it): GbH takes that part for under the table; is --table-z where "
+        "the object stands?")
+    options = InputOptions(table=(np.array([0.0, 0.0, 1.0]), 0.004), table_option="--table-z")
+    assert not any("table" in w for w in load_input(path, options).scan.warnings)
+
+
+def test_a_table_plane_of_zeros_says_its_numbers_plainly(tmp_path, capsys):
+    path = _box_file(tmp_path / "box.stl", (0.08, 0.08, 0.1))
+    with pytest.raises(SystemExit):
+        main(["grasps", str(path), "--table-plane", "0,0,0,0"])
+    assert capsys.readouterr().err.endswith(
+        "gbh: error: table_plane is a, b, c, d (a x + b y + c z + d = 0), got [0.0, 0.0, 0.0, "
+        "0.0]\n")
+
+
+@pytest.mark.parametrize("columns", [2, 4, 5, 7])
+def test_a_cloud_array_of_another_width_is_refused(tmp_path, capsys, columns):
+    np.save(tmp_path / "c.npy", np.zeros((200, columns)))
+    assert main(["grasps", str(tmp_path / "c.npy")]) == 2
+    assert _one_line(capsys) == (f"gbh: invalid input: {tmp_path / 'c.npy'}: points: a cloud is "
+                                 "an (n, 3) array of numbers (or (n, 6) with normals), got "
+                                 f"float64 (200, {columns})")

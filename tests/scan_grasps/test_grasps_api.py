@@ -126,6 +126,25 @@ def test_an_input_in_its_own_frame_gives_the_same_grasps_in_B(tmp_path, mug_gras
         np.testing.assert_allclose(a.X_BG, b.X_BG, atol=1e-6)
 
 
+def test_a_mesh_in_millimetres_with_scale_gives_the_same_grasps(tmp_path, mug_grasps, capsys):
+    """The mug in a frame I and in millimetres: --scale 0.001 --frame X_BI (the scale applied
+    first: X_BI's translation is in metres) gives the grasps of the mug given in B."""
+    from gbh_drake.scan_grasps.poses import parse_pose
+
+    X_BI = parse_pose("0.3,-0.2,0.1,10,-20,35")
+    path = tmp_path / "mug_I_mm.obj"
+    mug = make_mug().apply_translation(P_BO).apply_transform(np.linalg.inv(X_BI))
+    mug.apply_scale(1000.0).export(path)
+    out = tmp_path / "g.json"
+    assert main(["grasps", str(path), "--scale", "0.001", "--frame", "0.3,-0.2,0.1,10,-20,35",
+                 "--table-z", "0", "--out", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert [g["kind"] for g in doc["grasps"]] == [g.kind for g in mug_grasps.grasps]
+    for a, b in zip(doc["grasps"], mug_grasps.grasps, strict=True):
+        np.testing.assert_allclose(a["X_BG"]["matrix"], b.X_BG, atol=1e-6)
+    assert capsys.readouterr().err == ""
+
+
 def test_nothing_hangable_says_what_the_detector_saw(tmp_path):
     box = trimesh.creation.box([0.08, 0.08, 0.1])
     box.apply_translation(P_BO + [0, 0, 0.05])
