@@ -250,22 +250,18 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "studio":
         quiet_drake(verbose=args.verbose)
         return studio_cli.run_command(args, parser)
+    from gbh_drake.objects.mesh_io import quiet_mesh_warnings
     from gbh_drake.scenario import load_scenario
 
     # A mesh's warnings (size, mass, repairs) are said once, in the run's summary (or in the
     # refusal of an absurd size), not also as log lines while the scenario is checked.
-    objects_log = logging.getLogger("gbh_drake.objects")
-    level = objects_log.level
-    objects_log.setLevel(logging.ERROR)
-    try:
+    with quiet_mesh_warnings():
         scenario = load_scenario(args.scenario, overrides=args.overrides)
         quiet_drake(verbose=args.verbose)
         if args.command == "run":
             return _run(scenario, live=args.meshcat, port=args.port, save_views=args.save_views,
                         keep_open=args.keep_open)
         return _diagram(scenario, Path(args.out))
-    finally:
-        objects_log.setLevel(level)
 
 
 def quiet_drake(*, verbose: bool = False) -> None:
@@ -311,14 +307,10 @@ def _objects(args) -> int:
 
         return fetch([str(p) for p in args.sets or _shipped_sets()])
     if args.action == "list":
-        # Each object's warnings are in its row, not also as log lines.
-        objects_log = logging.getLogger("gbh_drake.objects")
-        level = objects_log.level
-        objects_log.setLevel(logging.ERROR)
-        try:
+        from gbh_drake.objects.mesh_io import quiet_mesh_warnings
+
+        with quiet_mesh_warnings():  # each object's warnings are in its row, not also logged
             rows = [row for path in args.sets or [None] for row in describe_set(path)]
-        finally:
-            objects_log.setLevel(level)
         if args.json:
             print(json.dumps(rows, indent=1))
         elif args.csv:
@@ -330,7 +322,10 @@ def _objects(args) -> int:
                               for k, v in r.items()} for r in rows)
         else:
             print("\n".join(describe_lines(rows)))
-        return 0
+        for row in rows:  # listed, and said as the input errors they are
+            if row["error"]:
+                _say(f"invalid object set: {row['error']}")
+        return 2 if any(row["error"] for row in rows) else 0
     out = args.out
     from gbh_drake.outputs import replace_contents
 

@@ -235,11 +235,11 @@ class Experiment:
 
     @property
     def object_set_path(self) -> Path | None:
-        """The object set's manifest, or None."""
+        """The object set's manifest (its path made plain: messages name it), or None."""
         if not self.object_set:
             return None
         p = Path(self.object_set).expanduser()
-        return p if p.is_absolute() else self.directory / p
+        return Path(os.path.normpath(p if p.is_absolute() else self.directory / p))
 
     @property
     def base_path(self) -> Path:
@@ -264,15 +264,17 @@ class Experiment:
 @dataclass(frozen=True)
 class TrialObject:
     """An object of an experiment, resolved: its ``name`` (in rows), whether it is a
-    ``control``, its ``tags`` (the report groups by them), whether it has a natural rest, and
+    ``control``, its ``tags`` (the report groups by them), whether it has a natural rest,
     ``set_path``: the manifest a trial's scenario names (``object.set``) for an object set's
-    mesh, None for a built-in object."""
+    mesh, None for a built-in object, and ``digest``: which version of the mesh entry it is
+    (:func:`~gbh_drake.objects.sets.object_digest`; "" for a built-in object)."""
 
     name: str
     control: bool
     tags: tuple[str, ...]
     has_natural_rest: bool
     set_path: Path | None = None
+    digest: str = ""
 
 
 def experiment_objects(experiment: Experiment) -> list[TrialObject]:
@@ -282,7 +284,7 @@ def experiment_objects(experiment: Experiment) -> list[TrialObject]:
     from gbh_drake import SCENARIOS_DIR
     from gbh_drake.objects import make_object
     from gbh_drake.objects.catalog import natural_rest
-    from gbh_drake.objects.sets import load_object_set
+    from gbh_drake.objects.sets import load_object_set, object_digest
 
     own = load_object_set(SCENARIOS_DIR / "object_sets" / "own.yaml")
     chosen = load_object_set(experiment.object_set_path) if experiment.object_set else None
@@ -297,7 +299,7 @@ def experiment_objects(experiment: Experiment) -> list[TrialObject]:
                                      natural_rest(builtin) is not None))
         else:
             found.append(TrialObject(name, bool(entry.control), tags, entry.rest is not None,
-                                     object_set.path))
+                                     object_set.path, object_digest(object_set.object(name))))
     return found
 
 
@@ -433,14 +435,17 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
             fail(f"objects[{i}]", f"unknown object {name!r} (known: "
                                   f"{', '.join(dict.fromkeys(known))})")
     if object_set is not None:
-        for i, name in enumerate(experiment.objects):
-            if name in object_set.names:
-                from gbh_drake.objects.sets import ObjectSetError
+        from gbh_drake.objects.mesh_io import quiet_mesh_warnings
+        from gbh_drake.objects.sets import ObjectSetError
 
-                try:
-                    object_set.object(name)  # its mesh is found (fetched)
-                except ObjectSetError as e:
-                    fail(f"objects[{i}]", str(e))
+        for i, name in enumerate(experiment.objects):
+            if name in object_set.names and not object_set.entry(name).builtin:
+                try:  # found (fetched), a mesh, of a size that can be simulated
+                    with quiet_mesh_warnings():  # (gbh objects list says them)
+                        object_set.rest_mesh(name)
+                except ObjectSetError as e:  # on the field that chose it
+                    written = _layers(experiment).node(("objects", i)) is not None
+                    fail(f"objects[{i}]" if written else "object_set", str(e))
     if not experiment.methods:
         fail("methods", "give at least one method")
     names = [m.name for m in experiment.methods]
@@ -494,7 +499,12 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
     if not experiment.base:
         fail("base", "give the base scenario file (e.g. default.yaml)")
     if not experiment.base_path.is_file():
-        fail("base", f"scenario file not found: {experiment.base_path}")
+        from gbh_drake import SCENARIOS_DIR
+
+        packaged = SCENARIOS_DIR / Path(experiment.base).name
+        hint = f" (the packaged {packaged.name} is {packaged}: give that path, or copy it " \
+               "beside the experiment file)" if packaged.is_file() else ""
+        fail("base", f"scenario file not found: {experiment.base_path}{hint}")
 
 
 def _parse_path(text: str) -> tuple:
@@ -713,7 +723,8 @@ def make_tasks(experiment: Experiment, *, commit: str = "",
                         method=method.name, trial=trial, seed=seed, scenario_yaml=text,
                         source_path=scenarios[method.name].source_path,
                         digest=hashlib.sha256(text.encode()).hexdigest(), commit=commit,
-                        replays=experiment.replays, protocol=protocol))
+                        replays=experiment.replays, protocol=protocol,
+                        object_digest=objects[name].digest))
     return tasks
 
 

@@ -4,7 +4,8 @@ Two experiment files often share methods: ``scenarios/experiment_robust.yaml`` r
 ``gbh-10`` of ``scenarios/experiment.yaml`` beside ``gbh-10r``, ``experiment_oneview.yaml`` its
 ``gbh-1`` and ``antipodal``. A trial is the same trial when its key (object, method, trial,
 protocol) and its whole scenario (``scenario_digest``: base, method overrides, object, pose,
-seed) are the same; such a row of another folder is copied into this one (with its replay, if
+seed) are the same, and for an object set's mesh the same version of its entry
+(``object_digest``); such a row of another folder is copied into this one (with its replay, if
 it has one) instead of being simulated again. The row keeps the commit it ran at: the report's
 list of commits says when the rows of one folder come from several (a resumed experiment can
 mix commits in the same way), so reuse rows made by the code you mean to measure.
@@ -44,7 +45,7 @@ def reuse_rows(folder: Path, store: RowStore, tasks: Iterable, done: dict, sourc
             task = by_key.get(key)
             if task is None or key in done or row.get("outcome") == "error":
                 continue
-            if row.get("scenario_digest") != task.digest:
+            if task.differs(row):
                 other += 1
                 continue
             row = dict(row, replay=_copy_replay(source, folder, row.get("replay") or ""))

@@ -13,9 +13,11 @@ z in m, roll, pitch, yaw in rad), ``outcome``, ``success``, ``reason``, ``held_b
 ``pinch``), ``grasp_kind``, ``grasp_score``, ``grasp_rank``, ``fallback``, ``refusals``,
 ``replay`` (path relative to the folder, or empty), ``commit``, ``scenario_digest``,
 ``stage_times`` (wall seconds: build, scan, plan, simulate, replay, total), ``worker`` and
-``record`` (the whole :class:`~gbh_drake.trial.TrialRecord`), and ``protocol`` (``stable`` or
+``record`` (the whole :class:`~gbh_drake.trial.TrialRecord`), ``protocol`` (``stable`` or
 ``natural``, set by the runner; a row without it, written before protocols existed, is
-``stable``). NaN is written as null.
+``stable``), and for an object set's mesh ``object_digest`` (which version of its entry and
+mesh file it ran: :attr:`~gbh_drake.experiment.task.TrialTask.object_digest`). NaN is written
+as null.
 """
 
 from __future__ import annotations
@@ -92,7 +94,8 @@ ROW_FIELDS = {"object": str, "method": str, "trial": int, "seed": int, "outcome"
 
 #: Fields a row may leave out (or give as null), with their types when it has them: what the
 #: runner and the reports key or sort by besides :data:`ROW_FIELDS`.
-OPTIONAL_ROW_FIELDS = {"protocol": str, "scenario_digest": str, "replay": str}
+OPTIONAL_ROW_FIELDS = {"protocol": str, "scenario_digest": str, "object_digest": str,
+                       "replay": str}
 
 
 def row_problem(row) -> str | None:

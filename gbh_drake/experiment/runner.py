@@ -246,26 +246,39 @@ def _set_protocol(row: dict, by_digest: dict) -> None:
 def _finished(store: RowStore, tasks, *, warn=None) -> dict:
     """The rows already in the folder that are trials of ``tasks``, by key; a trial that ended
     in an error (a bug, not a result) is not finished: it is run again. Raises
-    :class:`ExperimentError` if a row was made with another scenario than its task's."""
+    :class:`ExperimentError` if a row was made with another scenario than its task's, or with
+    another version of its object set's entry
+    (:meth:`~gbh_drake.experiment.task.TrialTask.differs`)."""
+    from gbh_drake.objects.sets import OBJECT_FACTS
+
     by_key = {t.key: t for t in tasks}
-    done, stale = {}, []
+    done, stale = {}, {"scenario": [], "object": []}
     for row in store.load(repair=True, warn=warn):
         task = by_key.get(row_key(row))
         if task is None:
             continue  # not a trial of this experiment: kept in the file, left out of reports
-        if row.get("scenario_digest") != task.digest:
-            stale.append(row_key(row))
+        differs = task.differs(row)
+        if differs:
+            stale[differs].append(row_key(row))
         elif row.get("outcome") == "error":
             done.pop(task.key, None)
         else:
             done[task.key] = row
-    if stale:
+    start_over = f"write to another folder (--out), or move {ROWS_FILE} away to start over"
+    if stale["scenario"]:
         raise ExperimentError(
             str(store.path), "", None,
-            f"{len(stale)} rows were made with other scenarios than this "
+            f"{len(stale['scenario'])} rows were made with other scenarios than this "
             f"experiment's (its base, method overrides, pose or seed changed since), e.g. "
-            f"{stale[0]}; write to another folder (--out), or move {ROWS_FILE} away to start "
-            "over")
+            f"{stale['scenario'][0]}; {start_over}")
+    if stale["object"]:
+        objects = sorted({key[0] for key in stale["object"]})
+        raise ExperimentError(
+            str(store.path), "", None,
+            f"{len(stale['object'])} rows were made with other objects than this experiment's "
+            f"(the object set's entry of {', '.join(objects)} changed since: its mesh file or "
+            f"{', '.join(f.replace('_', ' ') for f in OBJECT_FACTS)}), e.g. "
+            f"{stale['object'][0]}; {start_over}")
     return done
 
 

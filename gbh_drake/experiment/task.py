@@ -44,11 +44,26 @@ class TrialTask:
     protocol: str = "stable"
     """How the object was set down (``stable`` or ``natural``: the scenario's
     ``object.random_pose.rest``); rows carry it."""
+    object_digest: str = ""
+    """Which version of an object set's mesh entry the trial runs (its facts and its mesh
+    file's bytes: :func:`gbh_drake.objects.sets.object_digest`; the scenario names only the
+    manifest and the entry); "" for a built-in object. Rows carry it when it is not ""."""
 
     @property
     def key(self) -> tuple[str, str, int, str]:
         """(object, method, trial, protocol), as :func:`gbh_drake.experiment.rows.row_key`."""
         return (self.object, self.method, self.trial, self.protocol)
+
+    def differs(self, row: dict) -> str:
+        """What of this trial ``row`` (a row of the same key) was not made with: ``scenario``
+        (its ``scenario_digest``), ``object`` (its ``object_digest``: the object set's entry or
+        mesh file changed since; a row without one, written before rows carried it, is not
+        judged by it), or "" (neither: the row is this trial's)."""
+        if row.get("scenario_digest") != self.digest:
+            return "scenario"
+        if row.get("object_digest", self.object_digest) != self.object_digest:
+            return "object"
+        return ""
 
 
 @dataclass

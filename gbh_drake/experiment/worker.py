@@ -161,7 +161,9 @@ def _reach(done):
 
 
 def _base_row(task: TrialTask) -> dict:
-    """The fields every row has, also an ``error`` row."""
+    """The fields every row has, also an ``error`` row (and ``object_digest`` for an object
+    set's mesh)."""
+    digest = {"object_digest": task.object_digest} if task.object_digest else {}
     return {
         "experiment": task.experiment, "object": task.object, "is_control": task.is_control,
         "object_tags": list(task.object_tags),
@@ -170,5 +172,5 @@ def _base_row(task: TrialTask) -> dict:
         "reason": "", "held_by": "", "grasp_kind": "", "grasp_score": None, "grasp_rank": -1,
         "fallback": False, "refusals": {}, "replay": "", "commit": task.commit,
         "scenario_digest": task.digest, "worker": f"{socket.gethostname()}:{os.getpid()}",
-        "stage_times": {}, "record": {},
+        "stage_times": {}, "record": {}, **digest,
     }

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -81,8 +82,8 @@ def load_object_asset(config: ObjectConfig, base_dir: Path) -> ObjectAsset:
     # Imported here: the object set pulls in manifold3d and is not needed for other uses.
     from gbh_drake.objects import load_mesh_object, make_object, mass_properties_for
 
-    if config.set:
-        return _set_asset(config, _resolve(config.set, base_dir))
+    if config.set:  # (the manifest's path made plain: messages name it)
+        return _set_asset(config, Path(os.path.normpath(_resolve(config.set, base_dir))))
     if config.mesh:
         path = _resolve(config.mesh, base_dir)
         prepared = load_mesh_object(path, scale=config.scale, density=config.density or None,
@@ -127,8 +128,10 @@ def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
     """The object ``config.name`` of the object set at ``manifest``: a built-in object, or its
     mesh with the set's scale and mass, turned into its natural rest (frame O is that rest, as
     the built-in objects are modelled in theirs), with its ground truth moved from the file's
-    frame into O. The last few are kept per process (a scenario's check and its station load
-    the same object)."""
+    frame into O. A mesh that cannot be imported or simulated raises
+    :class:`~gbh_drake.objects.sets.ObjectSetError` naming the manifest, the entry and the
+    field. The last few are kept per process (a scenario's check and its station load the same
+    object)."""
     from gbh_drake.objects.sets import load_object_set
 
     try:
@@ -137,12 +140,13 @@ def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
         stamp = None
     key = (str(manifest.resolve()), stamp, config.name)
     if key not in _SET_ASSETS:
-        obj = load_object_set(manifest).object(config.name)
+        object_set = load_object_set(manifest)
+        obj = object_set.object(config.name)
         if obj.builtin:
             asset = load_object_asset(dataclasses.replace(config, set="", name=obj.builtin),
                                       manifest)
         else:
-            asset = _mesh_entry_asset(obj)
+            asset = _mesh_entry_asset(obj, object_set.rest_mesh(config.name))
         while len(_SET_ASSETS) >= 8:
             _SET_ASSETS.pop(next(iter(_SET_ASSETS)))
         _SET_ASSETS[key] = asset
@@ -162,19 +166,16 @@ def _as_given(warning: str) -> bool:
     return any(words in warning for words in ("as given", "off its nearest stable face"))
 
 
-def _mesh_entry_asset(obj) -> ObjectAsset:
-    """An object set's mesh entry (``SetObject``) as an asset, in its natural rest."""
-    from gbh_drake.objects import load_mesh_file, prepare_mesh_object
-    from gbh_drake.objects.sets import natural_rest_of, parts_in_file_frame
+def _mesh_entry_asset(obj, mesh: trimesh.Trimesh) -> ObjectAsset:
+    """An object set's mesh entry (``SetObject``) as an asset, from its ``mesh`` in its natural
+    rest (:meth:`~gbh_drake.objects.sets.ObjectSet.rest_mesh`)."""
+    from gbh_drake.objects import prepare_mesh_object
+    from gbh_drake.objects.sets import natural_rest_of, parts_in_file_frame, rest_transform
     from gbh_drake.objects.spec import NaturalRest
 
     entry = obj.entry
     rest = natural_rest_of(entry)
-    mesh = load_mesh_file(obj.mesh_path, scale=entry.scale)
-    X_RF = np.eye(4)
-    if rest is not None:
-        X_RF[:3, :3] = rest.R
-        mesh.apply_transform(X_RF)
+    X_RF = rest_transform(entry)
     prepared = prepare_mesh_object(mesh, source=str(obj.mesh_path), scale=entry.scale,
                                    density=entry.density or None, mass=entry.mass or None)
     asset = _asset(obj.name, prepared, MESH_RGBA, f"object set {obj.set_name}: {obj.name}")

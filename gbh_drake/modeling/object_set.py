@@ -32,25 +32,38 @@ def build_object_models(out_dir: Path = OBJECT_MODELS_DIR,
 
 #: The columns of ``gbh objects list`` (and its --csv/--json), in order.
 COLUMNS = ("name", "size_cm", "mass_g", "watertight", "control", "tags", "hangable_parts",
-           "natural_rest", "source", "warnings")
+           "natural_rest", "source", "warnings", "error")
+#: The header of ``gbh objects list``'s text (:func:`describe_lines`).
+HEADER = f"{'object':24s} {'size x, y, z':>24s} {'mass':>9s}   hangable parts (ground truth)"
 
 
 def describe_set(manifest: Path | None = None) -> list[dict]:
     """One row per object of the set at ``manifest`` (None: the built-in set), as the station
     would load it: name, size (cm: x, y, z in its frame O), mass (g), watertight, control,
     tags, ground-truth parts ("name (kind, clear diameter mm)"; "unknown" when a mesh entry
-    declares none), natural rest, where it comes from and the import's warnings."""
+    declares none), natural rest, where it comes from and the import's warnings; ``error``:
+    why the object cannot be used (the one-line message of its
+    :class:`~gbh_drake.objects.sets.ObjectSetError`: a mesh not found or not a mesh, a size
+    that cannot be simulated), its other facts then None, or ""."""
     from gbh_drake import SCENARIOS_DIR
     from gbh_drake.modeling.object_asset import load_object_asset
     from gbh_drake.modeling.object_config import ObjectConfig
-    from gbh_drake.objects.sets import load_object_set
+    from gbh_drake.objects.sets import ObjectSetError, load_object_set
 
     path = (Path(manifest) if manifest else SCENARIOS_DIR / "object_sets" / "own.yaml").resolve()
     object_set = load_object_set(path)
     rows = []
     for name in object_set.names:
-        obj = object_set.object(name)
-        asset = load_object_asset(ObjectConfig(set=str(path), name=name), path.parent)
+        try:
+            obj = object_set.object(name)
+            asset = load_object_asset(ObjectConfig(set=str(path), name=name), path.parent)
+        except ObjectSetError as e:
+            entry = object_set.entry(name)
+            rows.append({"name": name, "size_cm": None, "mass_g": None, "watertight": None,
+                         "control": bool(entry.control), "tags": list(entry.tags),
+                         "hangable_parts": None, "natural_rest": None, "source": None,
+                         "warnings": [], "error": str(e)})
+            continue
         size = (asset.mesh.bounds[1] - asset.mesh.bounds[0]) * 100
         if asset.hangable_parts:
             parts = ", ".join(f"{p.name} ({p.kind}, {p.clear_diameter * 1000:.1f} mm)"
@@ -62,15 +75,19 @@ def describe_set(manifest: Path | None = None) -> list[dict]:
             "mass_g": round(asset.mass * 1000.0, 1), "watertight": bool(asset.mesh.is_watertight),
             "control": bool(obj.is_control), "tags": list(obj.tags), "hangable_parts": parts,
             "natural_rest": asset.natural_rest.reason if asset.natural_rest else "",
-            "source": asset.source, "warnings": list(asset.warnings)})
+            "source": asset.source, "warnings": list(asset.warnings), "error": ""})
     return rows
 
 
 def describe_lines(rows: list[dict]) -> list[str]:
-    """``gbh objects list``'s text: one line per object (name, size, mass, parts), then each
-    object's warnings indented."""
-    lines = []
+    """``gbh objects list``'s text: the :data:`HEADER`, then one line per object (name, size,
+    mass, parts; ``refused:`` and why for an object that cannot be used), each object's
+    warnings indented below it."""
+    lines = [HEADER]
     for r in rows:
+        if r["error"]:
+            lines.append(f"{r['name']:24s} refused: {r['error']}")
+            continue
         x, y, z = r["size_cm"]
         flag = "" if r["watertight"] else "  (not watertight)"
         lines.append(f"{r['name']:24s} {x:5.1f} x {y:5.1f} x {z:5.1f} cm {r['mass_g']:7.0f} g   "

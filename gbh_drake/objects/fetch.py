@@ -7,7 +7,9 @@ distinct ``(package, version, archive)`` once with ``python -m pip download --no
 extracts only the files needed (and the archive's licence files) to
 ``<cache_dir>/<package>-<version>/<PATH>``, with a ``SOURCE.yaml`` beside them (package,
 version, archive, file name, sha256 of the archive, url, licence). Files already there are not
-fetched again. :func:`resolve` gives the cached file of a mesh URI, or says how to fetch it.
+fetched again, nor the files of a distribution installed at the source's version (a wheel's
+files are where it installed them: :func:`installed_file`). :func:`resolve` gives the cached
+file of a mesh URI, or says how to fetch it.
 
 Pure Python (no pydrake). Run it on a manifest::
 
@@ -18,7 +20,9 @@ This is a set-up step (``./dev.sh setup`` runs it); nothing here runs during a t
 
 from __future__ import annotations
 
+import difflib
 import hashlib
+import importlib.metadata
 import os
 import re
 import subprocess
@@ -87,6 +91,24 @@ class FetchResult:
     files: tuple[Path, ...]
     downloaded: bool
     archive_bytes: int = 0
+    installed: bool = False
+    """The files are the installed distribution's (``directory``: where it is installed)."""
+
+
+@dataclass(frozen=True)
+class InstalledFile:
+    """A mesh URI looked up in the installed distribution of its package: the ``version``
+    installed ("" when none is), whether it ``matches`` the source's (a wheel's at that
+    version: its files are the archive's), the file's ``path`` when it matches and holds it,
+    ``inner`` (the path in the distribution), ``root`` (where it is installed) and ``hint``
+    (`` (did you mean mug.obj?)``, the nearest file, for a path it does not hold)."""
+
+    version: str = ""
+    matches: bool = False
+    path: Path | None = None
+    inner: str = ""
+    root: Path | None = None
+    hint: str = ""
 
 
 def normalize(name: str) -> str:
@@ -117,15 +139,53 @@ def source_dir(source: Source, cache_dir=None) -> Path:
     return cache / f"{normalize(source.package)}-{source.version}"
 
 
+def cache_path(mesh_uri: str, source: Source | dict, cache_dir=None) -> Path:
+    """Where the cache keeps the file of ``mesh_uri`` (a ``pypi://`` URI of ``source``'s
+    distribution), there or not. ValueError for a malformed URI or one naming another
+    distribution."""
+    source = source if isinstance(source, Source) else Source.from_dict(source)
+    dist, path = parse_mesh_uri(mesh_uri)
+    _check_dist(dist, source, mesh_uri)
+    return source_dir(source, cache_dir) / path
+
+
+def installed_file(mesh_uri: str, source: Source | dict) -> InstalledFile:
+    """``mesh_uri`` looked up in the installed distribution of ``source``'s package
+    (:class:`InstalledFile`); ValueError as :func:`cache_path`."""
+    source = source if isinstance(source, Source) else Source.from_dict(source)
+    dist, inner = parse_mesh_uri(mesh_uri)
+    _check_dist(dist, source, mesh_uri)
+    try:
+        installed = importlib.metadata.distribution(dist)
+    except importlib.metadata.PackageNotFoundError:
+        return InstalledFile(inner=inner)
+    root = Path(str(installed.locate_file("")))
+    if installed.version != source.version or source.archive != "wheel":
+        return InstalledFile(installed.version, inner=inner, root=root)
+    path = Path(str(installed.locate_file(inner)))
+    if path.is_file():
+        return InstalledFile(installed.version, True, path, inner, root)
+    return InstalledFile(installed.version, True, None, inner, root,
+                         _nearest(inner, path.parent, installed.files or ()))
+
+
+def _nearest(inner: str, folder: Path, files) -> str:
+    """`` (did you mean NAME?)``: the file of ``folder`` (else of the distribution's ``files``)
+    nearest to ``inner``, or ""."""
+    if folder.is_dir():
+        names = [p.name for p in folder.iterdir() if p.is_file()]
+        close = difflib.get_close_matches(PurePosixPath(inner).name, names, n=1)
+    else:
+        close = difflib.get_close_matches(inner, [str(f) for f in files], n=1)
+    return f" (did you mean {close[0]}?)" if close else ""
+
+
 def resolve(mesh_uri: str, source: Source | dict, cache_dir=None) -> Path:
     """The cached file of ``mesh_uri`` (a ``pypi://`` URI of ``source``'s distribution).
 
     Raises ValueError for a malformed URI or one naming another distribution, and
     FileNotFoundError (saying how to fetch it) when the file is not in the cache."""
-    source = source if isinstance(source, Source) else Source.from_dict(source)
-    dist, path = parse_mesh_uri(mesh_uri)
-    _check_dist(dist, source, mesh_uri)
-    target = source_dir(source, cache_dir) / path
+    target = cache_path(mesh_uri, source, cache_dir)
     if not target.is_file():
         raise FileNotFoundError(f"{mesh_uri}: not in the cache ({target}); {FETCH_HINT}")
     return target
@@ -142,28 +202,42 @@ def fetch_sources(entries: Iterable, cache_dir=None, *, download: Download | Non
     ``entries``: ``(mesh_uri, source)`` pairs or mappings ``{"mesh": ..., "source": ...}``
     (a source is a :class:`Source` or a manifest's source mapping). Each distinct
     ``(package, version, archive)`` is downloaded at most once, and not at all when all its
-    needed files are already cached. ``download`` (default :class:`PipDownloader`) fetches one
+    needed files are already cached, nor when it is installed at the source's version (a
+    wheel: :func:`installed_file`). ``download`` (default :class:`PipDownloader`) fetches one
     archive; ``log`` gets one line per distribution. Returns one :class:`FetchResult` per
     distribution, in the order first seen. Raises ValueError for a malformed entry and
-    FetchError when a download fails or an archive lacks a needed file.
+    FetchError when a download fails or an archive (or the installed distribution) lacks a
+    needed file.
     """
     download = download or PipDownloader()
     groups: dict[tuple[str, str, str], tuple[Source, list[str]]] = {}
+    installed: dict[tuple[str, str, str], tuple[Path, list[Path]]] = {}
     for mesh, source in _pairs(entries):
         dist, path = parse_mesh_uri(mesh)
         _check_dist(dist, source, mesh)
+        found = installed_file(mesh, source)
+        if found.matches and found.path is None:
+            raise FetchError(f"{source.package}=={source.version} (installed in {found.root}) "
+                             f"has no {path!r}{found.hint}")
         _, paths = groups.setdefault(source.key, (source, []))
-        if path not in paths:
+        if found.matches:
+            installed.setdefault(source.key, (found.root, []))[1].append(found.path)
+        elif path not in paths:
             paths.append(path)
     results = []
     for source, paths in groups.values():
-        results.append(_fetch_one(source, paths, cache_dir, download))
+        if source.key in installed:
+            root, files = installed[source.key]
+            results.append(FetchResult(source, root, tuple(dict.fromkeys(files)),
+                                       downloaded=False, installed=True))
+        else:
+            results.append(_fetch_one(source, paths, cache_dir, download))
         if log is not None:
             r = results[-1]
             what = (f"downloaded {r.archive_bytes / 2**20:.1f} MiB" if r.downloaded
-                    else "already cached")
-            log(f"{source.package}=={source.version} ({source.archive}): {len(paths)} file(s) "
-                f"in {r.directory}, {what}")
+                    else "installed, nothing to download" if r.installed else "already cached")
+            log(f"{source.package}=={source.version} ({source.archive}): {len(r.files)} "
+                f"file(s) in {r.directory}, {what}")
     return results
 
 
@@ -297,9 +371,11 @@ def _extract(archive: Path, source: Source, needed: list[str], dest: Path) -> li
 def _wanted(members: dict, needed: list[str], source: Source) -> list[str]:
     missing = [p for p in needed if p not in members]
     if missing:
+        close = difflib.get_close_matches(missing[0], list(members), n=1)
         raise FetchError(f"{source.package}=={source.version} ({source.archive}) has no "
                          f"{missing[0]!r}" + (f" (and {len(missing) - 1} more)"
-                                               if len(missing) > 1 else ""))
+                                               if len(missing) > 1 else "")
+                         + (f" (did you mean {close[0]!r}?)" if close else ""))
     licences = sorted(m for m in members if _is_license(m, needed) and m not in needed)
     wanted = list(needed) + licences
     for rel in wanted:
@@ -340,6 +416,6 @@ def _write_source_yaml(path: Path, source: Source, archive: Path, url, files) ->
 
 
 
-__all__ = ["FetchError", "FetchResult", "Source", "default_cache_dir", "fetch_sources",
-           "normalize", "parse_mesh_uri", "PipDownloader",
-           "resolve", "source_dir"]
+__all__ = ["FetchError", "FetchResult", "InstalledFile", "Source", "cache_path",
+           "default_cache_dir", "fetch_sources", "installed_file", "normalize", "parse_mesh_uri",
+           "PipDownloader", "resolve", "source_dir"]

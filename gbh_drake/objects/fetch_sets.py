@@ -59,7 +59,10 @@ def main(argv: list[str] | None = None, *, download: Download | None = None) -> 
         print(f"error: {exc}", file=sys.stderr)
         return 1
     n_files = sum(len(r.files) for r in results)
-    print(f"{n_files} mesh file(s) of {len(results)} distribution(s) in {cache}")
+    installed = sum(len(r.files) for r in results if r.installed)
+    where = f": {n_files - installed} in {cache}, {installed} installed" if installed else \
+        f" in {cache}"
+    print(f"{n_files} mesh file(s) of {len(results)} distribution(s){where}")
     return 0
 
 

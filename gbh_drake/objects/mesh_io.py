@@ -31,6 +31,7 @@ file name, and logged with it):
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import time
@@ -64,6 +65,19 @@ MAX_FACES = 2_000_000
 MAX_FILE_BYTES = 512 * 2**20
 #: Coordinates (m, after ``scale``) beyond this are refused: not an object at any plausible unit.
 MAX_COORDINATE = 1.0e4
+
+
+@contextlib.contextmanager
+def quiet_mesh_warnings():
+    """Keeps the object set's and the mesh import's warnings out of the log for a while (they
+    are said elsewhere: in a run's summary, in ``gbh objects list``); errors still show."""
+    objects_log = logging.getLogger("gbh_drake.objects")
+    level = objects_log.level
+    objects_log.setLevel(logging.ERROR)
+    try:
+        yield
+    finally:
+        objects_log.setLevel(level)
 
 
 class MeshImportError(ValueError):

@@ -22,21 +22,28 @@ generated set (``builtin: mug_classic``). The built-in set is itself a manifest
 
 :func:`load_object_set` reads and checks a manifest with the loader of scenario files
 (:mod:`gbh_drake.yamlfiles.layers`): a problem raises :class:`ObjectSetError` naming the
-manifest, the entry, the field and its line. :func:`set_object` resolves one entry into a
-:class:`SetObject` (the mesh file found, the natural rest and the ground truth in frame O of the
-placed mesh are made by :func:`gbh_drake.modeling.object_asset.load_object_asset`).
+manifest, the entry, the field and its line (a field left out: the line of what holds it).
+:func:`set_object` resolves one entry into a :class:`SetObject` (the mesh file found);
+:meth:`ObjectSet.rest_mesh` reads its mesh into its natural rest and refuses one that is not a
+mesh or whose size cannot be simulated, as a scenario's ``object.mesh`` is refused; the natural
+rest and the ground truth in frame O of the placed mesh are made by
+:func:`gbh_drake.modeling.object_asset.load_object_asset`. :func:`object_digest` says which
+version of an entry a trial ran (its facts and its mesh file's bytes).
 """
 
 from __future__ import annotations
 
-import importlib.metadata
+import dataclasses
+import hashlib
+import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import yaml
 
-from gbh_drake.core.ranges import FieldError, check_fields
+from gbh_drake.core.ranges import FieldError, check_fields, format_path
 from gbh_drake.objects.manifest import (
     ObjectSetManifest,
     SetEntry,
@@ -44,6 +51,7 @@ from gbh_drake.objects.manifest import (
     SetRest,
 )
 from gbh_drake.yamlfiles.layers import LayerError, file_layer, load_layers
+from gbh_drake.yamlfiles.yaml_text import line_of
 
 #: The scheme of a mesh inside a PyPI distribution: ``pypi://DISTRIBUTION/PATH``.
 PYPI = "pypi://"
@@ -53,6 +61,15 @@ NAME = re.compile(r"^[a-z0-9_]+$")
 
 class ObjectSetError(LayerError):
     """A manifest is invalid: ``<manifest>: objects[i] (<name>).<field> (line N): <problem>``."""
+
+
+class MissingMesh(FileNotFoundError):
+    """An entry's mesh file is not there; ``field``: the entry's field that says where to look
+    (``mesh``, or ``source.version`` for a distribution installed at another version)."""
+
+    def __init__(self, field_name: str, problem: str):
+        super().__init__(problem)
+        self.field = field_name
 
 
 @dataclass
@@ -67,6 +84,8 @@ class SetObject:
     manifest: Path
     builtin: str = ""
     mesh_path: Path | None = None
+    index: int = 0
+    """The entry's index in the manifest (``objects[index]``)."""
 
     @property
     def is_control(self) -> bool:
@@ -83,12 +102,16 @@ class SetObject:
 
 @dataclass
 class ObjectSet:
-    """A loaded manifest: its ``name``, ``description``, the file, and its entries in order."""
+    """A loaded manifest: its ``name``, ``description``, the file (``path``, resolved; ``given``:
+    as it was given, for messages), its entries in order and its node tree (``root``: the lines
+    of later errors)."""
 
     name: str
     description: str
     path: Path
     entries: list[SetEntry] = field(default_factory=list)
+    given: str = ""
+    root: yaml.Node | None = field(default=None, repr=False, compare=False)
 
     @property
     def names(self) -> list[str]:
@@ -106,6 +129,34 @@ class ObjectSet:
         return set_object(self, self.names.index(name) if name in self.names else
                           self.names.index(self.entry(name).name))
 
+    def error(self, index: int, field_name: str, problem: str) -> ObjectSetError:
+        """``problem`` of entry ``index``'s field ``field_name`` (``mesh``, ``source.version``),
+        naming the manifest, the entry and the line (:func:`written_line`)."""
+        path = ("objects", index, *_parse_field(field_name))
+        where = _with_entry(format_path(path), self.entries)
+        return ObjectSetError(self.given or str(self.path), where, written_line(self.root, path),
+                              problem)
+
+    def rest_mesh(self, name: str):
+        """The mesh (trimesh, m) of the mesh entry ``name``: its file at its ``scale``, turned
+        into its natural rest (as given without one). Raises :class:`ObjectSetError` when the
+        file is not found (``mesh``), cannot be imported (``mesh``) or makes an object that
+        cannot be simulated (``scale``: the refusal of a scenario's ``object.mesh``,
+        :func:`~gbh_drake.objects.plausibility.size_refusal`)."""
+        from gbh_drake.objects.mesh_io import MeshImportError, load_mesh_file
+        from gbh_drake.objects.plausibility import size_refusal
+
+        obj = self.object(name)
+        try:
+            mesh = load_mesh_file(obj.mesh_path, scale=obj.entry.scale)
+        except MeshImportError as e:
+            raise self.error(obj.index, "mesh", str(e)) from None
+        mesh.apply_transform(rest_transform(obj.entry))
+        refusal = size_refusal(mesh, obj.entry.scale)
+        if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
+            raise self.error(obj.index, "scale", f"{obj.mesh_path}: {refusal}")
+        return mesh
+
 
 def entry_name(entry: SetEntry) -> str:
     """An entry's name: its ``name``, or the built-in object's it names."""
@@ -119,22 +170,42 @@ def load_object_set(path: str | Path) -> ObjectSet:
     origin, text = file_layer(path, "object set", ObjectSetError)
     manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
                                   what="object set", error=ObjectSetError)
+    root = trees.roots[0][1]
     try:
         _check(manifest)
     except FieldError as e:
         error = trees.locate(e, origin, ObjectSetError)
-        raise ObjectSetError(error.origin, _with_entry(error.field, manifest), error.line,
+        line = error.line
+        if error.field == format_path(e.path) and line_of(root, e.path) is None:
+            line = written_line(root, e.path)  # left out: the line of what holds it
+        raise ObjectSetError(error.origin, _with_entry(error.field, manifest.objects), line,
                              error.problem) from None
     return ObjectSet(manifest.name or path.stem, manifest.description, path.resolve(),
-                     list(manifest.objects))
+                     list(manifest.objects), origin, root)
 
 
-def _with_entry(field_text: str, manifest: ObjectSetManifest) -> str:
+def written_line(root: yaml.Node | None, path: tuple) -> int | None:
+    """The line of field ``path`` in the manifest's tree ``root``, or, left out, of the nearest
+    field holding it that is written (an entry's ``mass`` left out: the entry's line)."""
+    for end in range(len(path), 0, -1):
+        line = line_of(root, path[:end])
+        if line is not None:
+            return line
+    return None
+
+
+def _parse_field(text: str) -> tuple:
+    """``rest.reason`` -> ``("rest", "reason")``; ``parts[0].center`` -> ``("parts", 0,
+    "center")``."""
+    return tuple(int(p) if p.isdigit() else p for p in re.findall(r"[^.\[\]]+", text))
+
+
+def _with_entry(field_text: str, entries: list[SetEntry]) -> str:
     """``objects[2].mass`` -> ``objects[2] (my_mug).mass``: the entry's name in a message."""
     found = re.match(r"^objects\[(\d+)\]", field_text)
-    if not found or int(found.group(1)) >= len(manifest.objects):
+    if not found or int(found.group(1)) >= len(entries):
         return field_text
-    name = entry_name(manifest.objects[int(found.group(1))])
+    name = entry_name(entries[int(found.group(1))])
     return f"{found.group(0)} ({name}){field_text[found.end():]}" if name else field_text
 
 
@@ -171,41 +242,73 @@ def set_object(object_set: ObjectSet, index: int) -> SetObject:
     entry = object_set.entries[index]
     name = entry_name(entry)
     if entry.builtin:
-        return SetObject(name, entry, object_set.name, object_set.path, builtin=entry.builtin)
+        return SetObject(name, entry, object_set.name, object_set.path, builtin=entry.builtin,
+                         index=index)
     try:
-        path = mesh_file(entry, object_set.path.parent)
-    except FileNotFoundError as e:
-        raise ObjectSetError(str(object_set.path), f"objects[{index}] ({name}).mesh", None,
-                             str(e)) from None
-    return SetObject(name, entry, object_set.name, object_set.path, mesh_path=path)
+        path = mesh_file(entry, object_set.path.parent, manifest=object_set.given)
+    except MissingMesh as e:
+        raise object_set.error(index, e.field, str(e)) from None
+    return SetObject(name, entry, object_set.name, object_set.path, mesh_path=path, index=index)
 
 
-def mesh_file(entry: SetEntry, directory: Path) -> Path:
+def mesh_file(entry: SetEntry, directory: Path, *, manifest: str | Path = "") -> Path:
     """The file of ``entry.mesh``: relative to ``directory`` (the manifest's), or inside a PyPI
     distribution (``pypi://DIST/PATH``: the installed distribution when its version is the
     entry's ``source.version``, else the cache :mod:`gbh_drake.objects.fetch` fills).
-    ``FileNotFoundError`` says what is missing and how to get it."""
+    :class:`MissingMesh` says what is missing and how to get it (``manifest``: the file the
+    fetch hint names)."""
     if not entry.mesh.startswith(PYPI):
         path = Path(entry.mesh).expanduser()
         path = path if path.is_absolute() else Path(directory) / path
         if not path.is_file():
-            raise FileNotFoundError(f"no mesh file {path}")
+            raise MissingMesh("mesh", f"no mesh file {path}")
         return path
-    dist, _, inner = entry.mesh[len(PYPI):].partition("/")
-    version = entry.source.version if entry.source is not None else ""
-    try:
-        installed = importlib.metadata.distribution(dist)
-        if installed.version == version:
-            path = Path(str(installed.locate_file(inner)))
-            if path.is_file():
-                return path
-    except importlib.metadata.PackageNotFoundError:
-        pass
-    from gbh_drake.objects.fetch import resolve
+    from gbh_drake.objects.fetch import Source, cache_path, installed_file
 
     source = entry.source
-    return resolve(entry.mesh, {"package": source.package, "version": source.version,
-                                "archive": source.archive, "license": source.license})
+    source = Source(source.package, source.version, source.archive, source.license)
+    try:
+        installed = installed_file(entry.mesh, source)
+        cached = cache_path(entry.mesh, source)
+    except ValueError as e:  # an unsafe path (``..``)
+        raise MissingMesh("mesh", str(e)) from None
+    if installed.path is not None:
+        return installed.path
+    if installed.matches:  # the installed files are the archive's: a wrong path
+        raise MissingMesh("mesh", f"no such file in {source.package} {source.version} "
+                                  f"({installed.root}): {installed.inner}{installed.hint}")
+    if cached.is_file():
+        return cached
+    fetch = f"run `gbh objects fetch --set {manifest}`" if manifest else "run `gbh objects fetch`"
+    if installed.version:
+        raise MissingMesh("source.version", f"installed {installed.version}, the entry asks "
+                                            f"{source.version}, which is not in the cache "
+                                            f"either ({cached}): give version: "
+                                            f"'{installed.version}', or {fetch}")
+    raise MissingMesh("mesh", f"{entry.mesh}: not in the cache ({cached}); {fetch}")
+
+
+#: The facts of a mesh entry that change the object a trial simulates or what its row records
+#: (the mesh file's bytes besides): a row made before one of them changed is of another object.
+#: Words (``mass_note``, ``description``, ``rest.reason``, the licence) and ``tags`` (which
+#: group the report, not the trial) are not among them.
+OBJECT_FACTS = ("scale", "mass", "density", "control", "rest", "hangable_parts")
+
+
+def object_digest(obj: SetObject) -> str:
+    """sha256 of a mesh entry's :data:`OBJECT_FACTS` (its rest as the rotation it makes) and of
+    its mesh file's bytes; "" for a built-in object (its code is the commit's)."""
+    if obj.builtin:
+        return ""
+    facts = {name: getattr(obj.entry, name) for name in OBJECT_FACTS}
+    rest = natural_rest_of(obj.entry)
+    facts["rest"] = None if rest is None else [float(a) for a in rest.rpy_deg]
+    facts["hangable_parts"] = [dataclasses.asdict(p) for p in obj.entry.hangable_parts]
+    digest = hashlib.sha256(json.dumps(facts, sort_keys=True).encode())
+    with open(obj.mesh_path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 def parts_in_file_frame(entry: SetEntry):
@@ -216,6 +319,16 @@ def parts_in_file_frame(entry: SetEntry):
     return [HangablePart(p.name or f"part_{i}", np.asarray(p.center, float),
                          np.asarray(p.axis, float), p.kind, float(p.clear_diameter))
             for i, p in enumerate(entry.hangable_parts)]
+
+
+def rest_transform(entry: SetEntry) -> np.ndarray:
+    """X_RF (4, 4): the rotation of the mesh file's frame F into the entry's natural rest R
+    (the identity without one)."""
+    X_RF = np.eye(4)
+    rest = natural_rest_of(entry)
+    if rest is not None:
+        X_RF[:3, :3] = rest.R
+    return X_RF
 
 
 def natural_rest_of(entry: SetEntry):
@@ -230,6 +343,7 @@ def natural_rest_of(entry: SetEntry):
     return NaturalRest(angles, rest.reason)
 
 
-__all__ = ["PYPI", "ObjectSet", "ObjectSetError", "SetEntry", "SetObject", "SetPart",
-           "entry_name", "load_object_set", "mesh_file", "natural_rest_of",
-           "parts_in_file_frame", "set_object"]
+__all__ = ["OBJECT_FACTS", "PYPI", "MissingMesh", "ObjectSet", "ObjectSetError", "SetEntry",
+           "SetObject", "SetPart", "entry_name", "load_object_set", "mesh_file",
+           "natural_rest_of", "object_digest", "parts_in_file_frame", "rest_transform",
+           "set_object", "written_line"]

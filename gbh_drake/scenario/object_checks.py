@@ -4,6 +4,7 @@ demand (its generators are heavy). A random pose with ``rest: natural`` needs a 
 with a declared natural rest."""
 
 import difflib
+import os
 from pathlib import Path
 
 import numpy as np
@@ -80,12 +81,13 @@ def check_object(scenario) -> None:
 
 def _check_set_object(scenario) -> None:
     """``object.set`` is a manifest that loads, ``object.name`` one of its objects, whose mesh
-    is found and loads; ``rest: natural`` needs its declared rest."""
-    from gbh_drake.objects import MeshImportError
+    is found, loads and has a size that can be simulated (as ``object.mesh``'s); ``rest:
+    natural`` needs its declared rest. The manifest is named by its path made plain (an
+    experiment's trial names it relative to the base scenario: ``../../x/set.yaml``)."""
     from gbh_drake.objects.sets import ObjectSetError, load_object_set
 
     obj = scenario.object
-    path = scenario.resolve(obj.set)
+    path = Path(os.path.normpath(scenario.resolve(obj.set)))
     if not path.is_file():
         raise FieldError(("object", "set"), f"{'is a folder' if path.is_dir() else 'file not found'}"
                                             f": {path}")
@@ -113,8 +115,8 @@ def _check_set_object(scenario) -> None:
 
     try:
         asset = load_object_asset(obj, scenario.directory)
-    except MeshImportError as e:
-        raise FieldError(("object", "set"), f"{path}: {obj.name}: {e}") from None
+    except ObjectSetError as e:  # the mesh cannot be imported, or its size simulated
+        raise FieldError(("object", "set"), str(e)) from None
     if asset.mass > MASS_RANGE[1]:
         raise FieldError(("object", "set"), f"{path}: {obj.name} weighs {asset.mass:.3g} kg, "
                                             f"above the Franka's payload ({MASS_RANGE[1]:g} kg)")

@@ -1,7 +1,11 @@
-"""Meshes for the imported-mesh tests: a solid-filled mug, as a scan would give it."""
+"""Meshes for the imported-mesh tests: a solid-filled mug, as a scan would give it; a
+tetrahedron's OBJ bytes."""
 
 import numpy as np
 import trimesh
+
+#: A tetrahedron, 1 m along each axis (an OBJ file's bytes).
+CUBE_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 
 
 def filled_mug(radius=0.041, height=0.095, handle_major=0.028, handle_minor=0.0055):

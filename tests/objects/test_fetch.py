@@ -8,6 +8,7 @@ import zipfile
 
 import pytest
 import yaml
+from mesh_shapes import CUBE_OBJ
 
 from gbh_drake.objects.fetch import (
     FETCH_HINT,
@@ -22,7 +23,6 @@ from gbh_drake.objects.fetch import (
 )
 from gbh_drake.objects.fetch_sets import main, read_manifest_entries
 
-CUBE_OBJ = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 MIT = b"MIT License\n"
 
 
@@ -216,3 +216,40 @@ def test_bad_manifests_exit_2_naming_file_and_field(tmp_path, capsys, objects, m
     assert "bad.yaml" in err and len(err.strip().splitlines()) == 1
     with pytest.raises(ValueError, match=message):
         read_manifest_entries(manifest)
+
+
+def test_a_distribution_installed_at_the_version_is_not_downloaded(tmp_path, installed_toypkg,
+                                                                   capsys):
+    """The installed files are the wheel's: nothing is downloaded for them (pybullet's 98 MiB
+    wheel was, for one mug), and a path the distribution does not hold says the nearest one
+    instead of downloading it to find out."""
+    download = LocalArchive(make_wheel(tmp_path))
+    [result] = fetch_sources(wheel_entries("toypkg/assets/objects/mug/mug.obj"),
+                             tmp_path / "cache", download=download)
+    assert download.calls == 0 and result.installed and not result.downloaded
+    assert result.files == (installed_toypkg / "toypkg/assets/objects/mug/mug.obj",)
+    assert not (tmp_path / "cache").exists()
+    with pytest.raises(FetchError, match=r"toypkg==1.0 \(installed in .*site\) has no "
+                                         r"'toypkg/assets/objects/mug/mugg.obj' \(did you mean "
+                                         r"mug.obj\?\)"):
+        fetch_sources(wheel_entries("toypkg/assets/objects/mug/mugg.obj"), tmp_path / "cache",
+                      download=download)
+    [other] = fetch_sources(wheel_entries("toypkg/assets/objects/ring.obj", version="2.0"),
+                            tmp_path / "cache", download=LocalArchive(make_wheel(tmp_path,
+                                                                                 version="2.0")))
+    assert other.downloaded  # another version than the installed one: from PyPI
+    src = {"package": "toypkg", "version": "1.0", "license": "MIT"}
+    manifest = write_manifest(tmp_path / "set.yaml", [
+        {"name": "a", "mesh": "pypi://toypkg/toypkg/assets/objects/ring.obj", "source": src,
+         "mass": 0.1}])
+    assert main([str(manifest), "--cache-dir", str(tmp_path / "c")], download=download) == 0
+    assert download.calls == 0
+    assert "toypkg==1.0 (wheel): 1 file(s) in " in capsys.readouterr().out
+
+
+def test_an_archive_without_a_path_names_the_nearest(tmp_path):
+    download = LocalArchive(make_wheel(tmp_path))
+    with pytest.raises(FetchError, match=r"has no 'toypkg/assets/objects/rign.obj' \(did you "
+                                         r"mean 'toypkg/assets/objects/ring.obj'\?\)"):
+        fetch_sources(wheel_entries("toypkg/assets/objects/rign.obj"), tmp_path / "c",
+                      download=download)

@@ -74,31 +74,43 @@ def test_a_mesh_entry_gives_its_asset_with_the_ground_truth_moved_into_O(meshes)
 @pytest.mark.parametrize("entry, where, words", [
     ("  - {name: Bad-Name, mesh: box.obj, mass: 0.1}\n", r"objects\[0\] \(Bad-Name\)\.name "
      r"\(line 3\)", "letters a-z, digits and underscores"),
-    ("  - {name: box, mesh: box.obj}\n", r"objects\[0\] \(box\)\.mass", "real object's mass"),
-    ("  - {name: box, mesh: box.obj, mass: 0.1, density: 500}\n", r"objects\[0\] \(box\)\.mass",
-     "not both"),
+    ("  - {name: box, mesh: box.obj}\n", r"objects\[0\] \(box\)\.mass \(line 3\)",
+     "real object's mass"),
+    ("  - {name: box, mesh: box.obj, mass: 0.1, density: 500}\n",
+     r"objects\[0\] \(box\)\.mass \(line 3\)", "not both"),
     ("  - {name: box, mesh: pypi://somepkg/a/box.obj, mass: 0.1}\n",
-     r"objects\[0\] \(box\)\.source", "needs its source"),
+     r"objects\[0\] \(box\)\.source \(line 3\)", "needs its source"),
     ("  - {name: box, mesh: pypi://somepkg/a/box.obj, mass: 0.1, source: {package: other, "
-     "version: '1', license: MIT}}\n", r"objects\[0\] \(box\)\.source\.package", "'somepkg'"),
+     "version: '1', license: MIT}}\n", r"objects\[0\] \(box\)\.source\.package \(line 3\)",
+     "'somepkg'"),
     ("  - {name: box, mesh: box.obj, mass: 0.1, rest: {as_given: true}}\n",
-     r"objects\[0\] \(box\)\.rest\.reason", "one-line reason"),
-    ("  - {builtin: teapot, mass: 2.0}\n", r"objects\[0\] \(teapot\)\.mass",
+     r"objects\[0\] \(box\)\.rest\.reason \(line 3\)", "one-line reason"),
+    ("  - {builtin: teapot, mass: 2.0}\n", r"objects\[0\] \(teapot\)\.mass \(line 3\)",
      "brings its own mesh"),
-    ("  - {builtin: teapott}\n", r"objects\[0\] \(teapott\)\.builtin",
+    ("  - {builtin: teapott}\n", r"objects\[0\] \(teapott\)\.builtin \(line 3\)",
      "unknown built-in object 'teapott'"),
     ("  - {name: box, mesh: box.obj, mass: 0.1}\n  - {name: box, mesh: box.obj, mass: 0.2}\n",
-     r"objects\[1\] \(box\)\.name", "objects[0] too"),
+     r"objects\[1\] \(box\)\.name \(line 4\)", "objects[0] too"),
     ("  - {name: box, mesh: box.obj, mass: 0.1, control: true, hangable_parts: "
      "[{center: [0, 0, 0], axis: [0, 0, 1], clear_diameter: 0.01}]}\n",
-     r"objects\[0\] \(box\)\.hangable_parts", "a control has nothing"),
+     r"objects\[0\] \(box\)\.hangable_parts \(line 3\)", "a control has nothing"),
     ("  - {name: box, mesh: box.obj, mass: 0.1, hangable_parts: [{center: [0, 0], axis: "
-     "[0, 0, 1], clear_diameter: 0.01}]}\n", r"objects\[0\] \(box\)\.hangable_parts\[0\]\.center",
-     "needs 3"),
-    ("  - {name: box, mesh: box.obj, mass: 0.1, scale: -1}\n", r"objects\[0\] \(box\)\.scale",
-     "in (0, 1000]"),
-    ("  - {name: box, mesh: box.obj, mass: 0.1, colour: red}\n", r"objects\[0\]\.colour",
-     "unknown"),
+     "[0, 0, 1], clear_diameter: 0.01}]}\n",
+     r"objects\[0\] \(box\)\.hangable_parts\[0\]\.center \(line 3\)", "needs 3"),
+    ("  - {name: box, mesh: box.obj, mass: 0.1, scale: -1}\n",
+     r"objects\[0\] \(box\)\.scale \(line 3\)", "in (0, 1000]"),
+    ("  - {name: box, mesh: box.obj, mass: 0.1, colour: red}\n",
+     r"objects\[0\]\.colour \(line 3\)", "unknown"),
+    # Written over several lines, a field left out is the line of what holds it (it read
+    # "line 2", the line of objects:, for every entry).
+    ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n",
+     r"objects\[1\] \(box\)\.mass \(line 4\)", "real object's mass"),
+    ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n"
+     "    mass: 0.1\n    rest:\n      as_given: true\n", r"objects\[1\] \(box\)\.rest\.reason "
+     r"\(line 7\)", "one-line reason"),
+    ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mass: 0.1\n"
+     "    mesh: pypi://somepkg/a/box.obj\n", r"objects\[1\] \(box\)\.source \(line 4\)",
+     "needs its source"),
 ])
 def test_a_bad_entry_names_the_manifest_the_entry_and_the_field(meshes, entry, where, words):
     path = write(meshes, "name: mine\nobjects:\n" + entry)
@@ -108,10 +120,10 @@ def test_a_bad_entry_names_the_manifest_the_entry_and_the_field(meshes, entry, w
 
 
 def test_a_missing_mesh_is_found_missing_when_its_object_is_used(meshes):
-    path = write(meshes, "objects:\n  - {name: gone, mesh: nowhere.obj, mass: 0.1}\n")
+    path = write(meshes, "objects:\n  - name: gone\n    mass: 0.1\n    mesh: nowhere.obj\n")
     object_set = load_object_set(path)
-    with pytest.raises(ObjectSetError, match=r"objects\[0\] \(gone\)\.mesh: no mesh file .*"
-                                             r"nowhere\.obj"):
+    with pytest.raises(ObjectSetError, match=r"set\.yaml: objects\[0\] \(gone\)\.mesh \(line 4\): "
+                                             r"no mesh file .*nowhere\.obj"):
         object_set.object("gone")
 
 
@@ -120,8 +132,85 @@ def test_an_uncached_pypi_mesh_says_how_to_fetch_it(meshes, monkeypatch, tmp_pat
     path = write(meshes, "objects:\n  - {name: far, mesh: pypi://nosuchdist/x/mug.obj, "
                          "mass: 0.1, source: {package: nosuchdist, version: '1.0', "
                          "license: MIT}}\n")
-    with pytest.raises(ObjectSetError, match=r"run `gbh objects fetch"):
+    with pytest.raises(ObjectSetError, match=r"\.mesh \(line 2\): pypi://nosuchdist/x/mug\.obj: "
+                                             r"not in the cache .*; run `gbh objects fetch --set "
+                                             + str(path).replace(".", r"\.") + "`"):
         load_object_set(path).object("far")
+
+
+PYPI_MUG = ("objects:\n  - name: toy\n    mesh: pypi://toypkg/toypkg/assets/objects/mug/{file}\n"
+            "    source: {{package: toypkg, version: '{version}', license: MIT}}\n"
+            "    mass: 0.1\n")
+
+
+def test_a_pypi_mesh_is_read_from_the_installed_distribution(meshes, installed_toypkg):
+    path = write(meshes, PYPI_MUG.format(file="mug.obj", version="1.0"))
+    assert load_object_set(path).object("toy").mesh_path == \
+        installed_toypkg / "toypkg/assets/objects/mug/mug.obj"
+
+
+@pytest.mark.parametrize("file, version, where, words", [
+    # a typo: the installed files are the wheel's, so fetching cannot help (it said to)
+    ("mugg.obj", "1.0", r"\.mesh \(line 3\)", r"no such file in toypkg 1\.0 \(.*site\): "
+     r"toypkg/assets/objects/mug/mugg\.obj \(did you mean mug\.obj\?\)"),
+    # another version than the installed one, not fetched (it said: not in the cache)
+    ("mug.obj", "9.9.9", r"\.source\.version \(line 4\)", r"installed 1\.0, the entry asks "
+     r"9\.9\.9, which is not in the cache either \(.*\): give version: '1\.0', or run "
+     r"`gbh objects fetch --set "),
+])
+def test_a_pypi_mesh_not_found_says_what_to_fix(meshes, installed_toypkg, monkeypatch, tmp_path,
+                                               file, version, where, words):
+    monkeypatch.setenv("GBH_DRAKE_CACHE", str(tmp_path / "cache"))
+    path = write(meshes, PYPI_MUG.format(file=file, version=version))
+    with pytest.raises(ObjectSetError, match=r"objects\[0\] \(toy\)" + where + ": " + words):
+        load_object_set(path).object("toy")
+
+
+def test_a_set_mesh_whose_size_cannot_be_simulated_is_refused_as_a_plain_mesh_is(meshes):
+    """A mug in millimetres without ``scale: 0.001``: 132 m across. A scenario's ``object.mesh``
+    refused it, an object set's was simulated (empty scan, a failed trial)."""
+    from gbh_drake.scenario import ScenarioError, load_scenario
+
+    path = write(meshes, "objects:\n  - name: my_mug\n    mesh: mug_mm_yup.stl\n"
+                         "    mass: 0.32\n")
+    with pytest.raises(ObjectSetError) as refused:
+        load_object_set(path).rest_mesh("my_mug")
+    assert (refused.value.field, refused.value.line) == ("objects[0] (my_mug).scale", 2)
+    assert refused.value.problem.startswith(f"{meshes / 'mug_mm_yup.stl'}: largest extent ")
+    assert "is larger than the workspace" in refused.value.problem
+    assert "looks like millimetres: give scale: 0.001" in refused.value.problem
+    mesh = meshes / "mug_mm_yup.stl"
+    with pytest.raises(ScenarioError) as plain:
+        load_scenario(SCENARIOS_DIR / "default.yaml",
+                      overrides=f"object: {{mesh: {mesh}, mass: 0.32}}")
+    assert plain.value.problem == refused.value.problem  # the same refusal, word for word
+    with pytest.raises(ScenarioError) as run:  # gbh run's
+        load_scenario(SCENARIOS_DIR / "default.yaml",
+                      overrides=f"object: {{set: {path}, name: my_mug}}")
+    assert run.value.field == "object.set" and run.value.problem == str(refused.value)
+    scaled = write(meshes, "objects:\n  - {name: my_mug, mesh: mug_mm_yup.stl, mass: 0.32, "
+                           "scale: 0.001}\n")
+    assert max(load_object_set(scaled).rest_mesh("my_mug").extents) == pytest.approx(0.1325)
+
+
+def test_a_file_that_is_not_a_mesh_names_the_manifest_entry_and_field(meshes, tmp_path):
+    """It said ``invalid mesh: nofaces.obj: not a mesh``; from a scenario in another folder,
+    the manifest's path read ``.../a/../b/set.yaml``."""
+    from gbh_drake.scenario import ScenarioError, load_scenario
+
+    (meshes / "points.obj").write_text("v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\n")
+    path = write(meshes, "name: mine\nobjects:\n  - {name: box, mesh: box.obj, mass: 0.1}\n"
+                         "  - name: dots\n    mesh: points.obj\n    mass: 0.1\n")
+    with pytest.raises(ObjectSetError) as e:
+        load_object_set(path).rest_mesh("dots")
+    assert str(e.value).startswith(f"{path}: objects[1] (dots).mesh (line 5): "
+                                   f"{meshes / 'points.obj'}: ")
+    (tmp_path / "elsewhere").mkdir()
+    scenario = tmp_path / "elsewhere" / "s.yaml"
+    scenario.write_text("object: {set: ../set.yaml, name: dots}\n")
+    with pytest.raises(ScenarioError) as run:
+        load_scenario(scenario)
+    assert run.value.problem == str(e.value) and "/../" not in str(run.value)
 
 
 def test_gbh_objects_list_shows_a_set_as_text_csv_and_json(meshes, capsys):
@@ -142,6 +231,29 @@ def test_gbh_objects_list_shows_a_set_as_text_csv_and_json(meshes, capsys):
     table = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
     assert [r["name"] for r in table] == ["my_mug", "box"] and table[0]["tags"] == "cup"
     assert main(["objects", "list", "--set", str(path)]) == 0
-    assert capsys.readouterr().out.splitlines()[0].startswith("my_mug")
+    header, mug, *_ = capsys.readouterr().out.splitlines()
+    assert header.split()[:5] == ["object", "size", "x,", "y,", "z"] and "mass" in header
+    assert mug.startswith("my_mug") and "320 g" in mug
     assert main(["objects", "list", "--set", str(meshes / "nothere.yaml")]) == 2
     assert "invalid object set" in capsys.readouterr().err
+
+
+def test_gbh_objects_list_shows_an_object_that_cannot_be_used_as_refused(meshes, capsys):
+    """It listed a mug in millimetres as 8200 x 12163 x 10000 cm (a warning below), exit 0."""
+    import json
+
+    from gbh_drake.cli import main
+
+    path = write(meshes, "objects:\n  - {name: box, mesh: box.obj, mass: 0.3}\n"
+                         "  - {name: my_mug, mesh: mug_mm_yup.stl, mass: 0.32}\n")
+    assert main(["objects", "list", "--set", str(path)]) == 2
+    out, err = capsys.readouterr()
+    _, box, mug = out.splitlines()
+    assert box.startswith("box ") and "300 g" in box
+    where = f"{path}: objects[1] (my_mug).scale (line 3): {meshes / 'mug_mm_yup.stl'}: largest"
+    assert mug.split()[:2] == ["my_mug", "refused:"] and where in mug
+    assert len(err.splitlines()) == 1 and err.startswith(f"gbh: invalid object set: {where}")
+    assert main(["objects", "list", "--set", str(path), "--json"]) == 2
+    rows = json.loads(capsys.readouterr().out)
+    assert rows[0]["error"] == "" and rows[1]["error"].startswith(where)
+    assert rows[1]["size_cm"] is None and rows[1]["mass_g"] is None

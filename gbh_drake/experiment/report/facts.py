@@ -4,6 +4,8 @@ objects' tags (:func:`object_tags`, the one lookup the sections use)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pandas as pd
 
 #: The paper's Table 1 (real robot, 15 objects x 5 trials): name -> (viewpoints, total, success).
@@ -13,13 +15,16 @@ PAPER_TABLE1 = {
     "GbH 10 views": (10, 75, 68),
 }
 
-#: What each protocol means, under its Table 1 (:func:`protocol_text`).
+#: Where the built-in objects' natural rests are declared.
+BUILTIN_RESTS = "gbh_drake/objects/catalog.py"
+#: What each protocol means, under its Table 1 (:func:`protocol_text`; ``{rests}``: where the
+#: objects' natural rests are declared).
 PROTOCOL_TEXT = {
     "stable": "Protocol `stable`: each object in one of its stable resting poses, drawn by its "
               "probability, with a random yaw and position.",
     "natural": "Protocol `natural`: each object in the rest a person would set it down in "
-               "(declared per object, with its reason, in gbh_drake/objects/catalog.py), with a "
-               "random yaw and position; the paper's objects were set down by a person.",
+               "(declared per object, with its reason, in {rests}), with a random yaw and "
+               "position; the paper's objects were set down by a person.",
 }
 
 
@@ -42,10 +47,15 @@ def beyond_paper(grasp_methods) -> list[bool]:
     return [g in known and method_spec(g).beyond_paper for g in grasp_methods]
 
 
-def protocol_text(protocol: str) -> str:
-    """What ``protocol`` means, in a sentence (one the report does not know: said so)."""
+def protocol_text(protocol: str, object_set: str = "") -> str:
+    """What ``protocol`` means, in a sentence (one the report does not know: said so).
+    ``object_set``: the experiment's manifest, relative to the report's folder (its objects'
+    rests are declared there), or "" (built-in objects alone: :data:`BUILTIN_RESTS`)."""
+    rests = BUILTIN_RESTS if not object_set else \
+        f"its object set, [{Path(object_set).name}]({object_set}) (a built-in object's in " \
+        f"{BUILTIN_RESTS})"
     return PROTOCOL_TEXT.get(protocol, f"Protocol `{protocol}`: the report has no description "
-                                       "of this protocol.")
+                                       "of this protocol.").format(rests=rests)
 
 
 def object_tags(frame_or_rows) -> dict[str, frozenset[str]]:

@@ -59,6 +59,9 @@ class ReportInput:
     """The rows' file (named in warnings)."""
     lines: list[int] | None = None
     """Each row's line in ``source``."""
+    object_set: str = ""
+    """The experiment's object set, as its ``experiment.yaml`` names it (relative to the
+    folder), or ""."""
     built: pd.DataFrame | None = field(default=None, repr=False, compare=False)
     """The frame, once built (:attr:`frame`)."""
 
@@ -105,7 +108,7 @@ def read_input(folder: Path, *, warn: Warn = None) -> ReportInput:
         data = ReportInput(e.get("name") or folder.name, objects, methods, trials,
                            {m["name"]: m["paper"] for m in e.get("methods") or []
                             if m.get("paper")}, [], left_out=len(unique) - len(kept),
-                           protocols=protocols)
+                           protocols=protocols, object_set=e.get("object_set") or "")
     else:
         kept = list(unique.values())
         protocols = sorted({protocol_of(r) for r, _ in kept} | {DEFAULT_PROTOCOL},
@@ -136,8 +139,8 @@ def _line_numbers(path: Path, n: int) -> list[int]:
 
 def read_saved_experiment(path: Path) -> dict:
     """The fields of a folder's ``experiment.yaml`` that reports read (``name``, ``objects``,
-    ``trials``, ``methods`` with their ``name`` and ``paper``, ``protocols``), checked (the
-    trials in all at most the experiment's own bound, ``MAX_TOTAL_TRIALS``); raises
+    ``trials``, ``methods`` with their ``name`` and ``paper``, ``protocols``, ``object_set``),
+    checked (the trials in all at most the experiment's own bound, ``MAX_TOTAL_TRIALS``); raises
     :class:`~gbh_drake.experiment.rows.FolderError` naming the file, the field and the line."""
     damaged = "the folder's experiment.yaml is damaged (gbh experiment writes it again)"
     try:
@@ -167,8 +170,9 @@ def read_saved_experiment(path: Path) -> dict:
             raise bad(field, "a list of names", value)
         return value
 
-    if e.get("name") is not None and not isinstance(e["name"], str):
-        raise bad("name", "a string", e["name"])
+    for key in ("name", "object_set"):
+        if e.get(key) is not None and not isinstance(e[key], str):
+            raise bad(key, "a string", e[key])
     trials = e.get("trials", 0)
     if not isinstance(trials, int) or isinstance(trials, bool) or trials < 0:
         raise bad("trials", "a whole number", trials)

@@ -379,8 +379,8 @@ def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> st
     lines = head(data)
     parts = per_protocol(data)
     for suffix, one in parts:
-        lines += ["", f"## Table 1{suffix}", ""] + \
-            ([protocol_text(one.protocols[0]), ""] if suffix else []) + table1(one)
+        said = [protocol_text(one.protocols[0], data.object_set), ""] if suffix else []
+        lines += ["", f"## Table 1{suffix}", ""] + said + table1(one)
     for suffix, one in parts:
         lines += ["", f"## By resting pose (objects with hangable parts){suffix}", ""] + \
             by_resting_pose(one)
