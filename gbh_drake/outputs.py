@@ -171,12 +171,37 @@ def write_file(path: Path, data: str | bytes) -> Path:
 
 
 def write_atomically(path: Path, data: str | bytes) -> None:
-    """Writes ``path`` whole or not at all (a temporary file renamed into place)."""
+    """Writes ``path`` whole or not at all (a temporary file renamed into place; a device or a
+    pipe is written into: :func:`special_file`)."""
+    if special_file(path):
+        write_into(path, data)
+        return
     tmp = write_file(path, data)
     try:
         os.replace(tmp, path)
     except OSError as e:
         remove(tmp)
+        raise OutputError(path, f"could not write it ({reason(e)})") from None
+
+
+def special_file(path: Path) -> bool:
+    """Whether ``path`` is a device, a pipe or a socket (``/dev/null``, ``/dev/stdout``): an
+    output written into, never staged beside it and renamed over it (as root a rename would
+    replace the device node with a file)."""
+    path = Path(path)
+    try:
+        return path.exists() and not path.is_file() and not path.is_dir()
+    except OSError:
+        return False
+
+
+def write_into(path: Path, data: str | bytes) -> None:
+    """Writes ``data`` into the existing ``path`` as it is (no temporary file); raises
+    :class:`OutputError` naming ``path``."""
+    try:
+        with open(path, "wb") as f:
+            f.write(data.encode() if isinstance(data, str) else data)
+    except OSError as e:
         raise OutputError(path, f"could not write it ({reason(e)})") from None
 
 

@@ -141,12 +141,14 @@ def check_writable(path: Path, option: str) -> None:
     written: a folder, in a folder that does not exist or is not writable."""
     import os
 
-    from gbh_drake.outputs import OutputError, reason
+    from gbh_drake.outputs import OutputError, reason, special_file
 
     if "\0" in str(path):
         raise OutputError(repr(str(path)), f"{option}: holds a NUL character")
     folder = path.parent
     try:
+        if special_file(path):  # /dev/null: written into, its folder not used
+            return
         if path.is_dir():
             problem = "is a folder"
         elif not folder.is_dir():
@@ -163,23 +165,29 @@ def check_writable(path: Path, option: str) -> None:
 
 def write_together(files: list[tuple[Path, str]]) -> None:
     """Writes each (path, text) of ``files`` whole, or none of them: all to temporary files
-    first, then renamed into place (``outputs.write_file``); raises ``OutputError``."""
+    first, then renamed into place (``outputs.write_file``); a device or a pipe
+    (``/dev/null``) is written into at the end (``outputs.special_file``); raises
+    ``OutputError``."""
     import os
 
-    from gbh_drake.outputs import OutputError, reason, remove, write_file
+    from gbh_drake.outputs import OutputError, reason, remove, special_file, write_file, write_into
 
-    staged: list[tuple[Path, Path]] = []
+    staged: list[tuple[Path | None, Path, str]] = []
     try:
         for path, data in files:
-            staged.append((write_file(path, data), path))
-        for tmp, path in staged:
+            staged.append((None if special_file(path) else write_file(path, data), path, data))
+        for tmp, path, data in staged:
+            if tmp is None:
+                write_into(path, data)
+                continue
             try:
                 os.replace(tmp, path)
             except OSError as e:
                 raise OutputError(path, f"could not write it ({reason(e)})") from None
     finally:
-        for tmp, _ in staged:
-            remove(tmp)
+        for tmp, _, _ in staged:
+            if tmp is not None:
+                remove(tmp)
 
 
 def summary_text(result) -> str:

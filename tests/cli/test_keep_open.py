@@ -91,7 +91,7 @@ def test_a_script_without_a_terminal_keeps_the_view_until_a_signal_or_enter(how,
     line = _wait_for_line(process, "Meshcat stays open at")
     assert "until Enter on stdin, Ctrl-C (SIGINT) or SIGTERM" in line
     time.sleep(1.0)
-    assert process.poll() is None  # still serving
+    assert process.poll() is None, (process.stdout.read(), process.stderr.read())  # still serving
     if how == "Enter":
         process.stdin.write("\n")
         process.stdin.flush()

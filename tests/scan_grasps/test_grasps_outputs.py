@@ -1,6 +1,8 @@
 """``gbh grasps``'s outputs: each path is checked before the work (one line naming it and its
 option, exit 2), and --out and --html are written together, whole or not at all."""
 
+from pathlib import Path
+
 import pytest
 import trimesh
 
@@ -69,3 +71,23 @@ def test_files_are_written_together_or_none(tmp_path):
     write_together([(first, "new\n"), (tmp_path / "b.html", "page")])
     assert first.read_text() == "new\n" and (tmp_path / "b.html").read_text() == "page"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json", "b.html"]
+
+
+def test_a_pipe_or_device_is_written_into_not_replaced(tmp_path):
+    """``--out /dev/null`` (or a named pipe) gets the bytes; a rename would replace the device
+    node with a file (as root it can: /dev/null became a regular file once)."""
+    import os
+    import stat
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()))
+    reader.start()
+    write_together([(fifo, "the grasps\n")])
+    reader.join(timeout=10)
+    assert got == ["the grasps\n"] and stat.S_ISFIFO(fifo.stat().st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]  # nothing staged beside it
+    write_together([(Path(os.devnull), "nothing\n")])
+    assert stat.S_ISCHR(Path(os.devnull).stat().st_mode)
