@@ -240,7 +240,8 @@ def _repair(mesh: trimesh.Trimesh) -> list[str]:
         n_open = len(trimesh.repair.broken_faces(mesh))
         warnings.append(
             f"not watertight ({n_open} faces on open or non-manifold edges, "
-            f"{mesh.body_count} bodies): mass properties use a voxel fill"
+            f"{mesh.body_count} bod{'y' if mesh.body_count == 1 else 'ies'}): mass "
+            "properties use a voxel fill"
         )
     elif not mesh.is_winding_consistent:
         warnings.append("inconsistent winding that could not be fixed")

@@ -28,10 +28,10 @@ def under(points: np.ndarray):
 def plane_text(table) -> str:
     """The plane of ``table`` in words (m, in B): ``z = 0.0000 m`` when horizontal, else
     ``[nx, ny, nz] . p = h m``."""
-    n = table.normal_W
+    n, h = table.normal_W, round(float(table.height), 4) + 0.0  # + 0.0: no -0.0000
     if np.allclose(n, [0.0, 0.0, 1.0]):
-        return f"z = {table.height:.4f} m"
-    return f"{np.round(n, 4).tolist()} . p = {table.height:.4f} m"
+        return f"z = {h:.4f} m"
+    return f"{(np.round(n, 4) + 0.0).tolist()} . p = {h:.4f} m"
 
 
 def point_text(p) -> str:

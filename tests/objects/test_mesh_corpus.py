@@ -103,7 +103,7 @@ ACCEPTED = {
                              .export(file_type="obj").encode(), 1.0, [],
                              {"watertight": True, "faces": 12}),
     "open_cup.obj": (_open_cup_obj(), 1.0,
-                     [r"^not watertight \(\d+ faces on open or non-manifold edges, 1 bodies\): "
+                     [r"^not watertight \(\d+ faces on open or non-manifold edges, 1 body\): "
                       r"mass properties use a voxel fill$"], {"watertight": False}),
     "box_mm.stl": (_box_bytes("stl", size=(50.0, 80.0, 100.0)), 1.0,
                    [r"^largest extent 100 m is implausible for a hand-held object \(1 cm - 1 m\):"

@@ -99,3 +99,13 @@ def test_a_point_cloud_is_fused_and_says_so(tmp_path, sample):
     assert r.grasps, r.none
     c = r.structures[r.grasps[0].structure].c
     assert np.linalg.norm(c - HANDLE_B) < 0.015
+
+
+def test_a_table_in_words_has_no_negative_zero():
+    from gbh_drake.perception.table import TablePlane
+    from gbh_drake.scan_grasps.table import plane_text
+
+    assert plane_text(TablePlane.horizontal(-0.00001)) == "z = 0.0000 m"
+    assert plane_text(TablePlane.horizontal(0.0123456)) == "z = 0.0123 m"
+    tilted = TablePlane(np.array([0.0, -0.6, 0.8]), -0.00001)
+    assert plane_text(tilted) == "[0.0, -0.6, 0.8] . p = 0.0000 m"
