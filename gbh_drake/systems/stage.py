@@ -5,8 +5,11 @@ from __future__ import annotations
 import copy
 import weakref
 
+import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
+
+from gbh_drake.core.arguments import argument_problem, require
 
 
 class LastResult:
@@ -112,6 +115,26 @@ class AbstractStage(LeafSystem):
                             f"{self._input.get_name()!r} expects {names}, got "
                             f"{type(value).__name__}")
         output.set_value(self._last.get(self.memo_key(value), lambda: self.compute(value)))
+
+
+def params_argument(system: LeafSystem, name: str, value, kind: type):
+    """``value``, or ``kind()`` for None; a ``TypeError`` naming ``system``'s argument ``name``
+    for another type (a wrong one would surface only when the stage computes, as a result:
+    "unusable mesh")."""
+    if value is None:
+        return kind()
+    article = "an" if kind.__name__[0] in "AEIOU" else "a"
+    return require(type(system).__name__, name, value, kind, f"{article} {kind.__name__} or None")
+
+
+def seed_argument(system: LeafSystem, name: str, seed) -> int:
+    """``seed`` as an int; a ``TypeError`` naming ``system``'s argument ``name`` unless it is an
+    integer in [0, 2^64) (the samplers' seeds)."""
+    if not (isinstance(seed, int | np.integer) and not isinstance(seed, bool)
+            and 0 <= seed < 2**64):
+        raise TypeError(argument_problem(type(system).__name__, name, "an integer in [0, 2^64)",
+                                         seed))
+    return int(seed)
 
 
 class CopiedShallowly:
