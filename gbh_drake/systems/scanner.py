@@ -29,9 +29,11 @@ class Scanner(LeafSystem):
         output_ports:
         - mesh_W
 
-    ``query_object`` (``QueryObject``): a scene graph's query output port whose renderer is
-    ``config.renderer_name``; in a Station, ``camera_query_object`` for the station's own
-    renderer ``default`` (``station.scene_query_port(name)`` names the port for a renderer).
+    ``query_object`` (``QueryObject``): the query output port of a scene graph that holds a
+    render engine named ``config.renderer_name`` (in a diagram of one's own, add it:
+    ``scene_graph.AddRenderer("default", MakeRenderEngineVtk(RenderEngineVtkParams()))``);
+    in a Station, ``camera_query_object`` for the station's own renderer ``default``
+    (:func:`gbh_drake.station.scene_query_port` names the port for a renderer).
     ``mesh_W`` (:class:`~gbh_drake.perception.scan.ScanResult`): the object's mesh in W,
     segmented from the table and the robot (a first look finds it near ``p_WT``, then the views
     are aimed at it), its points, the camera poses X_WC, warnings (e.g. the object reaches the

@@ -67,12 +67,13 @@ def _target(ref):
 class AbstractStage(LeafSystem):
     """One abstract input port, one abstract output port computed by ``self.compute(value)``.
 
-    Both ports are declared with typed model values (``input_model``, ``output_model``): a
-    default that documents the type and is what an unconnected or not-yet-computed port holds.
-    A value of the wrong type on the input fails in :meth:`compute`'s caller with a message
-    naming the system and port. The output is cached and depends only on the input
-    (``prerequisites_of_calc`` is the input port's ticket), so a stage runs once per new input,
-    not at every simulator step.
+    Both ports are declared with typed model values (``input_model``, ``output_model``): they
+    document the types (:func:`~gbh_drake.systems.ports.build_checked` compares them) and are
+    what a context's allocated values hold; the input is required (evaluating the output with
+    it unconnected raises Drake's "is not connected"). A value of the wrong type on the input
+    fails in :meth:`compute`'s caller with a message naming the system and port. The output is
+    cached and depends only on the input (``prerequisites_of_calc`` is the input port's
+    ticket), so a stage runs once per new input, not at every simulator step.
 
     Drake re-validates that input more often than it changes: every unrestricted update in the
     diagram (the plant's step, the Scanner's stillness watch) marks the updated systems' state,
