@@ -78,7 +78,12 @@ def render_depth_images(query_object: QueryObject, camera: DepthRenderCamera,
         except RuntimeError as e:
             if "No renderer exists" not in str(e):
                 raise
-            raise ValueError(f"{e}: in a Station, render with its camera_query_object port (the "
-                             "station's renderer 'default' lives in its camera scene)") from None
+            name = camera.core().renderer_name()
+            raise ValueError(
+                f"{e}: the views render with ScanConfig.renderer_name ({name!r}): add a render "
+                f"engine of that name to the scene graph whose query port you connected "
+                f"(scene_graph.AddRenderer({name!r}, MakeRenderEngineVtk("
+                "RenderEngineVtkParams()))); in a Station, render with its camera_query_object "
+                "port (the station's renderer 'default' lives in its camera scene)") from None
         images.append(np.array(image.data[:, :, 0], dtype=np.float32))
     return images

@@ -15,6 +15,7 @@ distinct), and each ranked grasp gets its waypoints (:mod:`~gbh_drake.scan_grasp
 from __future__ import annotations
 
 import dataclasses
+import os
 import time
 from pathlib import Path
 
@@ -40,7 +41,7 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
     (the surface sampler's; default the file's, else 0), ``top`` (how many; default
     ``top_k``), ``pick``: a ``PickConfig`` for the waypoints (approach distance, lift).
 
-    Raises ValueError for a bad argument, and
+    Raises ValueError for a bad argument (naming it), and
     :class:`~gbh_drake.scan_grasps.errors.GraspsInputError` for an input that cannot be used
     (e.g. an object smaller than 5 mm or larger than 1.2 m, as ``gbh run``; a given table
     above most of the object). An empty scan, nothing hangable or no collision-free grasp are
@@ -51,12 +52,13 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
     from gbh_drake.scan_grasps.result import make_result
 
     start = time.perf_counter()
+    frame = _check_arguments(input, table_z, frame, target, seed, top, params, pick)
     path = Path(input)
     if isinstance(scale, bool) or not isinstance(scale, int | float | np.number) \
             or not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"scale: the file's units in metres, a positive finite number; got "
                          f"{scale!r}")
-    options = InputOptions(None if frame is None else np.asarray(frame, dtype=float),
+    options = InputOptions(frame,
                            _table(table_z, table_plane),
                            None if target is None else np.asarray(target, dtype=float),
                            float(scale),
@@ -83,6 +85,41 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
     result.timings = {"read": read - start, **result.timings,
                       "total": time.perf_counter() - start}
     return result
+
+
+def _check_arguments(input, table_z, frame, target, seed, top, params, pick):
+    """ValueError naming the first argument of :func:`grasps` of the wrong type or shape (they
+    failed deep inside, or a frame that is no pose was taken as one); returns ``frame`` as a
+    (4, 4) array or None."""
+    from gbh_drake.core.arguments import argument_problem, require
+    from gbh_drake.core.params import GbhParams
+    from gbh_drake.core.ranges import is_number
+    from gbh_drake.scan_grasps.poses import check_pose
+    from gbh_drake.scenario.schema import PickConfig
+
+    def refuse(name, expected, value):
+        raise ValueError(argument_problem("grasps", name, expected, value))
+
+    require("grasps", "input", input, (str, os.PathLike), "a path (a mesh, a point cloud or a "
+            "folder of depth images)", ValueError)
+    if table_z is not None and not (is_number(table_z) and np.isfinite(table_z)):
+        refuse("table_z", "a finite height (m, in B) or None", table_z)
+    if target is not None and not (np.shape(target) == (3,) and all(
+            is_number(v) and np.isfinite(v) for v in target)):
+        refuse("target", "3 finite coordinates (m, in B) or None", target)
+    for name, value in (("seed", seed), ("top", top)):
+        if value is not None and not (isinstance(value, int | np.integer)
+                                      and not isinstance(value, bool)):
+            refuse(name, "an integer or None", value)
+    require("grasps", "params", params, (GbhParams, type(None)), "a GbhParams or None",
+            ValueError)
+    require("grasps", "pick", pick, (PickConfig, type(None)), "a PickConfig or None", ValueError)
+    if frame is None:
+        return None
+    try:
+        return check_pose(frame)
+    except (ValueError, TypeError) as e:
+        raise ValueError(f"grasps(): frame: {e}") from None
 
 
 def _unseen(scan) -> np.ndarray:

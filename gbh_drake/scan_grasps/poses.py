@@ -60,6 +60,15 @@ def parse_pose(text: str) -> np.ndarray:
     else:
         raise ValueError(f"a pose is x,y,z,roll,pitch,yaw (m, deg) or 16 numbers, got "
                          f"{len(values)} numbers")
+    return check_pose(X)
+
+
+def check_pose(X) -> np.ndarray:
+    """``X`` as a float (4, 4) array when it is a pose (finite, a rotation and a translation,
+    last row 0 0 0 1), else ValueError."""
+    X = np.asarray(X, dtype=float)
+    if X.shape != (4, 4):
+        raise ValueError(f"a pose is a 4x4 matrix, got shape {X.shape}")
     if not np.isfinite(X).all():
         raise ValueError("a pose's numbers must be finite")
     R = X[:3, :3]

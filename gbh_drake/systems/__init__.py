@@ -9,6 +9,8 @@ Perception and grasps:
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
   paper's three stages (hanging structures, hook grasps, the ranked top 10);
 * :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
+* :class:`ScoopSynthesizer` (scoops of flat material) and :class:`RegraspPlanner` (resting
+  poses to set the object down in), on the detector's structures (beyond the paper);
 * :class:`GraspSearchReport`: why a method offered no grasp (for the monitor);
 * :class:`GraspList`: grasps given from outside, held in the context (executed by
   :class:`~gbh_drake.methods.GivenGrasps`).
@@ -33,6 +35,8 @@ from gbh_drake.systems.hangability_detector import Hangability, HangabilityDetec
 from gbh_drake.systems.grasp_synthesizer import GraspSynthesizer
 from gbh_drake.systems.grasp_scorer import GraspScorer
 from gbh_drake.systems.antipodal_sampler import AntipodalGraspSampler
+from gbh_drake.systems.scoop_synthesizer import ScoopSynthesizer
+from gbh_drake.systems.regrasp_planner import RegraspPlanner
 from gbh_drake.systems.hand_driver import HandDriver
 from gbh_drake.systems.wrist_load import WristLoad
 from gbh_drake.systems.pick_and_carry import PickAndCarry
@@ -62,7 +66,9 @@ __all__ = [
     "Outcome",
     "PickAndCarry",
     "PickStatus",
+    "RegraspPlanner",
     "Scanner",
+    "ScoopSynthesizer",
     "ShapeCompleter",
     "Verdict",
     "WristLoad",

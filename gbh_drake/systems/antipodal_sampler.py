@@ -9,7 +9,7 @@ from gbh_drake.core.lazy import lazy_module
 from gbh_drake.core.results import GbhInputError
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument, seed_argument
 
 trimesh = lazy_module("trimesh")
 
@@ -38,11 +38,11 @@ class AntipodalGraspSampler(AbstractStage):
         (the scenario passes GbH's, so both methods keep the same clearance)."""
         super().__init__("mesh_W", no_scan("no input yet"), "antipodal_grasps", [],
                          accepts=(ScanResult, trimesh.Trimesh))
-        params = params or AntipodalParams()
+        params = params_argument(self, "params", params, AntipodalParams)
         if ground_clearance is not None:
             params = dataclasses.replace(params, ground_clearance=ground_clearance)
         self.params = params
-        self._seed = int(seed)
+        self._seed = seed_argument(self, "seed", seed)
 
     def memo_key(self, value) -> tuple:
         return (value.mesh_W,) if isinstance(value, ScanResult) else (value,)

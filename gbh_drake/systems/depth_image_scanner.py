@@ -16,10 +16,12 @@ from pydrake.math import RigidTransform
 from pydrake.systems.framework import LeafSystem
 from pydrake.systems.sensors import CameraInfo, ImageDepth32F
 
+from gbh_drake.core.arguments import argument_problem, require
+from gbh_drake.core.ranges import is_sequence
 from gbh_drake.perception.camera import CameraIntrinsics
 from gbh_drake.perception.config import ScanConfig
 from gbh_drake.perception.scan import ScanResult, scan_depth_images
-from gbh_drake.systems.scanner import NOT_SCANNED_YET, no_scan
+from gbh_drake.systems.scanner import NOT_SCANNED_YET, check_scan_arguments, is_time, no_scan
 
 
 class DepthImageScanner(LeafSystem):
@@ -63,12 +65,23 @@ class DepthImageScanner(LeafSystem):
         ``config.depth_max`` (Drake's renderer; False for a sensor whose "no return" may hide
         a surface); ``noise_seed``: the depth noise's (``config.noise``: simulated images)."""
         super().__init__()
-        config.validate()
-        if num_cameras < 1:
-            raise ValueError(f"num_cameras must be at least 1, got {num_cameras}")
+        name = "DepthImageScanner"
         self._config = config
+        self._p_WT = check_scan_arguments(name, config, p_WT, noise_seed)
+        require(name, "intrinsics", intrinsics, (CameraIntrinsics, CameraInfo),
+                "a pydrake CameraInfo or a CameraIntrinsics")
+        if not (isinstance(num_cameras, int | np.integer) and not isinstance(num_cameras, bool)
+                and num_cameras >= 1):
+            raise TypeError(argument_problem(name, "num_cameras", "an integer >= 1",
+                                             num_cameras))
+        if sensor_error is not None and not is_time(sensor_error):  # (finite, >= 0)
+            raise TypeError(argument_problem(name, "sensor_error", "a distance >= 0 (m) or None",
+                                             sensor_error))
+        if capture_times is not None and not (is_sequence(capture_times) and len(capture_times)
+                                              and all(is_time(t) for t in capture_times)):
+            raise TypeError(argument_problem(name, "capture_times", "a non-empty list of times "
+                                             ">= 0 (s), or None (scan on demand)", capture_times))
         self._intrinsics = _intrinsics(intrinsics)
-        self._p_WT = np.asarray(p_WT, dtype=float).reshape(3)
         self._sensor_error = sensor_error
         self._far_is_free = bool(far_is_free)
         self._noise_seed = int(noise_seed)
@@ -85,8 +98,6 @@ class DepthImageScanner(LeafSystem):
                                            prerequisites_of_calc=tickets)
             return
         times = sorted(float(t) for t in capture_times)
-        if not times:
-            raise ValueError("capture_times: give at least one time (or None: on demand)")
         self._taken = self.DeclareAbstractState(AbstractValue.Make(_Captures()))
         self._held = self.DeclareAbstractState(model)
         for k, t in enumerate(times):

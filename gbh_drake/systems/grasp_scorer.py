@@ -6,7 +6,7 @@ import copy
 
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import score
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument
 
 
 class GraspScorer(AbstractStage):
@@ -26,7 +26,7 @@ class GraspScorer(AbstractStage):
 
     def __init__(self, params: GbhParams | None = None):
         super().__init__("grasp_candidates", [], "ranked_grasps", [])
-        self.params = params or GbhParams()
+        self.params = params_argument(self, "params", params, GbhParams)
 
     def compute(self, value):
         return score([copy.copy(g) for g in value], self.params)

@@ -18,6 +18,7 @@ from gbh_drake.messages import GraspSearch, Outcome
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.hangability_detector import Hangability
 from gbh_drake.systems.scanner import no_scan
+from gbh_drake.systems.stage import params_argument
 
 
 def explain_no_grasp(scan: ScanResult, hangability: Hangability | None = None,
@@ -78,7 +79,7 @@ class GraspSearchReport(LeafSystem):
         rules' thresholds, to count what each removed); ``scoop``: the method scoops
         (declares the ``scoops`` input)."""
         super().__init__()
-        self._params = params or GbhParams()
+        self._params = params_argument(self, "params", params, GbhParams)
         self._fallback = bool(fallback)
         self._sampler = sampler
         self._scan = self.DeclareAbstractInputPort("scan", AbstractValue.Make(

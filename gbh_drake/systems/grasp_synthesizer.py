@@ -6,7 +6,7 @@ from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.pipeline import synthesize
 from gbh_drake.systems.hangability_detector import Hangability
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument
 
 
 class GraspSynthesizer(AbstractStage):
@@ -29,7 +29,7 @@ class GraspSynthesizer(AbstractStage):
     def __init__(self, params: GbhParams | None = None,
                  gripper: HookGripperGeometry = HOOK_GRIPPER):
         super().__init__("hanging_structures", Hangability(), "grasp_candidates", [])
-        self.params = params or GbhParams()
+        self.params = params_argument(self, "params", params, GbhParams)
         self.gripper = gripper
 
     def compute(self, value: Hangability):

@@ -11,7 +11,7 @@ from gbh_drake.core.pipeline import detect_reported
 from gbh_drake.core.results import GbhInputError, HangabilityReport, HangingStructure
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument, seed_argument
 
 trimesh = lazy_module("trimesh")
 
@@ -51,8 +51,8 @@ class HangabilityDetector(AbstractStage):
         """``seed``: the surface sampler's seed (the scenario derives it from its own)."""
         super().__init__("mesh_W", no_scan("no input yet"), "hanging_structures", Hangability(),
                          accepts=(ScanResult, trimesh.Trimesh))
-        self.params = params or GbhParams()
-        self.seed = int(seed)
+        self.params = params_argument(self, "params", params, GbhParams)
+        self.seed = seed_argument(self, "seed", seed)
 
     def memo_key(self, value) -> tuple:
         if isinstance(value, ScanResult):

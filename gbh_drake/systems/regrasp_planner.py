@@ -10,7 +10,7 @@ import numpy as np
 from gbh_drake.core.params import AntipodalParams, GbhParams, RegraspParams
 from gbh_drake.core.regrasp import choose_regrasp_pose, pinches_for_pose
 from gbh_drake.systems.hangability_detector import Hangability
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument, seed_argument
 
 
 class RegraspPlanner(AbstractStage):
@@ -44,12 +44,13 @@ class RegraspPlanner(AbstractStage):
         pinches' too); ``regrasp``: which poses count; ``seed``: the surface sampler's;
         ``antipodal``, ``pinch_seed``: the antipodal sampler's (the pinches)."""
         super().__init__("hanging_structures", Hangability(), "regrasp_poses", [])
-        self.params = params or GbhParams()
-        self.regrasp = regrasp or RegraspParams()
-        self.seed = int(seed)
-        self.antipodal = dataclasses.replace(antipodal or AntipodalParams(),
-                                             ground_clearance=self.params.ground_clearance)
-        self.pinch_seed = int(pinch_seed)
+        self.params = params_argument(self, "params", params, GbhParams)
+        self.regrasp = params_argument(self, "regrasp", regrasp, RegraspParams)
+        self.seed = seed_argument(self, "seed", seed)
+        self.antipodal = dataclasses.replace(
+            params_argument(self, "antipodal", antipodal, AntipodalParams),
+            ground_clearance=self.params.ground_clearance)
+        self.pinch_seed = seed_argument(self, "pinch_seed", pinch_seed)
 
     def compute(self, value: Hangability):
         if value.object is None or not value.structures:

@@ -29,9 +29,11 @@ class Scanner(LeafSystem):
         output_ports:
         - mesh_W
 
-    ``query_object`` (``QueryObject``): a scene graph's query output port whose renderer is
-    ``config.renderer_name``; in a Station, ``camera_query_object`` for the station's own
-    renderer ``default`` (``station.scene_query_port(name)`` names the port for a renderer).
+    ``query_object`` (``QueryObject``): the query output port of a scene graph that holds a
+    render engine named ``config.renderer_name`` (in a diagram of one's own, add it:
+    ``scene_graph.AddRenderer("default", MakeRenderEngineVtk(RenderEngineVtkParams()))``);
+    in a Station, ``camera_query_object`` for the station's own renderer ``default``
+    (:func:`gbh_drake.station.scene_query_port` names the port for a renderer).
     ``mesh_W`` (:class:`~gbh_drake.perception.scan.ScanResult`): the object's mesh in W,
     segmented from the table and the robot (a first look finds it near ``p_WT``, then the views
     are aimed at it), its points, the camera poses X_WC, warnings (e.g. the object reaches the
@@ -64,18 +66,11 @@ class Scanner(LeafSystem):
         their render labels before anything is fused (a self filter,
         :mod:`gbh_drake.perception.self_filter`; empty: none)."""
         super().__init__()
-        require("Scanner", "config", config, ScanConfig, "a ScanConfig (a scenario's scan)")
-        config.validate()
         self._config = config
-        if not (is_sequence(p_WT) and len(p_WT) == 3 and all(is_number(v) and np.isfinite(v)
-                                                              for v in p_WT)):
-            raise TypeError(argument_problem("Scanner", "p_WT", "3 finite coordinates (x, y, z "
-                                             "in m; a scenario's scan_target)", p_WT))
-        if scan_time is not None and not (is_number(scan_time) and 0 <= scan_time < np.inf):
+        self._p_WT = check_scan_arguments("Scanner", config, p_WT, noise_seed)
+        if scan_time is not None and not is_time(scan_time):
             raise TypeError(argument_problem("Scanner", "scan_time", "a time >= 0 (s) or None",
                                              scan_time))
-        require("Scanner", "noise_seed", noise_seed, (int, np.integer), "an integer")
-        self._p_WT = np.asarray(p_WT, dtype=float).reshape(3)
         self._noise_seed = int(noise_seed)
         self._robot = tuple(int(i) for i in robot)
         self._query = self.DeclareAbstractInputPort("query_object",
@@ -156,6 +151,27 @@ class Scanner(LeafSystem):
             answered, seen_at = float(request), np.nan
         state.get_mutable_discrete_state(self._still_since).set_value(
             [still_since, answered, seen_at])
+
+
+def check_scan_arguments(system: str, config, p_WT, noise_seed) -> np.ndarray:
+    """The arguments both scanners take, each named in a ``TypeError`` (a diagram of one's own
+    builds them by hand, without a scenario's checks); ``config`` validated. Returns ``p_WT``
+    (3,) m."""
+    require(system, "config", config, ScanConfig, "a ScanConfig (a scenario's scan)")
+    config.validate()
+    if not (is_sequence(p_WT) and len(p_WT) == 3 and all(is_number(v) and np.isfinite(v)
+                                                          for v in p_WT)):
+        raise TypeError(argument_problem(system, "p_WT", "3 finite coordinates (x, y, z in m; "
+                                         "a scenario's scan_target)", p_WT))
+    if isinstance(noise_seed, bool):
+        raise TypeError(argument_problem(system, "noise_seed", "an integer", noise_seed))
+    require(system, "noise_seed", noise_seed, (int, np.integer), "an integer")
+    return np.asarray(p_WT, dtype=float).reshape(3)
+
+
+def is_time(value) -> bool:
+    """Whether ``value`` is a finite time >= 0 (s)."""
+    return is_number(value) and 0 <= value < np.inf
 
 
 #: The message of the Scanner's placeholder output until its scan is taken.

@@ -10,7 +10,7 @@ from gbh_drake.core.gripper import WEDGE_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import GbhParams, ScoopParams
 from gbh_drake.core.scoop import ScoopResult, plan_scoops
 from gbh_drake.systems.hangability_detector import Hangability
-from gbh_drake.systems.stage import LastResult
+from gbh_drake.systems.stage import LastResult, params_argument
 
 
 class ScoopSynthesizer(LeafSystem):
@@ -44,8 +44,8 @@ class ScoopSynthesizer(LeafSystem):
         """``params``: GbH's (the table, N_c, the score); ``scoop``: the scoop's rules;
         ``gripper``: the wedge gripper's geometry."""
         super().__init__()
-        self.params = params or GbhParams()
-        self.scoop = scoop or ScoopParams()
+        self.params = params_argument(self, "params", params, GbhParams)
+        self.scoop = params_argument(self, "scoop", scoop, ScoopParams)
         self.gripper = gripper
         self._input = self.DeclareAbstractInputPort("hanging_structures",
                                                     AbstractValue.Make(Hangability()))

@@ -6,7 +6,7 @@ from gbh_drake.core.params import CompletionParams
 from gbh_drake.perception.completion import complete_scan
 from gbh_drake.perception.scan import ScanResult
 from gbh_drake.systems.scanner import no_scan
-from gbh_drake.systems.stage import AbstractStage
+from gbh_drake.systems.stage import AbstractStage, params_argument, seed_argument
 
 
 class ShapeCompleter(AbstractStage):
@@ -31,8 +31,8 @@ class ShapeCompleter(AbstractStage):
         """``seed``: which of the scan's vertices fit the axis (the scenario derives it)."""
         super().__init__("mesh_W", no_scan("no input yet"), "completed_mesh_W",
                          no_scan("no input yet"))
-        self.params = params or CompletionParams()
-        self.seed = int(seed)
+        self.params = params_argument(self, "params", params, CompletionParams)
+        self.seed = seed_argument(self, "seed", seed)
 
     def memo_key(self, value) -> tuple:
         return (value.mesh_W, value.free_space)

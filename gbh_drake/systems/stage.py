@@ -5,8 +5,11 @@ from __future__ import annotations
 import copy
 import weakref
 
+import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.systems.framework import LeafSystem
+
+from gbh_drake.core.arguments import argument_problem, require
 
 
 class LastResult:
@@ -64,12 +67,13 @@ def _target(ref):
 class AbstractStage(LeafSystem):
     """One abstract input port, one abstract output port computed by ``self.compute(value)``.
 
-    Both ports are declared with typed model values (``input_model``, ``output_model``): a
-    default that documents the type and is what an unconnected or not-yet-computed port holds.
-    A value of the wrong type on the input fails in :meth:`compute`'s caller with a message
-    naming the system and port. The output is cached and depends only on the input
-    (``prerequisites_of_calc`` is the input port's ticket), so a stage runs once per new input,
-    not at every simulator step.
+    Both ports are declared with typed model values (``input_model``, ``output_model``): they
+    document the types (:func:`~gbh_drake.systems.ports.build_checked` compares them) and are
+    what a context's allocated values hold; the input is required (evaluating the output with
+    it unconnected raises Drake's "is not connected"). A value of the wrong type on the input
+    fails in :meth:`compute`'s caller with a message naming the system and port. The output is
+    cached and depends only on the input (``prerequisites_of_calc`` is the input port's
+    ticket), so a stage runs once per new input, not at every simulator step.
 
     Drake re-validates that input more often than it changes: every unrestricted update in the
     diagram (the plant's step, the Scanner's stillness watch) marks the updated systems' state,
@@ -112,6 +116,26 @@ class AbstractStage(LeafSystem):
                             f"{self._input.get_name()!r} expects {names}, got "
                             f"{type(value).__name__}")
         output.set_value(self._last.get(self.memo_key(value), lambda: self.compute(value)))
+
+
+def params_argument(system: LeafSystem, name: str, value, kind: type):
+    """``value``, or ``kind()`` for None; a ``TypeError`` naming ``system``'s argument ``name``
+    for another type (a wrong one would surface only when the stage computes, as a result:
+    "unusable mesh")."""
+    if value is None:
+        return kind()
+    article = "an" if kind.__name__[0] in "AEIOU" else "a"
+    return require(type(system).__name__, name, value, kind, f"{article} {kind.__name__} or None")
+
+
+def seed_argument(system: LeafSystem, name: str, seed) -> int:
+    """``seed`` as an int; a ``TypeError`` naming ``system``'s argument ``name`` unless it is an
+    integer in [0, 2^64) (the samplers' seeds)."""
+    if not (isinstance(seed, int | np.integer) and not isinstance(seed, bool)
+            and 0 <= seed < 2**64):
+        raise TypeError(argument_problem(type(system).__name__, name, "an integer in [0, 2^64)",
+                                         seed))
+    return int(seed)
 
 
 class CopiedShallowly:

@@ -44,3 +44,22 @@ def test_the_scanner_names_an_argument_of_the_wrong_type(args, kwargs, message):
     with pytest.raises(TypeError) as info:
         Scanner(*args, **kwargs)
     assert str(info.value) == message
+
+
+def test_a_scene_graph_of_ones_own_without_the_renderer_says_how_to_add_it():
+    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+    from pydrake.systems.framework import DiagramBuilder
+
+    from gbh_drake.perception.config import ScanConfig
+    from gbh_drake.systems import Scanner
+
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=0.001)
+    plant.Finalize()
+    scanner = builder.AddSystem(Scanner(ScanConfig(renderer_name="vtk"), [0.55, 0.0, 0.06]))
+    builder.Connect(scene_graph.get_query_output_port(), scanner.get_input_port())
+    diagram = builder.Build()
+    context = diagram.CreateDefaultContext()
+    with pytest.raises(ValueError, match=r"ScanConfig.renderer_name \('vtk'\): add a render "
+                                         r"engine of that name .*AddRenderer\('vtk', "):
+        scanner.GetOutputPort("mesh_W").Eval(scanner.GetMyContextFromRoot(context))

@@ -269,6 +269,33 @@ def test_a_bad_scale_is_a_usage_error(tmp_path, capsys, value, words):
         gbh_drake.grasps(path, scale=-1.0)
 
 
+@pytest.mark.parametrize(("kwargs", "words"), [
+    ({"frame": 2.0 * np.eye(4)}, "frame: not a pose: its 3x3 part is not a rotation"),
+    ({"frame": np.eye(3)}, "frame: a pose is a 4x4 matrix, got shape (3, 3)"),
+    ({"target": [0.5, 0.0]}, "target: expected 3 finite coordinates (m, in B) or None, got "
+                             "[0.5, 0.0] (a list)"),
+    ({"table_z": "0"}, "table_z: expected a finite height (m, in B) or None, got '0' (a str)"),
+    ({"seed": "3"}, "seed: expected an integer or None, got '3' (a str)"),
+    ({"top": 2.5}, "top: expected an integer or None, got 2.5 (a float)"),
+    ({"params": "paper"}, "params: expected a GbhParams or None, got 'paper' (a str)"),
+    ({"pick": {"approach_distance": 0.1}}, "pick: expected a PickConfig or None"),
+])
+def test_a_bad_argument_of_grasps_is_named(tmp_path, kwargs, words):
+    """The Python call checks its arguments as the command checks its flags (a frame that is no
+    pose was taken as one; the others failed deep inside with numpy's or int()'s words)."""
+    path = _box_file(tmp_path / "box.stl", (0.08, 0.08, 0.1))
+    with pytest.raises(ValueError) as error:
+        gbh_drake.grasps(path, **kwargs)
+    assert str(error.value).startswith(f"grasps(): {words}"), str(error.value)
+
+
+def test_an_input_that_is_not_a_path_is_named():
+    with pytest.raises(ValueError, match=r"^grasps\(\): input: expected a path \(a mesh, a point "
+                                         r"cloud or a folder of depth images\), got .*\(a "
+                                         r"Trimesh\)$"):
+        gbh_drake.grasps(trimesh.creation.torus(0.04, 0.008))
+
+
 def test_scale_on_depth_images_is_refused(tmp_path, capsys):
     _write(tmp_path, _views(tmp_path))
     assert main(["grasps", str(tmp_path), "--scale", "0.001"]) == 2

@@ -140,3 +140,17 @@ def test_capture_times_take_every_camera_each_time_and_fuse_after_the_last():
     assert not scan_pending(scan) and not scan.empty, scan.message
     assert len(scan.X_WCs) == 4 and scan.taken_at == pytest.approx(0.2)
     np.testing.assert_allclose(scan.X_WCs[2].GetAsMatrix4(), views.X_BCs[0], atol=1e-12)
+
+
+def test_the_pages_example_of_cameras_of_ones_own_runs(capsys):
+    """docs/grasps.md's DepthImageScanner example, as written: a plant, scene graph and cameras
+    (CameraConfig) of one's own, scanned and ranked."""
+    import re
+
+    from gbh_drake import REPO_ROOT
+
+    page = (REPO_ROOT / "docs" / "grasps.md").read_text()
+    after = page[page.index("<!-- depth-image-scanner -->"):]
+    code = re.search(r"```python\n(.*?)```", after, re.S).group(1)
+    exec(compile(code, "docs/grasps.md", "exec"), {})
+    assert capsys.readouterr().out == "True parallel (4, 4)\n"
