@@ -139,9 +139,12 @@ def _rz(yaw: float) -> np.ndarray:
 
 
 def _yaml(value) -> str:
-    """``value`` as YAML flow text (JSON is YAML; floats written to full precision)."""
+    """``value`` as YAML flow text (JSON is YAML; floats to 12 significant digits, below
+    1e-12 as 0: a yaw of 30 deg is ``30.0``, not its rotation matrix's
+    ``29.999999999999993``, a pitch ``0.0``, not ``-0.0``)."""
     if isinstance(value, float | np.floating):
-        return repr(float(value))
+        value = float(f"{float(value):.12g}")
+        return repr(value if abs(value) >= 1e-12 else 0.0)
     if isinstance(value, list | tuple):
         return "[" + ", ".join(_yaml(v) for v in value) + "]"
     return json.dumps(value)

@@ -45,8 +45,9 @@ RANK = "rank"
 
 @dataclass(frozen=True)
 class Slider:
-    """A slider of the studio: its name and range, and the field of :class:`Choices` it sets
-    (``to``/``of`` convert between the slider's number and the field's value)."""
+    """A slider of the studio: its name, range and step (the field's unit), and the field of
+    :class:`Choices` it sets (``to``/``of`` convert between the slider's number and the
+    field's value). A value outside the range stretches it (:meth:`span`)."""
 
     name: str
     min: float
@@ -56,6 +57,11 @@ class Slider:
     to: Callable = float
     of: Callable = float
 
+    def span(self, value: float) -> tuple[float, float]:
+        """The slider's (min, max) when it starts at ``value``: its range stretched to hold
+        ``value`` (Drake's ``AddSlider`` clamps: a scenario's seed 1234 would become 99)."""
+        return min(self.min, value), max(self.max, value)
+
 
 def sliders(session: Session) -> list[Slider]:
     """The studio's sliders for ``session`` (the rest's range is the chosen object's)."""
@@ -64,7 +70,7 @@ def sliders(session: Session) -> list[Slider]:
         Slider("object", 0, len(session.objects) - 1, 1, "object", int, float),
         Slider("x (m)", 0.30, 0.80, 0.005, "x"),
         Slider("y (m)", -0.35, 0.35, 0.005, "y"),
-        Slider("yaw (deg)", -180, 180, 5, "yaw_deg"),
+        Slider("yaw (deg)", -180, 180, 1, "yaw_deg"),
         Slider("rest (-1 drop)", DROP, max(len(session.rests().poses) - 1, 0), 1, "rest", int,
                float),
         Slider("views", 1, 20, 1, "views", int, float),
@@ -86,7 +92,10 @@ class Studio:
         self.rank = 0
         self.free_space = False
         self._clicks: dict[str, int] = {}
+        """Each button's clicks done (-1: clicked before the panel was rebuilt, still to do)."""
         self._sliders: list[Slider] = []
+        self._shown: dict[str, float] = {}
+        """Each slider's value as last shown or read (the field is set when it moves)."""
         self._lines: dict[str, list[str]] = {}
         self.timings: dict[str, Clock] = {}
         """The last step of each kind: ``place``, ``scan``, ``detect``, ``grasp`` (the redraw
@@ -95,22 +104,25 @@ class Studio:
 
     # ---- the panel ---------------------------------------------------------------------------
     def layout(self) -> None:
-        """(Re)builds the panel: every control, in order, at the current values."""
+        """(Re)builds the panel: every control, in order, at the current values. A button
+        clicked meanwhile (while a step ran) stays to do: the rebuilt one starts at 0."""
+        shown = set(self.meshcat.GetButtonNames())
+        owed = {n for n in BUTTONS if n in shown and
+                self.meshcat.GetButtonClicks(n) > self._clicks.get(n, 0)}
         self.meshcat.DeleteAddedControls()
         self.text.forget()
         self._sliders = sliders(self.session)
         c = self.session.choices
-        for s in self._sliders:
+        for s in self._sliders:  # the field keeps its value off the slider's grid
             value = s.of(getattr(c, s.field))
-            setattr(c, s.field, s.to(self.meshcat.AddSlider(s.name, s.min, s.max, s.step,
-                                                           value)))
+            self._shown[s.name] = self.meshcat.AddSlider(s.name, *s.span(value), s.step, value)
         for name in BUTTONS:
             self.meshcat.AddButton(name)
-        self._clicks = dict.fromkeys(BUTTONS, 0)
+        self._clicks = {n: -1 if n in owed else 0 for n in BUTTONS}
         offered = self._offered()
         if offered:
             self.rank = min(self.rank, len(offered) - 1)
-            self.meshcat.AddSlider(RANK, 0, max(len(offered) - 1, 1), 1, self.rank)
+            self.meshcat.AddSlider(RANK, 0, len(offered) - 1, 1, self.rank)
         self._show()
 
     def _offered(self) -> list:
@@ -157,11 +169,13 @@ class Studio:
 
     def _read_sliders(self) -> list[str]:
         c, changed = self.session.choices, []
-        for s in self._sliders:
-            value = s.to(self.meshcat.GetSliderValue(s.name))
-            if value != getattr(c, s.field):
-                setattr(c, s.field, value)
-                changed.append(s.name)
+        for s in self._sliders:  # moved since shown: Drake rounds what it shows to the step
+            value = self.meshcat.GetSliderValue(s.name)
+            if value != self._shown[s.name]:
+                self._shown[s.name] = value
+                if s.to(value) != getattr(c, s.field):
+                    setattr(c, s.field, s.to(value))
+                    changed.append(s.name)
         if "object" in changed:  # another object: its own rests, the one nearest its model's
             c.rest = self.session.modelled_rest()
             self._say("note", [f"object: {self.session.objects[c.object].label}"])
@@ -207,7 +221,8 @@ class Studio:
         self.layout()
 
     def scan(self) -> None:
-        """Places the object if needed, then the scan: the cameras and the fused scan."""
+        """Places the object if needed, then the scan: the cameras and the fused scan (a scan
+        already taken is shown again, with what was detected on it)."""
         s = self.session
         if s.changed or not s.stage:
             self._place()
@@ -217,8 +232,13 @@ class Studio:
         page.frame_object(self.meshcat, s, cameras)
         if self.free_space:
             page.draw_free_space(self.meshcat, s.scan)
-        self._forget("detect", "grasp", "plan", "verdict", "note")
-        self._say("scan", page.scan_lines(s.scan, clock))
+        self._forget("verdict", "note")
+        self._lines["scan"] = page.scan_lines(s.scan, clock)
+        if s.detection is None:
+            self._forget("detect", "grasp", "plan")
+            self._show()
+        else:
+            self._show_detection(self.rank)
 
     def toggle_free_space(self) -> None:
         """Draws (or removes) what the cameras saw free round the scan."""
@@ -241,14 +261,20 @@ class Studio:
             self.scan()
         detection = s.detect()
         self.timings["detect"] = detection.clock
-        page.draw_detection(self.meshcat, detection)
         page.frame_object(self.meshcat, s)
         self._forget("grasp", "plan", "verdict", "note")
+        self._show_detection(0)
+
+    def _show_detection(self, rank: int) -> None:
+        """Draws the session's detection and its offered grasp ``rank`` (the panel laid out
+        anew, with the rank slider)."""
+        detection = self.session.detection
+        page.draw_detection(self.meshcat, detection)
         self._lines["detect"] = page.detection_lines(detection)
-        self.rank = 0
+        self.rank = min(rank, max(len(detection.offered) - 1, 0))
         self.layout()
         if detection.offered:
-            self.select(0)
+            self.select(self.rank)
 
     def select(self, rank: int, *, plan: bool = True) -> None:
         """Shows offered grasp ``rank`` (and, with ``plan``, then says whether the planner
@@ -285,7 +311,10 @@ class Studio:
         record = s.execute(self.rank, max_time=max_time,
                            stop=lambda: self.meshcat.GetButtonClicks("Reset") > seen)
         self.timings["execute"] = Clock.since(start)
-        lines = page.verdict_lines(record, s.execute_from)
+        if self.meshcat.GetButtonClicks("Reset") > seen:  # no verdict: the next step resets
+            lines = page.stopped_lines(record, s.execute_from)
+        else:
+            lines = page.verdict_lines(record, s.execute_from)
         self.say(" ".join(lines))
         self._say("verdict", lines)
 

@@ -187,6 +187,12 @@ def plan_lines(plan) -> list[str]:
     return [f"planner: plannable (lift {plan.lift * 100:.1f} cm)"]
 
 
+def stopped_lines(record, sim_from: float) -> list[str]:
+    """An Execute that Reset stopped: where the pick was (no verdict)."""
+    return [f"stopped by Reset after {record.sim_time - sim_from:.1f} s simulated: "
+            f"{record.reason}"]
+
+
 def verdict_lines(record, sim_from: float) -> list[str]:
     """The monitor's verdict on the executed grasp."""
     verdict = "SUCCESS" if record.success else "FAILURE"

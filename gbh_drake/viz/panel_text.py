@@ -1,4 +1,4 @@
-"""Lines of text in Meshcat's control panel (the studio's explanations, a live run's verdict).
+"""Lines of text in Meshcat's control panel (the studio's explanations and verdicts).
 
 Drake's Meshcat draws no text, but a button's label spans the panel's width: each line is a
 button that nothing reads (pressing it does nothing). Lines are wrapped to :data:`WIDTH`

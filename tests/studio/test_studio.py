@@ -191,3 +191,78 @@ def test_a_mesh_file_chosen_with_the_object_slider_without_structure_has_nothing
     lines = studio.text.lines
     assert lines[0].startswith("block.obj: ") and "no grasp offered (" in " ".join(lines)
     assert any(line.startswith("nothing to execute: the method offered") for line in lines)
+
+
+#: The default scenario's mug with what no slider's range or step holds: a seed above 99, more
+#: than 20 views, a pose off the 5 mm and 1 deg grid (two views: its handle's structures found).
+OFF_GRID = ("{seed: 1234, scan: {num_views: 2}, object: {pose: {translation: [0.5523, 0.0117, "
+            "0.0], rotation: !Rpy {deg: [0.0, 0.0, 32.5]}}}}")
+
+
+def off_grid_scenario():
+    from gbh_drake import REPO_ROOT
+    from gbh_drake.scenario import load_scenario
+
+    return load_scenario(REPO_ROOT / "scenarios" / "default.yaml", overrides=OFF_GRID)
+
+
+def test_the_sliders_keep_the_scenarios_values_that_their_range_and_step_do_not_hold():
+    """Drake's AddSlider clamps to the range and rounds to the step: the studio's trial was
+    seed 99, 20 views, yaw 30 deg for a scenario of seed 1234, 24 views, yaw 32.5 deg."""
+    base = apply_overrides(off_grid_scenario(), "{scan: {num_views: 24}}")
+    meshcat = local_meshcat()
+    session = Session(base, object_choices(base), meshcat=meshcat)
+    studio = Studio(session, meshcat, say=lambda _: None)
+    c = session.choices
+    assert (c.seed, c.views, c.x, c.y) == (1234, 24, 0.5523, 0.0117)
+    assert c.yaw_deg == pytest.approx(32.5)  # from the pose's rotation matrix
+    assert studio.step() == []  # the page's sliders show them: nothing moved
+    text = session._overrides_now()
+    assert "seed: 1234" in text and "num_views: 24" in text
+    assert "translation: [0.5523, 0.0117, 0.0], rotation: !Rpy {deg: [0.0, 0.0, 32.5]}" in text
+    assert meshcat.GetSliderValue("seed") == 1234 and meshcat.GetSliderValue("views") == 24
+    meshcat.SetSliderValue("yaw (deg)", 40)  # moved: the slider's value from then on
+    assert studio.step() == ["yaw (deg)"] and c.yaw_deg == 40.0 and c.x == 0.5523
+
+
+def test_the_rank_slider_of_a_single_grasp_stays_on_it():
+    """One grasp offered: the slider ran 0..1 and stood at 1 with grasp 1 of 1 shown."""
+    from gbh_drake.method_spec import Tier
+    from gbh_drake.studio.session import Detection, Offered
+
+    meshcat = local_meshcat()
+    base = Scenario()
+    session = Session(base, object_choices(base), meshcat=meshcat)
+    studio = Studio(session, meshcat, say=lambda _: None)
+    session.detection = Detection(None, [], None, [Offered(Tier.GRASPS, 0, object())])
+    studio.layout()
+    meshcat.SetSliderValue(RANK, 1)
+    assert meshcat.GetSliderValue(RANK) == 0 and studio.step() == []
+
+
+@pytest.mark.sim
+def test_scan_pressed_again_after_detect_keeps_the_detection_with_its_rank_slider():
+    """Scan pressed again after Detect showed the scan but dropped the structures, the grasp
+    and their text while the rank slider stayed (moving it then drew a grasp with no
+    detection). A button clicked while a step rebuilt the panel was lost."""
+    meshcat = local_meshcat()
+    base = off_grid_scenario()
+    studio = Studio(Session(base, object_choices(base), meshcat=meshcat), meshcat,
+                    say=lambda _: None)
+    session = studio.session
+    press(meshcat, "Detect")
+    assert studio.step() == ["Detect"] and session.detection.offered
+    meshcat.SetSliderValue(RANK, 1)
+    assert studio.step() == [RANK]
+    press(meshcat, "Scan")
+    assert studio.step() == ["Scan"]
+    assert studio.rank == 1 and meshcat.GetSliderValue(RANK) == 1
+    assert meshcat.HasPath("studio/structures") and meshcat.HasPath("studio/grasp/open")
+    assert meshcat.HasPath("studio/cameras/views/0")
+    lines = studio.text.lines
+    assert any(line.startswith("detect:") for line in lines)
+    assert any(line.startswith("grasp 2/") for line in lines)
+
+    press(meshcat, "Free space")  # clicked while a step rebuilds the panel: not lost
+    studio.scan()
+    assert studio.step() == ["Free space"] and meshcat.HasPath("studio/free_space")
