@@ -1,11 +1,10 @@
 """Nothing in the package reaches the network: no download URLs, no remote connections."""
 
 import ipaddress
-import os
 import socket
-from pathlib import Path
 
 import pytest
+from network_sockets import network_exposure
 
 from gbh_drake import MODELS_DIR, REPO_ROOT
 from gbh_drake.run import run
@@ -44,38 +43,6 @@ def no_remote_sockets(monkeypatch):
     monkeypatch.setattr(socket.socket, "connect", guarded)
 
 
-def _sockets_of_this_process(protocol: str) -> list[tuple[str, int, str]]:
-    """(local address hex, port, state hex) of this process's ``tcp`` or ``udp`` sockets (Linux
-    /proc; IPv4 and IPv6)."""
-    inodes = set()
-    for fd in Path("/proc/self/fd").iterdir():
-        try:
-            target = os.readlink(fd)
-        except OSError:
-            continue
-        if target.startswith("socket:["):
-            inodes.add(target[8:-1])
-    found = []
-    for table in (f"/proc/self/net/{protocol}", f"/proc/self/net/{protocol}6"):
-        for line in Path(table).read_text().splitlines()[1:]:
-            fields = line.split()
-            if fields[9] in inodes:
-                address, port = fields[1].split(":")
-                found.append((address, int(port, 16), fields[3]))
-    return found
-
-
-LOOPBACK_HEX = {"0100007F", "00000000000000000000000001000000"}  # 127.0.0.1 and ::1 in /proc
-
-
-def _network_exposure() -> list[str]:
-    """UDP sockets (LCM multicast) and TCP listeners not bound to the loopback."""
-    udp = [f"udp {a}:{p}" for a, p, _ in _sockets_of_this_process("udp")]
-    listening = [f"tcp listen {a}:{p}" for a, p, state in _sockets_of_this_process("tcp")
-                 if state == "0A" and a not in LOOPBACK_HEX]
-    return udp + listening
-
-
 @pytest.mark.sim
 def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     """A whole run (pick task) connects nowhere but the loopback, opens no UDP socket (Drake's
@@ -86,7 +53,7 @@ def test_run_uses_no_network(no_remote_sockets, scenario, staple_mesh):
     staple_mesh.export(scenario.directory / "staple.obj")
     summary = run(scenario)
     assert summary.record.sim_time >= 0.05 and summary.record.n_grasps_offered > 0
-    assert _network_exposure() == []
+    assert network_exposure() == []
 
 
 @pytest.mark.sim
@@ -98,4 +65,4 @@ def test_cameras_publish_nowhere(scenario):
     scenario.settle_time = 0.2
     scenario.task = "settle"
     run(scenario)
-    assert _network_exposure() == []
+    assert network_exposure() == []

@@ -4,6 +4,7 @@ same grasps on it."""
 
 import numpy as np
 import pytest
+from network_sockets import network_exposure
 from pydrake.math import RigidTransform
 from pydrake.systems.sensors import RgbdSensor
 
@@ -152,5 +153,8 @@ def test_the_pages_example_of_cameras_of_ones_own_runs(capsys):
     page = (REPO_ROOT / "docs" / "grasps.md").read_text()
     after = page[page.index("<!-- depth-image-scanner -->"):]
     code = re.search(r"```python\n(.*?)```", after, re.S).group(1)
+    before = set(network_exposure())
     exec(compile(code, "docs/grasps.md", "exec"), {})
     assert capsys.readouterr().out == "True parallel (4, 4)\n"
+    # Its cameras publish on an in-memory bus: no UDP socket (Drake's default LCM) is left open.
+    assert set(network_exposure()) - before == set()
