@@ -6,19 +6,20 @@ For every trial of ``--method`` in the experiment folder FOLDER (its ``experimen
 ``trials.jsonl``) on an object with hangable parts that did not succeed, the reach search
 (:func:`gbh_drake.core.reach.search_reach`: every turn about each hanging structure, the rod
 within 60 deg of the hole's axis or the vertical, the pipeline's collision and closing-sweep
-rules) runs on the object's **true** mesh at the trial's start pose (the robot never touched it
-before its scan), with the trial's own GbH parameters except the table clearance, which is
-``--clearance`` (m; default 0: the gripper may touch the table but not enter it, a physical
-limit rather than the planner's 3 mm margin). A trial with no collision-free pose at or above
-that clearance that holds material cannot be carried by any hook grasp of this gripper where the
-object lies, whatever the scan, the ranking or the planner. The bound per protocol is
+rules) runs on the object's **true** mesh where it rested when GbH planned (the verdict's first
+planned pose; the robot never touched it before), with the trial's own GbH parameters except
+the table clearance, which is ``--clearance`` (m; default 0: the gripper may touch the table but
+not enter it, a physical limit rather than the planner's 3 mm margin). A trial with no
+collision-free pose at or above that clearance that holds material cannot be carried by any hook
+grasp of this gripper where the object lies, whatever the scan, the ranking or the planner. The
+bound per protocol is
 
     (trials - those out of reach) / trials
 
 of the objects with hangable parts; successes count as reachable without a search, and so does
 a trial on whose true mesh GbH's detector finds no structure (nothing to search around: not
-proved out of reach). It prints
-each searched trial (best ground distance of a pose, mm) and the bound per protocol.
+proved out of reach). It prints each searched trial (its best pose's height above the table)
+and the bound per protocol.
 """
 
 from __future__ import annotations
@@ -31,6 +32,14 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+def rest_pose(row: dict) -> list[float]:
+    """[x, y, z, roll, pitch, yaw] (m, rad) of the object where it rested when GbH planned (the
+    verdict's first planned pose), else the trial's start pose (``drop_height`` above its rest:
+    its ground distances are then that much too high)."""
+    planned = ((row.get("record") or {}).get("verdict") or {}).get("planned_poses") or []
+    return list(planned[0]) if planned else list(row["pose"])
 
 
 def true_reach(args: tuple) -> dict:
@@ -49,7 +58,7 @@ def true_reach(args: tuple) -> dict:
                               row.get("protocol") or "stable")
     params = dataclasses.replace(scenario.gbh, ground_clearance=float(clearance))
     asset = load_object_asset(scenario.object, scenario.directory)
-    x, y, z, roll, pitch, yaw = row["pose"]
+    x, y, z, roll, pitch, yaw = rest_pose(row)
     X_WO = RigidTransform(RollPitchYaw(roll, pitch, yaw), np.array([x, y, z]))
     mesh = asset.mesh.copy()
     mesh.apply_transform(X_WO.GetAsMatrix4())

@@ -35,3 +35,11 @@ def test_the_bound_counts_only_trials_proved_out_of_reach():
                 for c in ("out of reach", "no structure", "reachable")] + \
         [{"protocol": "stable", "class": "out of reach"}]
     assert reach_bound.bounds(rows, searched) == {"natural": (1, 4, 1), "stable": (0, 1, 1)}
+
+
+def test_the_object_is_where_it_rested_when_planned_not_where_it_started():
+    row = committed_row("mug_square_handle", 3, "stable")
+    rest = reach_bound.rest_pose(row)
+    assert rest == row["record"]["verdict"]["planned_poses"][0]
+    assert 0.001 < row["pose"][2] - rest[2] < 0.003  # dropped from 2 mm above its rest
+    assert reach_bound.rest_pose({"pose": [1, 2, 3, 0, 0, 0]}) == [1, 2, 3, 0, 0, 0]
