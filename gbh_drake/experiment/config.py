@@ -440,9 +440,10 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
 
         for i, name in enumerate(experiment.objects):
             if name in object_set.names and not object_set.entry(name).builtin:
-                try:  # found (fetched), a mesh, of a size that can be simulated
+                try:  # found (fetched), a mesh, of a size and a mass that can be simulated
                     with quiet_mesh_warnings():  # (gbh objects list says them)
-                        object_set.rest_mesh(name)
+                        mesh = object_set.rest_mesh(name)
+                        object_set.check_payload(name, object_set.mass(name, mesh))
                 except ObjectSetError as e:  # on the field that chose it
                     written = _layers(experiment).node(("objects", i)) is not None
                     fail(f"objects[{i}]" if written else "object_set", str(e))

@@ -128,10 +128,10 @@ def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
     """The object ``config.name`` of the object set at ``manifest``: a built-in object, or its
     mesh with the set's scale and mass, turned into its natural rest (frame O is that rest, as
     the built-in objects are modelled in theirs), with its ground truth moved from the file's
-    frame into O. A mesh that cannot be imported or simulated raises
-    :class:`~gbh_drake.objects.sets.ObjectSetError` naming the manifest, the entry and the
-    field. The last few are kept per process (a scenario's check and its station load the same
-    object)."""
+    frame into O. A mesh that cannot be imported or simulated, or that makes an object heavier
+    than the arm's payload, raises :class:`~gbh_drake.objects.sets.ObjectSetError` naming the
+    manifest, the entry and the field. The last few are kept per process (a scenario's check
+    and its station load the same object)."""
     from gbh_drake.objects.sets import load_object_set
 
     try:
@@ -147,6 +147,7 @@ def _set_asset(config: ObjectConfig, manifest: Path) -> ObjectAsset:
                                       manifest)
         else:
             asset = _mesh_entry_asset(obj, object_set.rest_mesh(config.name))
+            object_set.check_payload(config.name, asset.mass)
         while len(_SET_ASSETS) >= 8:
             _SET_ASSETS.pop(next(iter(_SET_ASSETS)))
         _SET_ASSETS[key] = asset

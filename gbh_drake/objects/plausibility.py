@@ -56,6 +56,10 @@ REFUSE_MIN_EXTENT = 0.005
 """m: ... or smaller than this: two TSDF voxels (2.5 mm), below what the scan can resolve and
 thinner than the gripper's 8 mm rods."""
 
+PAYLOAD = 3.0
+"""kg: the Franka Panda's payload. A heavier object is refused (the arm may not carry it; it
+would fail every trial), by ``gbh run``, ``gbh experiment`` and ``gbh objects list`` alike."""
+
 #: Scenario fields named in hints.
 FIELD_SCALE, FIELD_MASS, FIELD_DENSITY = "scale", "mass", "density"
 
@@ -92,6 +96,14 @@ def size_refusal(mesh: trimesh.Trimesh, scale: float = 1.0, *,
     sign = ">" if extent > REFUSE_MAX_EXTENT else "<"
     return (f"largest extent {_length(extent)} is {what} ({sign} {_length(bound)}): "
             f"{scale_hint(extent, scale, field=field)}")
+
+
+def payload_refusal(mass: float) -> str | None:
+    """Why an object of ``mass`` (kg) cannot be picked (heavier than :data:`PAYLOAD`), or
+    None."""
+    if mass <= PAYLOAD:
+        return None
+    return f"weighs {mass:.3g} kg, above the Franka's payload ({PAYLOAD:g} kg)"
 
 
 def scale_hint(extent: float, scale: float = 1.0, *, field: str = FIELD_SCALE,

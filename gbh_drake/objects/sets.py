@@ -157,6 +157,31 @@ class ObjectSet:
             raise self.error(obj.index, "scale", f"{obj.mesh_path}: {refusal}")
         return mesh
 
+    def mass(self, name: str, mesh=None) -> float:
+        """kg: the mesh entry ``name``'s mass: its ``mass``, else its ``density`` times the
+        volume of its mesh (``mesh``: its :meth:`rest_mesh`, given to spare reading it again),
+        as the station computes it (:func:`~gbh_drake.objects.mass.mass_properties_for`)."""
+        entry = self.entry(name)
+        if entry.mass > 0:
+            return float(entry.mass)
+        from gbh_drake.objects.mass import mass_properties_for
+
+        mesh = self.rest_mesh(name) if mesh is None else mesh
+        return float(mass_properties_for(mesh, density=entry.density).mass)
+
+    def check_payload(self, name: str, mass: float) -> None:
+        """Raises :class:`ObjectSetError` on the mesh entry ``name``'s ``mass`` (or
+        ``density``) when an object of ``mass`` kg is beyond the arm's payload
+        (:func:`~gbh_drake.objects.plausibility.payload_refusal`): refused by ``gbh run``,
+        ``gbh experiment`` (before any trial) and ``gbh objects list`` alike."""
+        from gbh_drake.objects.plausibility import payload_refusal
+
+        refusal = payload_refusal(mass)
+        if refusal:
+            obj = self.object(name)
+            raise self.error(obj.index, "mass" if obj.entry.mass > 0 else "density",
+                             f"{obj.mesh_path}: {refusal}")
+
 
 def entry_name(entry: SetEntry) -> str:
     """An entry's name: its ``name``, or the built-in object's it names."""

@@ -13,11 +13,11 @@ from gbh_drake.core.ranges import FieldError
 
 #: Largest extent (m) a scaled named object may have.
 NAMED_SIZE = (0.01, 2.0)
-#: The object's mass (kg), named or mesh, from ``object.mass`` or its density: at most the
-#: Franka Panda's payload (3 kg: a heavier object is beyond what the arm may carry; it would
-#: fail every trial), at least 1 g (lighter than a paper clip: not a hand-held object, and
-#: its contact at the plant's step was never measured).
-MASS_RANGE = (0.001, 3.0)
+#: kg: the object's mass, named or mesh, from ``object.mass`` or its density, is at least 1 g
+#: (lighter than a paper clip: not a hand-held object, and its contact at the plant's step was
+#: never measured) and at most the Franka's payload
+#: (:data:`gbh_drake.objects.plausibility.PAYLOAD`).
+MIN_MASS = 0.001
 
 
 def check_object(scenario) -> None:
@@ -113,13 +113,10 @@ def _check_set_object(scenario) -> None:
                          "rest: {as_given: true, reason: ...} or rpy_deg); use rest: stable")
     from gbh_drake.modeling.object_asset import load_object_asset
 
-    try:
-        asset = load_object_asset(obj, scenario.directory)
-    except ObjectSetError as e:  # the mesh cannot be imported, or its size simulated
+    try:  # (a mesh that cannot be imported, a size or a mass that cannot be simulated)
+        load_object_asset(obj, scenario.directory)
+    except ObjectSetError as e:
         raise FieldError(("object", "set"), str(e)) from None
-    if asset.mass > MASS_RANGE[1]:
-        raise FieldError(("object", "set"), f"{path}: {obj.name} weighs {asset.mass:.3g} kg, "
-                                            f"above the Franka's payload ({MASS_RANGE[1]:g} kg)")
 
 
 def _builtin_rest(name: str):
@@ -133,10 +130,12 @@ def _natural(obj) -> bool:
 
 
 def _check_mass(obj, mass: float, what: str, *, light: bool = True) -> None:
-    """Refuses a mass outside :data:`MASS_RANGE` (with ``light`` False, only above it: a light
-    mesh is warned about by the mesh import's plausibility checks), on the field that gave
-    it."""
-    lo, hi = MASS_RANGE
+    """Refuses a mass outside [:data:`MIN_MASS`, the payload] (with ``light`` False, only
+    above it: a light mesh is warned about by the mesh import's plausibility checks), on the
+    field that gave it."""
+    from gbh_drake.objects.plausibility import PAYLOAD
+
+    lo, hi = MIN_MASS, PAYLOAD
     if mass <= hi and (mass >= lo or not light):
         return
     if obj.mass > 0:

@@ -257,3 +257,34 @@ def test_gbh_objects_list_shows_an_object_that_cannot_be_used_as_refused(meshes,
     rows = json.loads(capsys.readouterr().out)
     assert rows[0]["error"] == "" and rows[1]["error"].startswith(where)
     assert rows[1]["size_cm"] is None and rows[1]["mass_g"] is None
+
+
+@pytest.mark.parametrize("heavy, field, line", [("mass: 5.0", "mass", 2),
+                                                ("density: 20000", "density", 2)])
+def test_a_set_mesh_heavier_than_the_payload_is_refused_by_run_experiment_and_list(
+        meshes, capsys, heavy, field, line):
+    """A 6 x 8 x 10 cm box of 5 kg (or of 20000 kg/m^3: 9.6 kg): ``gbh run`` refused it, but
+    ``gbh experiment`` ran it (a 5 kg load the Franka may not carry) and ``gbh objects list``
+    listed it."""
+    from gbh_drake.cli import main
+    from gbh_drake.experiment.config import ExperimentError, load_experiment
+    from gbh_drake.scenario import ScenarioError, load_scenario
+
+    path = write(meshes, f"objects:\n  - {{name: box, mesh: box.obj, {heavy}}}\n"
+                         "  - {name: light, mesh: box.obj, mass: 0.3}\n")
+    where = f"{path}: objects[0] (box).{field} (line {line}): {meshes / 'box.obj'}: weighs "
+    with pytest.raises(ScenarioError) as run:
+        load_scenario(SCENARIOS_DIR / "default.yaml", overrides=f"object: {{set: {path}, "
+                                                                "name: box}")
+    assert run.value.field == "object.set" and str(run.value.problem).startswith(where)
+    assert "kg, above the Franka's payload (3 kg)" in run.value.problem
+    (meshes / "exp.yaml").write_text(f"base: {SCENARIOS_DIR / 'default.yaml'}\n"
+                                     "object_set: set.yaml\ntrials: 1\n"
+                                     "methods: [{name: gbh-10}]\n")
+    with pytest.raises(ExperimentError) as experiment:  # before any trial
+        load_experiment(meshes / "exp.yaml")
+    assert str(experiment.value.problem).startswith(where)
+    assert main(["objects", "list", "--set", str(path)]) == 2
+    _, box, light = capsys.readouterr().out.splitlines()
+    assert box.split()[:2] == ["box", "refused:"] and where in box and "300 g" in light
+    load_object_set(path).check_payload("light", 3.0)  # the payload itself is allowed
