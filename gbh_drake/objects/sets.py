@@ -193,8 +193,14 @@ def load_object_set(path: str | Path) -> ObjectSet:
     :class:`ObjectSetError` naming the manifest, the entry, the field and its line."""
     path = Path(path)
     origin, text = file_layer(path, "object set", ObjectSetError)
-    manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
-                                  what="object set", error=ObjectSetError)
+    try:
+        manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
+                                      what="object set", error=ObjectSetError)
+    except ObjectSetError as e:  # an unknown or mistyped field: its entry named as every other
+        field_text = _with_entry(e.field, _written_entries(text))
+        if field_text == e.field:
+            raise
+        raise ObjectSetError(e.origin, field_text, e.line, e.problem, e.column) from None
     root = trees.roots[0][1]
     try:
         _check(manifest)
@@ -223,6 +229,19 @@ def _parse_field(text: str) -> tuple:
     """``rest.reason`` -> ``("rest", "reason")``; ``parts[0].center`` -> ``("parts", 0,
     "center")``."""
     return tuple(int(p) if p.isdigit() else p for p in re.findall(r"[^.\[\]]+", text))
+
+
+def _written_entries(text: str) -> list[SetEntry]:
+    """The entries' names (``name`` or ``builtin``) as written in a manifest's ``text`` that did
+    not load (an unknown field), for its message; [] when they cannot be read."""
+    try:
+        objects = (yaml.safe_load(text) or {}).get("objects") or []
+    except (yaml.YAMLError, AttributeError):
+        return []
+    if not isinstance(objects, list):
+        return []
+    return [SetEntry(**{k: str(v) for k, v in o.items() if k in ("name", "builtin")})
+            if isinstance(o, dict) else SetEntry() for o in objects]
 
 
 def _with_entry(field_text: str, entries: list[SetEntry]) -> str:

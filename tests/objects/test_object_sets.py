@@ -100,7 +100,12 @@ def test_a_mesh_entry_gives_its_asset_with_the_ground_truth_moved_into_O(meshes)
     ("  - {name: box, mesh: box.obj, mass: 0.1, scale: -1}\n",
      r"objects\[0\] \(box\)\.scale \(line 3\)", "in (0, 1000]"),
     ("  - {name: box, mesh: box.obj, mass: 0.1, colour: red}\n",
-     r"objects\[0\]\.colour \(line 3\)", "unknown"),
+     r"objects\[0\] \(box\)\.colour \(line 3\)", "unknown"),
+    # An unknown or mistyped field names its entry too (it read "objects[1].densty").
+    ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n"
+     "    densty: 900\n", r"objects\[1\] \(box\)\.densty \(line 6\)", "did you mean 'density'"),
+    ("  - {builtin: teapot}\n  - name: box\n    mesh: box.obj\n    mass: heavy\n",
+     r"objects\[1\] \(box\)\.mass \(line 6\)", "heavy"),
     # Written over several lines, a field left out is the line of what holds it (it read
     # "line 2", the line of objects:, for every entry).
     ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n",
