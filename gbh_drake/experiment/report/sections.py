@@ -162,8 +162,11 @@ def per_object(data: ReportInput) -> list[str]:
 def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
     """Per object and method, over its trials: was a true hangable part found, which grasp kinds
     were executed, cage or pinch, the outcomes (``suffix`` ends the heading); an object the
-    report has no facts about reads ``unknown`` in the ground-truth columns."""
+    report has no facts about, or that is no control and has no true hangable part in its
+    records (a set's entry without ``hangable_parts``), reads ``unknown`` in the ground-truth
+    columns."""
     tags, rows = object_tags(data.frame), []
+    parts = data.frame.groupby("object", sort=False).true_parts.max()
     groups = _by_object_and_method(data, "true_part_found", "grasped_true_part", "grasp_kind",
                                    "success", "held_by", "outcome")
     for obj, method in [(o, m) for o in data.objects for m in data.methods]:
@@ -171,7 +174,9 @@ def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
         if mine is None:
             continue
         truth = [fraction(mine.true_part_found), fraction(mine.grasped_true_part)]
-        if UNKNOWN in tags.get(obj, ()):
+        no_truth = "control" not in tags.get(obj, ()) and not (
+            pd.notna(parts.get(obj)) and parts.get(obj) > 0)
+        if UNKNOWN in tags.get(obj, ()) or no_truth:
             truth = [UNKNOWN if t == "-" else t for t in truth]
         rows.append([obj, method, len(mine), *truth,
                      counts(mine.grasp_kind.fillna("").replace("", "none")),
