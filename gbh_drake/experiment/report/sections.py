@@ -72,6 +72,16 @@ def table1(data: ReportInput) -> list[str]:
         *paired(data)]
 
 
+def table1_by_protocol(data: ReportInput) -> list[str]:
+    """:func:`table1` of each protocol under its heading, as ``summary.md`` has them (what
+    ``gbh experiment`` and ``gbh report`` print); one table without a heading for an experiment
+    of the ``stable`` protocol alone."""
+    lines: list[str] = []
+    for suffix, one in per_protocol(data):
+        lines += ([f"## Table 1{suffix}", ""] if suffix else []) + table1(one) + [""]
+    return lines[:-1]
+
+
 def paired(data: ReportInput) -> list[str]:
     """Every pair of methods on the (object, trial) poses both ran (objects with hangable
     parts): McNemar's exact test and the difference in rate with its paired-bootstrap 95 %
