@@ -305,7 +305,11 @@ def mesh_file(entry: SetEntry, directory: Path, *, manifest: str | Path = "") ->
         path = Path(entry.mesh).expanduser()
         path = path if path.is_absolute() else Path(directory) / path
         if not path.is_file():
-            raise MissingMesh("mesh", f"no mesh file {path}")
+            from gbh_drake.objects.fetch import _nearest
+
+            hint = _nearest(path.name, path.parent, ()) if path.parent.is_dir() else \
+                f" (no folder {path.parent})"
+            raise MissingMesh("mesh", f"no mesh file {path}{hint}")
         return path
     from gbh_drake.objects.fetch import Source, cache_path, installed_file
 

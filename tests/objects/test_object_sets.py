@@ -132,6 +132,19 @@ def test_a_missing_mesh_is_found_missing_when_its_object_is_used(meshes):
         object_set.object("gone")
 
 
+def test_a_misspelt_mesh_file_names_the_nearest_file_as_a_pypi_one_does(meshes):
+    # It said only "no mesh file .../bxo.obj"; a pypi:// path said "(did you mean ...?)".
+    path = write(meshes, "objects:\n  - {name: crate, mass: 0.1, mesh: bxo.obj}\n"
+                         "  - {name: far, mass: 0.1, mesh: nofolder/box.obj}\n")
+    object_set = load_object_set(path)
+    with pytest.raises(ObjectSetError, match=r"objects\[0\] \(crate\)\.mesh \(line 2\): no mesh "
+                                             r"file .*bxo\.obj \(did you mean box\.obj\?\)$"):
+        object_set.object("crate")
+    with pytest.raises(ObjectSetError, match=r"objects\[1\] \(far\)\.mesh \(line 3\): no mesh "
+                                             r"file .*nofolder/box\.obj \(no folder .*nofolder\)$"):
+        object_set.object("far")
+
+
 def test_an_uncached_pypi_mesh_says_how_to_fetch_it(meshes, monkeypatch, tmp_path):
     monkeypatch.setenv("GBH_DRAKE_CACHE", str(tmp_path / "cache"))
     path = write(meshes, "objects:\n  - {name: far, mesh: pypi://nosuchdist/x/mug.obj, "
