@@ -151,10 +151,16 @@ class ObjectSet:
             mesh = load_mesh_file(obj.mesh_path, scale=obj.entry.scale)
         except MeshImportError as e:
             raise self.error(obj.index, "mesh", str(e)) from None
+        low, high = mesh.bounds  # the file's frame, m (after scale): where parts are given
         mesh.apply_transform(rest_transform(obj.entry))
         refusal = size_refusal(mesh, obj.entry.scale)
         if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
             raise self.error(obj.index, "scale", f"{obj.mesh_path}: {refusal}")
+        for j, part in enumerate(obj.entry.hangable_parts):
+            refusal = part_outside(part, low, high)
+            if refusal:
+                raise self.error(obj.index, f"hangable_parts[{j}].center",
+                                 f"{obj.mesh_path}: {refusal}")
         return mesh
 
     def mass(self, name: str, mesh=None) -> float:
@@ -357,6 +363,23 @@ def object_digest(obj: SetObject) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def part_outside(part: SetPart, low, high) -> str:
+    """Why the ground-truth ``part``'s centre cannot be on the mesh whose bounds in the file's
+    frame (m, after ``scale``) are ``low``, ``high``: farther outside them than its clear
+    diameter (a hole's or a hook's rod passes through the object's material), e.g. a centre in
+    centimetres; "" when it is not."""
+    center = np.asarray(part.center, float)
+    outside = float(np.linalg.norm(np.maximum(0.0, np.maximum(low - center, center - high))))
+    if outside <= max(float(part.clear_diameter), 0.005):
+        return ""
+    def m(v: float) -> str:
+        return f"{round(float(v), 3) + 0.0:.3f}"  # (+ 0.0: never -0.000)
+
+    bounds = ", ".join(f"{a} {m(lo)} to {m(hi)}" for a, lo, hi in zip("xyz", low, high, strict=True))
+    return (f"({', '.join(f'{c:g}' for c in center)}) lies {100.0 * outside:.1f} cm outside the "
+            f"mesh ({bounds} m): give the centre in metres in the file's frame, after scale")
 
 
 def parts_in_file_frame(entry: SetEntry):

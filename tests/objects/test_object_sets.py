@@ -211,6 +211,30 @@ def test_a_set_mesh_whose_size_cannot_be_simulated_is_refused_as_a_plain_mesh_is
     assert max(load_object_set(scaled).rest_mesh("my_mug").extents) == pytest.approx(0.1325)
 
 
+def test_a_hangable_part_off_its_mesh_is_refused_on_its_center(meshes):
+    """A handle's centre given in centimetres (5.8, 4.75, 0 for 0.058, 0.0475, 0): inside the
+    field's range of +-10 m, it was taken as ground truth 7 m away from the 13-cm mug, and every
+    trial's "part found" would read 0."""
+    from gbh_drake.scenario import ScenarioError, load_scenario
+
+    text = "objects:\n" + MUG
+    path = write(meshes, text.replace("center: [58.0e-3, 47.5e-3, 0]", "center: [5.8, 4.75, 0]"))
+    with pytest.raises(ObjectSetError) as refused:
+        load_object_set(path).rest_mesh("my_mug")
+    assert (refused.value.field, refused.value.line) == (
+        "objects[0] (my_mug).hangable_parts[0].center", 9)
+    assert refused.value.problem.startswith(
+        f"{meshes / 'mug_mm_yup.stl'}: (5.8, 4.75, 0) lies ")
+    assert refused.value.problem.endswith("cm outside the mesh (x -0.041 to 0.091, y 0.000 to "
+                                          "0.095, z -0.041 to 0.041 m): give the centre in "
+                                          "metres in the file's frame, after scale")
+    with pytest.raises(ScenarioError) as run:  # gbh run's
+        load_scenario(SCENARIOS_DIR / "default.yaml",
+                      overrides=f"object: {{set: {path}, name: my_mug}}")
+    assert run.value.problem == str(refused.value)
+    load_object_set(write(meshes, text)).rest_mesh("my_mug")  # in metres: taken
+
+
 def test_a_file_that_is_not_a_mesh_names_the_manifest_entry_and_field(meshes, tmp_path):
     """It said ``invalid mesh: nofaces.obj: not a mesh``; from a scenario in another folder,
     the manifest's path read ``.../a/../b/set.yaml``."""
