@@ -66,7 +66,7 @@ def run_command(args: argparse.Namespace) -> int:
 
 
 def _report(folder: Path) -> int:
-    from gbh_drake.experiment.report import read_input, table1, write_report
+    from gbh_drake.experiment.report import read_input, table1_by_protocol, write_report
     from gbh_drake.experiment.rows import ROWS_FILE, FolderError
 
     if not (folder / ROWS_FILE).is_file():
@@ -75,7 +75,7 @@ def _report(folder: Path) -> int:
     try:  # everything is read and checked before anything is written
         data = read_input(folder, warn=_warn)
         summary, plot = write_report(folder, warn=_warn, data=data)
-        lines = table1(data)
+        lines = table1_by_protocol(data)
     except FolderError as e:
         _say(f"damaged experiment folder: {e}")
         return 2
@@ -100,7 +100,7 @@ def _run_experiment(args: argparse.Namespace) -> int:
     from gbh_drake import interrupts
     from gbh_drake.experiment.config import ExperimentError, field_error, load_experiment
     from gbh_drake.experiment.engines import RAY_MISSING, RayError, ray_installed, ray_missing
-    from gbh_drake.experiment.report import read_input, table1
+    from gbh_drake.experiment.report import read_input, table1_by_protocol
     from gbh_drake.experiment.rows import FolderError
     from gbh_drake.experiment.runner import run_experiment
 
@@ -131,7 +131,7 @@ def _run_experiment(args: argparse.Namespace) -> int:
     except RayError as e:
         _say(f"cannot use Ray: {e}")
         return 2
-    print("\n".join(table1(read_input(result.folder))))
+    print("\n".join(table1_by_protocol(read_input(result.folder))))
     print(f"{result.ran} trials run, {result.skipped} found done, in {result.wall / 60:.1f} min; "
           f"wrote {result.folder / 'summary.md'}")
     return 0

@@ -28,6 +28,8 @@ The folder::
 from __future__ import annotations
 
 import contextlib
+import copy
+import dataclasses
 import datetime
 import json
 import os
@@ -283,10 +285,17 @@ def _finished(store: RowStore, tasks, *, warn=None) -> dict:
 
 
 def _write_definition(folder: Path, experiment: Experiment, scenarios: dict) -> None:
-    """``experiment.yaml`` and each method's scenario, for reports and reruns."""
+    """``experiment.yaml`` and each method's scenario, for reports and reruns (its
+    ``object.set`` relative to ``scenarios/``, where the file is: ``gbh run
+    scenarios/<method>.yaml`` finds the manifest)."""
     write_atomically(folder / EXPERIMENT_FILE, experiment_yaml(experiment, folder))
     (folder / "scenarios").mkdir(exist_ok=True)
     for name, scenario in scenarios.items():
+        if scenario.object.set:
+            manifest = scenario.resolve(scenario.object.set)
+            scenario = copy.copy(scenario)
+            scenario.object = dataclasses.replace(scenario.object, set=os.path.relpath(
+                manifest, (folder / "scenarios").resolve()))
         write_atomically(folder / "scenarios" / f"{name}.yaml", trial_scenario_yaml(scenario))
 
 

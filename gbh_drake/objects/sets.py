@@ -151,10 +151,16 @@ class ObjectSet:
             mesh = load_mesh_file(obj.mesh_path, scale=obj.entry.scale)
         except MeshImportError as e:
             raise self.error(obj.index, "mesh", str(e)) from None
+        low, high = mesh.bounds  # the file's frame, m (after scale): where parts are given
         mesh.apply_transform(rest_transform(obj.entry))
         refusal = size_refusal(mesh, obj.entry.scale)
         if refusal:  # refused before anything is simulated (a mm file read as m: 100 m)
             raise self.error(obj.index, "scale", f"{obj.mesh_path}: {refusal}")
+        for j, part in enumerate(obj.entry.hangable_parts):
+            refusal = part_outside(part, low, high)
+            if refusal:
+                raise self.error(obj.index, f"hangable_parts[{j}].center",
+                                 f"{obj.mesh_path}: {refusal}")
         return mesh
 
     def mass(self, name: str, mesh=None) -> float:
@@ -193,8 +199,14 @@ def load_object_set(path: str | Path) -> ObjectSet:
     :class:`ObjectSetError` naming the manifest, the entry, the field and its line."""
     path = Path(path)
     origin, text = file_layer(path, "object set", ObjectSetError)
-    manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
-                                  what="object set", error=ObjectSetError)
+    try:
+        manifest, trees = load_layers(ObjectSetManifest, [(origin, text)], ObjectSetManifest(),
+                                      what="object set", error=ObjectSetError)
+    except ObjectSetError as e:  # an unknown or mistyped field: its entry named as every other
+        field_text = _with_entry(e.field, _written_entries(text))
+        if field_text == e.field:
+            raise
+        raise ObjectSetError(e.origin, field_text, e.line, e.problem, e.column) from None
     root = trees.roots[0][1]
     try:
         _check(manifest)
@@ -223,6 +235,19 @@ def _parse_field(text: str) -> tuple:
     """``rest.reason`` -> ``("rest", "reason")``; ``parts[0].center`` -> ``("parts", 0,
     "center")``."""
     return tuple(int(p) if p.isdigit() else p for p in re.findall(r"[^.\[\]]+", text))
+
+
+def _written_entries(text: str) -> list[SetEntry]:
+    """The entries' names (``name`` or ``builtin``) as written in a manifest's ``text`` that did
+    not load (an unknown field), for its message; [] when they cannot be read."""
+    try:
+        objects = (yaml.safe_load(text) or {}).get("objects") or []
+    except (yaml.YAMLError, AttributeError):
+        return []
+    if not isinstance(objects, list):
+        return []
+    return [SetEntry(**{k: str(v) for k, v in o.items() if k in ("name", "builtin")})
+            if isinstance(o, dict) else SetEntry() for o in objects]
 
 
 def _with_entry(field_text: str, entries: list[SetEntry]) -> str:
@@ -286,7 +311,11 @@ def mesh_file(entry: SetEntry, directory: Path, *, manifest: str | Path = "") ->
         path = Path(entry.mesh).expanduser()
         path = path if path.is_absolute() else Path(directory) / path
         if not path.is_file():
-            raise MissingMesh("mesh", f"no mesh file {path}")
+            from gbh_drake.objects.fetch import _nearest
+
+            hint = _nearest(path.name, path.parent, ()) if path.parent.is_dir() else \
+                f" (no folder {path.parent})"
+            raise MissingMesh("mesh", f"no mesh file {path}{hint}")
         return path
     from gbh_drake.objects.fetch import Source, cache_path, installed_file
 
@@ -334,6 +363,23 @@ def object_digest(obj: SetObject) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def part_outside(part: SetPart, low, high) -> str:
+    """Why the ground-truth ``part``'s centre cannot be on the mesh whose bounds in the file's
+    frame (m, after ``scale``) are ``low``, ``high``: farther outside them than its clear
+    diameter (a hole's or a hook's rod passes through the object's material), e.g. a centre in
+    centimetres; "" when it is not."""
+    center = np.asarray(part.center, float)
+    outside = float(np.linalg.norm(np.maximum(0.0, np.maximum(low - center, center - high))))
+    if outside <= max(float(part.clear_diameter), 0.005):
+        return ""
+    def m(v: float) -> str:
+        return f"{round(float(v), 3) + 0.0:.3f}"  # (+ 0.0: never -0.000)
+
+    bounds = ", ".join(f"{a} {m(lo)} to {m(hi)}" for a, lo, hi in zip("xyz", low, high, strict=True))
+    return (f"({', '.join(f'{c:g}' for c in center)}) lies {100.0 * outside:.1f} cm outside the "
+            f"mesh ({bounds} m): give the centre in metres in the file's frame, after scale")
 
 
 def parts_in_file_frame(entry: SetEntry):

@@ -142,3 +142,25 @@ def test_each_task_holds_its_trials_own_dump_whatever_the_objects_names(user_set
         assert task.scenario_yaml == trial_scenario_yaml(scenario), task.key
         loaded = yaml_load_typed(schema=Scenario, data=task.scenario_yaml)
         assert (loaded.object.name, loaded.seed) == (task.object, task.seed)
+
+
+def test_the_folders_method_scenarios_find_the_object_set(user_set):
+    """summary.md says: rerun a trial with ``gbh run scenarios/<method>.yaml --set '{seed: ..,
+    object: {name: ..}}'`` in the folder. Its ``object.set`` was written relative to the
+    experiment file's folder ("set.yaml"), so the rerun was refused (file not found:
+    <folder>/scenarios/set.yaml); it is relative to ``scenarios/``."""
+    from gbh_drake.experiment.runner import _write_definition
+    from gbh_drake.scenario import load_scenario
+
+    experiment = load_experiment(user_set / "exp.yaml")
+    out = user_set / "results" / "out"
+    out.mkdir(parents=True)
+    scenarios = method_scenarios(experiment)
+    before = [t.digest for t in make_tasks(experiment, scenarios=scenarios)]
+    _write_definition(out, experiment, scenarios)
+    written = out / "scenarios" / "gbh-1.yaml"
+    scenario = load_scenario(written, overrides="{seed: 7, object: {name: teapot}}")
+    scenario = load_scenario(written, overrides="{seed: 7, object: {name: ring}}")
+    assert scenario.resolve(scenario.object.set).resolve() == (user_set / "set.yaml").resolve()
+    # the trials' own texts (and so their digests) are not changed by it
+    assert [t.digest for t in make_tasks(experiment, scenarios=scenarios)] == before

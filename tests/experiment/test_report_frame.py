@@ -63,6 +63,28 @@ def test_object_facts_come_from_the_rows_tags_else_the_built_in_lists():
     assert "| my_widget | gbh+ | 1 | unknown | unknown |" in detail
 
 
+def test_a_set_object_without_hangable_parts_reads_unknown_in_the_ground_truth_columns():
+    # A set's rows always carry object_tags (an entry without tags: []); an entry without
+    # hangable_parts (true_parts 0) that is no control has no ground truth: "unknown", as the
+    # docs say (it read "-", as if nothing were to be found), tagged or not; a control reads "-".
+    ring = make_row("ring", "gbh-10", 0, "no_grasp_found")
+    ring.update(object_tags=[], is_control=False)
+    cup = make_row("my_cup", "gbh-10", 0, "no_grasp_found")
+    cup.update(object_tags=["cup"], is_control=False)
+    block = make_row("block", "gbh-10", 0, "no_hangable_structure", control=True)
+    block["object_tags"] = []
+    mug = make_row("my_mug", "gbh-10", 0, "no_grasp_found")
+    mug["object_tags"] = ["cup"]
+    for row, parts in ((ring, 0), (cup, 0), (block, 0), (mug, 1)):
+        row["record"].update(true_parts=parts, true_part_found=None, grasped_true_part=None)
+    mug["record"]["true_part_found"] = True
+    detail = flat(per_object_detail(_input([ring, cup, block, mug], methods=("gbh-10",))))
+    assert "| ring | gbh-10 | 1 | unknown | unknown |" in detail
+    assert "| my_cup | gbh-10 | 1 | unknown | unknown |" in detail
+    assert "| block | gbh-10 | 1 | - | - |" in detail
+    assert "| my_mug | gbh-10 | 1 | 1/1 | - |" in detail
+
+
 def test_a_cup_of_a_users_set_lying_on_its_side_is_beyond_the_loops_reach():
     rows = [make_row("my_cup", "gbh+", t) for t in range(2)]
     for r in rows:

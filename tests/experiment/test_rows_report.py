@@ -470,3 +470,26 @@ def test_rows_that_ended_after_the_cage_test_are_not_counted_as_kept_on_the_bar(
     RowStore(folder).rewrite(rows)
     text = flat(summary_markdown(read_input(folder)))
     assert "gbh-10 0/0 (3 not set down: pick.set_down false)" in text
+
+
+def test_gbh_report_prints_table_1_per_protocol_as_the_summary_has_it(tmp_path, capsys):
+    # An experiment of two protocols: its printout pooled both into one table without a
+    # heading (4 trials of gbh-10, a table found in neither summary.md nor table1.csv); it is
+    # the summary's tables, each under its protocol's heading.
+    experiment = Experiment(name="two", objects=["mug_classic", "kettle"], trials=1,
+                            methods=METHODS, protocols=["stable", "natural"])
+    (tmp_path / "experiment.yaml").write_text(experiment_yaml(experiment))
+    store = RowStore(tmp_path)
+    for protocol, outcome in (("stable", "not_lifted"), ("natural", "success")):
+        for obj in ("mug_classic", "kettle"):
+            for method in ("gbh-10", "antipodal"):
+                row = make_row(obj, method, 0, outcome)
+                row["protocol"] = protocol
+                store.append(row)
+    assert main(["report", str(tmp_path)]) == 0
+    out = flat(capsys.readouterr().out)
+    assert out.index("## Table 1, protocol `stable`") < out.index("## Table 1, protocol `natural`")
+    stable, natural = out.split("## Table 1, protocol `natural`")
+    assert "| gbh-10 | 10 | 2 | 0 | 2 | 0.0 % |" in stable
+    assert "| gbh-10 | 10 | 2 | 2 | 0 | 100.0 % |" in natural
+    assert "| gbh-10 | 10 | 4 |" not in out  # no table pooling the protocols

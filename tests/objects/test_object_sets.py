@@ -100,7 +100,12 @@ def test_a_mesh_entry_gives_its_asset_with_the_ground_truth_moved_into_O(meshes)
     ("  - {name: box, mesh: box.obj, mass: 0.1, scale: -1}\n",
      r"objects\[0\] \(box\)\.scale \(line 3\)", "in (0, 1000]"),
     ("  - {name: box, mesh: box.obj, mass: 0.1, colour: red}\n",
-     r"objects\[0\]\.colour \(line 3\)", "unknown"),
+     r"objects\[0\] \(box\)\.colour \(line 3\)", "unknown"),
+    # An unknown or mistyped field names its entry too (it read "objects[1].densty").
+    ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n"
+     "    densty: 900\n", r"objects\[1\] \(box\)\.densty \(line 6\)", "did you mean 'density'"),
+    ("  - {builtin: teapot}\n  - name: box\n    mesh: box.obj\n    mass: heavy\n",
+     r"objects\[1\] \(box\)\.mass \(line 6\)", "heavy"),
     # Written over several lines, a field left out is the line of what holds it (it read
     # "line 2", the line of objects:, for every entry).
     ("  - {name: a, mesh: box.obj, mass: 0.1}\n  - name: box\n    mesh: box.obj\n",
@@ -125,6 +130,19 @@ def test_a_missing_mesh_is_found_missing_when_its_object_is_used(meshes):
     with pytest.raises(ObjectSetError, match=r"set\.yaml: objects\[0\] \(gone\)\.mesh \(line 4\): "
                                              r"no mesh file .*nowhere\.obj"):
         object_set.object("gone")
+
+
+def test_a_misspelt_mesh_file_names_the_nearest_file_as_a_pypi_one_does(meshes):
+    # It said only "no mesh file .../bxo.obj"; a pypi:// path said "(did you mean ...?)".
+    path = write(meshes, "objects:\n  - {name: crate, mass: 0.1, mesh: bxo.obj}\n"
+                         "  - {name: far, mass: 0.1, mesh: nofolder/box.obj}\n")
+    object_set = load_object_set(path)
+    with pytest.raises(ObjectSetError, match=r"objects\[0\] \(crate\)\.mesh \(line 2\): no mesh "
+                                             r"file .*bxo\.obj \(did you mean box\.obj\?\)$"):
+        object_set.object("crate")
+    with pytest.raises(ObjectSetError, match=r"objects\[1\] \(far\)\.mesh \(line 3\): no mesh "
+                                             r"file .*nofolder/box\.obj \(no folder .*nofolder\)$"):
+        object_set.object("far")
 
 
 def test_an_uncached_pypi_mesh_says_how_to_fetch_it(meshes, monkeypatch, tmp_path):
@@ -191,6 +209,30 @@ def test_a_set_mesh_whose_size_cannot_be_simulated_is_refused_as_a_plain_mesh_is
     scaled = write(meshes, "objects:\n  - {name: my_mug, mesh: mug_mm_yup.stl, mass: 0.32, "
                            "scale: 0.001}\n")
     assert max(load_object_set(scaled).rest_mesh("my_mug").extents) == pytest.approx(0.1325)
+
+
+def test_a_hangable_part_off_its_mesh_is_refused_on_its_center(meshes):
+    """A handle's centre given in centimetres (5.8, 4.75, 0 for 0.058, 0.0475, 0): inside the
+    field's range of +-10 m, it was taken as ground truth 7 m away from the 13-cm mug, and every
+    trial's "part found" would read 0."""
+    from gbh_drake.scenario import ScenarioError, load_scenario
+
+    text = "objects:\n" + MUG
+    path = write(meshes, text.replace("center: [58.0e-3, 47.5e-3, 0]", "center: [5.8, 4.75, 0]"))
+    with pytest.raises(ObjectSetError) as refused:
+        load_object_set(path).rest_mesh("my_mug")
+    assert (refused.value.field, refused.value.line) == (
+        "objects[0] (my_mug).hangable_parts[0].center", 9)
+    assert refused.value.problem.startswith(
+        f"{meshes / 'mug_mm_yup.stl'}: (5.8, 4.75, 0) lies ")
+    assert refused.value.problem.endswith("cm outside the mesh (x -0.041 to 0.091, y 0.000 to "
+                                          "0.095, z -0.041 to 0.041 m): give the centre in "
+                                          "metres in the file's frame, after scale")
+    with pytest.raises(ScenarioError) as run:  # gbh run's
+        load_scenario(SCENARIOS_DIR / "default.yaml",
+                      overrides=f"object: {{set: {path}, name: my_mug}}")
+    assert run.value.problem == str(refused.value)
+    load_object_set(write(meshes, text)).rest_mesh("my_mug")  # in metres: taken
 
 
 def test_a_file_that_is_not_a_mesh_names_the_manifest_entry_and_field(meshes, tmp_path):

@@ -80,6 +80,7 @@ from gbh_drake.experiment.report.sections import (
     presets_line,
     summary_markdown,
     table1,
+    table1_by_protocol,
 )
 from gbh_drake.experiment.report.tables import cause_counts, table1_frame, trials_frame
 from gbh_drake.outputs import write_atomically
@@ -129,6 +130,6 @@ __all__ = [
     "by_rank", "by_reach", "by_resting_pose", "cause_counts", "frame_of", "held_how",
     "object_tags", "out_of_the_loops_reach", "paired", "per_object_detail", "plot_causes",
     "plot_success", "presets_line", "read_input", "read_runs", "read_saved_experiment",
-    "reach_class", "resting_pose", "retries", "summary_markdown", "table1", "table1_frame",
-    "trials_frame", "write_atomically", "write_report"
+    "reach_class", "resting_pose", "retries", "summary_markdown", "table1",
+    "table1_by_protocol", "table1_frame", "trials_frame", "write_atomically", "write_report"
 ]

@@ -72,6 +72,16 @@ def table1(data: ReportInput) -> list[str]:
         *paired(data)]
 
 
+def table1_by_protocol(data: ReportInput) -> list[str]:
+    """:func:`table1` of each protocol under its heading, as ``summary.md`` has them (what
+    ``gbh experiment`` and ``gbh report`` print); one table without a heading for an experiment
+    of the ``stable`` protocol alone."""
+    lines: list[str] = []
+    for suffix, one in per_protocol(data):
+        lines += ([f"## Table 1{suffix}", ""] if suffix else []) + table1(one) + [""]
+    return lines[:-1]
+
+
 def paired(data: ReportInput) -> list[str]:
     """Every pair of methods on the (object, trial) poses both ran (objects with hangable
     parts): McNemar's exact test and the difference in rate with its paired-bootstrap 95 %
@@ -162,8 +172,11 @@ def per_object(data: ReportInput) -> list[str]:
 def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
     """Per object and method, over its trials: was a true hangable part found, which grasp kinds
     were executed, cage or pinch, the outcomes (``suffix`` ends the heading); an object the
-    report has no facts about reads ``unknown`` in the ground-truth columns."""
+    report has no facts about, or that is no control and has no true hangable part in its
+    records (a set's entry without ``hangable_parts``), reads ``unknown`` in the ground-truth
+    columns."""
     tags, rows = object_tags(data.frame), []
+    parts = data.frame.groupby("object", sort=False).true_parts.max()
     groups = _by_object_and_method(data, "true_part_found", "grasped_true_part", "grasp_kind",
                                    "success", "held_by", "outcome")
     for obj, method in [(o, m) for o in data.objects for m in data.methods]:
@@ -171,7 +184,9 @@ def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
         if mine is None:
             continue
         truth = [fraction(mine.true_part_found), fraction(mine.grasped_true_part)]
-        if UNKNOWN in tags.get(obj, ()):
+        no_truth = "control" not in tags.get(obj, ()) and not (
+            pd.notna(parts.get(obj)) and parts.get(obj) > 0)
+        if UNKNOWN in tags.get(obj, ()) or no_truth:
             truth = [UNKNOWN if t == "-" else t for t in truth]
         rows.append([obj, method, len(mine), *truth,
                      counts(mine.grasp_kind.fillna("").replace("", "none")),
