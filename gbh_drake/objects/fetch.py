@@ -166,10 +166,10 @@ def installed_file(mesh_uri: str, source: Source | dict) -> InstalledFile:
     if path.is_file():
         return InstalledFile(installed.version, True, path, inner, root)
     return InstalledFile(installed.version, True, None, inner, root,
-                         _nearest(inner, path.parent, installed.files or ()))
+                         did_you_mean(inner, path.parent, installed.files or ()))
 
 
-def _nearest(inner: str, folder: Path, files) -> str:
+def did_you_mean(inner: str, folder: Path, files) -> str:
     """`` (did you mean NAME?)``: the file of ``folder`` (else of the distribution's ``files``)
     nearest to ``inner``, or ""."""
     if folder.is_dir():

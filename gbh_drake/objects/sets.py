@@ -311,9 +311,9 @@ def mesh_file(entry: SetEntry, directory: Path, *, manifest: str | Path = "") ->
         path = Path(entry.mesh).expanduser()
         path = path if path.is_absolute() else Path(directory) / path
         if not path.is_file():
-            from gbh_drake.objects.fetch import _nearest
+            from gbh_drake.objects.fetch import did_you_mean
 
-            hint = _nearest(path.name, path.parent, ()) if path.parent.is_dir() else \
+            hint = did_you_mean(path.name, path.parent, ()) if path.parent.is_dir() else \
                 f" (no folder {path.parent})"
             raise MissingMesh("mesh", f"no mesh file {path}{hint}")
         return path
