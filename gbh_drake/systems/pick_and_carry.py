@@ -262,6 +262,7 @@ class PickAndCarry(LeafSystem):
         self._seed = int(seed)
         self._bar = float(bar_angle)
         self._gripper = gripper
+        self._hand_mass = gripper.hand_mass + 2.0 * gripper.finger_mass
         self._tiers = tuple(Tier(tier) for tier in tiers)
         if not self._tiers or self._tiers[0] is not Tier.GRASPS:
             raise ValueError(f"PickAndCarry: tiers must start with grasps, got {tiers}")
@@ -611,10 +612,27 @@ class PickAndCarry(LeafSystem):
         s.side, s.since = 1, t
         self._move(s, Mode.LOWER, t, [plan.q["carry"], plan.q["place"]], velocity_scale=0.15)
 
+    def _hand_load(self, context, s: _State, t: float) -> float:
+        """The hand's vertical load (N) less the empty hand's and less what the hand's own
+        mass takes to follow the arm's commanded vertical acceleration (going up, the flange
+        pulls harder on the hand, as if it carried something): what the object puts on it."""
+        return float(self._load.Eval(context)[2]) - s.load_free - \
+            self._hand_mass * self._accel_z(s, t)
+
+    def _accel_z(self, s: _State, t: float, h: float = 0.01) -> float:
+        """m/s^2: the gripper's vertical acceleration along the arm's trajectory at ``t``
+        (central differences of its height, ``h`` apart; 0 while the arm holds)."""
+        if s.arm is None or not s.arm.start_time() < t < s.arm.end_time():
+            return 0.0
+        hand = HandPose(self._gripper.q_open, s.status.plan.bar)
+        z = [self._near.X_WG(sample(s.arm, t + dt)[0], hand).translation()[2]
+             for dt in (-h, 0.0, h)]
+        return (z[0] - 2.0 * z[1] + z[2]) / (h * h)
+
     def _load_side(self, context, s: _State, t: float) -> tuple[int, float, bool]:
-        """The hand's vertical load (N, less the empty hand's) on which side of the band
+        """The hand's vertical load (N, :meth:`_hand_load`) on which side of the band
         (:func:`load_side`), for how long (s), and whether that side is new (the state changed)."""
-        z = float(self._load.Eval(context)[2]) - s.load_free
+        z = self._hand_load(context, s, t)
         side = load_side(z, s.band)
         changed = side != s.side
         if changed:
@@ -629,25 +647,18 @@ class PickAndCarry(LeafSystem):
         the band, for ``unloaded_dwell``), goes on down by ``unload_depth`` only, so that the
         hook hangs free in the hole, and releases there. A load that merely fell (the hook still
         bears part of the weight) lowers on, to the planned depth at most. A hand pressing the
-        object down (the load below the band for :data:`PRESS_DWELL`) does not count as down:
-        it stops lowering there, at once, and releases."""
-        if s.load - s.load_free < MIN_SENSED_LOAD:
+        object down (the load below the band for :data:`PRESS_DWELL`) does not count as down
+        either: it goes on down by ``unload_depth`` at most, then releases."""
+        if s.release is not None or s.load - s.load_free < MIN_SENSED_LOAD:
             return False
         side, held, changed = self._load_side(context, s, t)
-        z = float(self._load.Eval(context)[2]) - s.load_free
-        if side < 0 and held >= PRESS_DWELL:
-            self._note(s, t, f"the hand pressed the object down (load {z:+.2f} N, band "
-                             f"{s.band:.2f} N): stopped lowering")
-            q_now = sample(s.arm, t)[0]
-            plan = s.status.plan
-            s.release = {"place": q_now,
-                         **release_path(self._near, q_now, plan.kind, self._config, plan.bar,
-                                         self._gripper)}
-            self._after_lower(context, s, t)
-            return True
-        if s.release is not None or side != 0 or held < self._config.unloaded_dwell:
+        if side > 0 or held < (self._config.unloaded_dwell if side == 0 else PRESS_DWELL):
             return changed
-        self._note(s, t, f"set down (load {z:+.2f} N, band {s.band:.2f} N)")
+        z = self._hand_load(context, s, t)
+        depth = f"{self._config.unload_depth * 100:.1f} cm"
+        self._note(s, t, f"set down (load {z:+.2f} N, band {s.band:.2f} N): {depth} on down"
+                   if side == 0 else f"the hand presses the object down (load {z:+.2f} N, band "
+                   f"{s.band:.2f} N): not down; {depth} on down at most")
         q_now = sample(s.arm, t)[0]
         plan = s.status.plan
         hand = HandPose(self._gripper.q_closed, plan.bar)
@@ -695,21 +706,19 @@ class PickAndCarry(LeafSystem):
         down (``relift_drop`` times the try), lets the fingers open, withdraws the bar out of
         the hole along the way it went in (:func:`~gbh_drake.planning.pick.withdraw_path`) and
         only then goes up; at most ``relift_tries`` times. A hand that presses the object down
-        (the load below the band for :data:`PRESS_DWELL`) while it goes down (a withdrawal's
-        RELEASE, the release's ``down`` move) stops going down there and withdraws from there
-        (once per mode)."""
+        (the load below the band for :data:`PRESS_DWELL`) while it goes back down (a
+        withdrawal's RELEASE) stops going down there and withdraws from there."""
         cfg = self._config
         if s.load - s.load_free < MIN_SENSED_LOAD:
             return False
         side, held, changed = self._load_side(context, s, t)
-        z = float(self._load.Eval(context)[2]) - s.load_free
+        z = self._hand_load(context, s, t)
         going_down = s.relifts > 0 and s.status.mode is Mode.RELEASE
-        if side < 0 and held >= PRESS_DWELL and not s.stopped and \
-                (going_down or s.status.mode is Mode.RETREAT):
+        if going_down and side < 0 and held >= PRESS_DWELL and not s.stopped:
             s.stopped = True
-            self._note(s, t, f"the hand presses the object down ({z:+.2f} N) in "
-                             f"{s.status.mode.value}: stopped going down, withdrawing from there")
-            self._withdraw(s, t, z, drop=0.0, mode=s.status.mode)
+            self._note(s, t, f"the hand presses the object down ({z:+.2f} N) going back down: "
+                             "stopped there")
+            self._withdraw(s, t, z, drop=0.0, mode=Mode.RELEASE)
             return True
         if going_down or side <= 0 or held < cfg.unloaded_dwell:
             return changed  # a withdrawal's own RELEASE goes down and opens, whatever the load
