@@ -52,6 +52,18 @@ fingers toward each other with the hand's grasp force until they stop; CAGE_TEST
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
 fingers over the place position.
+
+The set-down reads the hand's vertical load as it has since the approach, less what the hand's
+own mass takes to follow the arm's commanded vertical acceleration. LOWER counts the object as
+down only once that load has stayed within a near-zero band (:func:`unloaded_band`: a fraction
+of the load carried while held still, or twice its noise then) for ``unloaded_dwell``; a load
+that merely fell lowers on (to the planned depth at most), one pressing the object down goes
+on down by ``unload_depth`` at most. RELEASE and RETREAT watch the load: when it rises above
+the band (the bar is lifting the object again), the hand stops, goes back down (stopping when
+it presses), lets the fingers open and withdraws the bar along the hole
+(:func:`~gbh_drake.planning.pick.withdraw_path`) before going up: at most ``relift_tries``
+times. What it sensed and did is in the status's ``set_down_notes``. None of it runs before
+the cage test: the verdict is the same.
 """
 
 from __future__ import annotations
