@@ -56,3 +56,32 @@ def test_a_withdrawal_goes_down_then_out_along_the_bar_then_back_along_z_g():
     # Nothing asked, nothing moved but the retreat.
     q = withdraw_path(model, q0, scenario.pick)
     assert np.allclose(q["lowered"], q0) and np.allclose(q["out"], q0)
+
+
+@pytest.mark.sim
+def test_the_hands_own_inertia_going_up_is_not_counted_as_a_load():
+    """Going up from rest the flange pulls harder on the hand (its own mass accelerates): the
+    machine takes m a off the measured load, from the arm's commanded trajectory, so that a
+    retreat's start is not read as the bar lifting the object; holding, nothing is taken off."""
+    from types import SimpleNamespace
+
+    from gbh_drake.planning.trajectories import joint_path
+    from gbh_drake.systems.pick_and_carry import PickAndCarry, _State
+
+    scenario = Scenario()
+    machine = PickAndCarry(scenario.station_directives(), scenario.pick, scenario.robot.hand,
+                           settle_time=0.3)
+    model = PlanningModel(scenario.directives)
+    hand = HandPose(HOOK_GRIPPER.q_open)
+    q0 = np.asarray(scenario.robot.q_home, dtype=float)
+    q = withdraw_path(model, q0, scenario.pick)["retreat"]  # 10 cm back along -z_G (up)
+    assert model.X_WG(q, hand).translation()[2] > model.X_WG(q0, hand).translation()[2] + 0.05
+    s = _State()
+    s.status.plan = SimpleNamespace(bar=0.0)
+    s.arm = joint_path([q0, q], 0.0, velocity_scale=0.2)
+    end = s.arm.end_time()
+    assert machine._accel_z(s, 0.05 * end) > 0.05  # speeding up, upward
+    assert machine._accel_z(s, 0.95 * end) < -0.05  # slowing down
+    assert machine._accel_z(s, end + 0.1) == 0.0
+    s.arm = None
+    assert machine._accel_z(s, 0.3) == 0.0
