@@ -126,6 +126,10 @@ class PickStatus:
     skipped: int = 0
     """Grasps skipped on retries for lying within the machine's
     :data:`~gbh_drake.systems.pick_and_carry.TRIED_RADIUS` of a failed one."""
+    set_down_notes: list[str] = field(default_factory=list)
+    """What the set-down sensed and did beyond its plan (after the cage test): where LOWER
+    counted the object as down (or the hand as pressing it), and each time RELEASE or RETREAT
+    found the bar lifting it again and withdrew (simulated times, loads in N)."""
     second_passes: int = 0
     """Retries whose plan, nothing else being left, went back over the skipped grasps and
     skipped only those at a failed grasp's own pose (:func:`~gbh_drake.planning.choice.choose`'s

@@ -684,5 +684,53 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     return q
 
 
+def withdraw_path(model: PlanningModel, q_from: np.ndarray, cfg: PickConfig, bar: float = 0.0,
+                  gripper: HookGripperGeometry = HOOK_GRIPPER, *, drop: float = 0.0,
+                  shift: float = 0.0) -> dict[str, np.ndarray]:
+    """How an open hook withdraws from ``q_from`` after its bar lifted the object it was letting
+    go of (the hand's load rose again), without lifting it once more:
+
+    * ``lowered``: ``drop`` (m) down in W, so that the object stands again and the bar hangs
+      free under the material (less, a half or a quarter, where the hand would meet the table;
+      not at all where it cannot);
+    * ``out``: then along -y_G by ``shift`` (m): the bar's axis, the way a parallel grasp's bar
+      went into the hole (the caller gives what is left of its ``withdraw_shift``; a grasp that
+      keeps its straight rod in the hole is given what is left of its opening's own move, the
+      rod's axis being z_G, the retreat's);
+    * ``retreat``: along -z_G by ``retreat_distance`` (a half or a quarter of it where the arm
+      cannot), or straight up where it cannot at all: out of the hole the way it went in.
+
+    Each move without IK or with a collision is skipped (the arm stays), as in
+    :func:`release_path`. ``gripper``: the hook gripper's geometry (the hand is open)."""
+    hand = HandPose(gripper.q_open, bar)
+    X = model.X_WG(q_from, hand)
+    R = X.rotation()
+
+    def step(q0, X0, moves):
+        for d_W in moves:
+            X_to = shifted(X0, d_W)
+            q = model.ik(X_to, q0, hand)
+            if q is not None and model.edge_free(q0, q, hand):
+                return q, X_to
+        return q0, X0
+
+    q = {}
+    q["lowered"], X = step(q_from, X, [[0.0, 0.0, -f * drop] for f in BACKOFF_FRACTIONS]
+                           if drop > 0 else [])
+    q["out"], X = step(q["lowered"], X, [-f * shift * R.col(1) for f in BACKOFF_FRACTIONS]
+                       if shift > 0 else [])
+    q["retreat"], _ = step(q["out"], X, [*(-f * cfg.retreat_distance * R.col(2)
+                                           for f in BACKOFF_FRACTIONS),
+                                         [0.0, 0.0, cfg.retreat_distance]])
+    return q
+
+
+def withdrawn_along(X_from: RigidTransform, X_to: RigidTransform) -> float:
+    """How far (m) the gripper has moved along -y_G (``X_from``'s) from ``X_from`` to ``X_to``:
+    how much of a withdrawal along the bar's axis is done."""
+    d = np.asarray(X_to.translation()) - np.asarray(X_from.translation())
+    return float(-d @ X_from.rotation().col(1))
+
+
 def shifted(X: RigidTransform, d_W) -> RigidTransform:
     return RigidTransform(X.rotation(), X.translation() + np.asarray(d_W, dtype=float))

@@ -156,6 +156,35 @@ class PickConfig:
     unload_depth: float = ranged(0.006, NonNeg(0.05, "m"))
     """Once set down, the gripper goes on down this far (m) so that the hook hangs free in the
     hole before the fingers open (a bar pressed against the material would drag it along)."""
+    unloaded_band: float = ranged(0.15, Range(0.0, 1.0, lo_open=True, hi_open=True))
+    """After the cage test, the hand's vertical load counts as near zero (the object's weight
+    off the hand) within this fraction of the load it carried while held still over the place
+    (or within twice that load's noise then, or 0.2 N, whichever is more). LOWER counts the
+    object as set down only once the load has stayed in that band for ``unloaded_dwell``
+    (a load that merely fell, the hook still bearing part of it, or one pressing the object
+    down, does not count); RELEASE and RETREAT stop when it rises above the band (the bar is
+    lifting the object again)."""
+    unloaded_dwell: float = ranged(0.05, NonNeg(1.0, "s"))
+    """How long (s) the load must stay in the near-zero band before the object counts as set
+    down, or above it before the bar counts as lifting the object again (a swing of the hanging
+    object, a bounce on the table, passes quicker; the machine looks every 10 ms). A load below
+    the band (the hand pressing the object down) stops the hand going down at once (20 ms)."""
+    relift_tries: int = ranged(2, Int(0, 5, "each try goes down, opens and withdraws anew"))
+    """How often RELEASE and RETREAT, when the bar lifts the object again (the load rises above
+    the near-zero band), stop, go back down ``relift_drop``, open, and withdraw the bar out of
+    the hole along the way it went in before going up (0: never, the object may be carried
+    away)."""
+    relift_drop: float = ranged(0.01, NonNeg(0.05, "m"))
+    """How far (m) the hand goes back down (in W) when the bar lifted the object again, for
+    each try (the n-th try goes n times as far), so that the object stands again."""
+    withdraw_shift: float = ranged(0.025, NonNeg(0.08, "m"))
+    """How far (m) a parallel hook grasp withdraws its bar out of the hole along -y_G (the
+    bar's axis, the way it went in) after the bar lifted the object again, before it goes up.
+    In all, from where the fingers opened (the release's ``slide`` counts toward it). The
+    default is about one finger's opening travel (2.3 cm for the paper's gripper): the bar's
+    tip, which opening moved back by that travel, then lies about 5 cm back from where it
+    closed the loop (its 3 cm are out of the hole), and the straight rod stands about where
+    it stood closed (it does not push the material in the loop)."""
     cage_test_force: float = ranged(2.0, NonNeg(1000.0, "N"))
     """Grasp force (N) during the cage test after the carry: with the squeeze relaxed to this
     force, a caged object keeps hanging on the closed loop and a pinched one slides out."""

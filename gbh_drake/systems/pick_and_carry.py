@@ -52,6 +52,18 @@ fingers toward each other with the hand's grasp force until they stop; CAGE_TEST
 squeeze to ``cage_test_force`` (a caged object keeps hanging on the closed loop, a pinched one
 slides out: the :class:`~gbh_drake.systems.cage_monitor.CageMonitor` judges); RELEASE opens the
 fingers over the place position.
+
+The set-down reads the hand's vertical load as it has since the approach, less what the hand's
+own mass takes to follow the arm's commanded vertical acceleration. LOWER counts the object as
+down only once that load has stayed within a near-zero band (:func:`unloaded_band`: a fraction
+of the load carried while held still, or twice its noise then) for ``unloaded_dwell``; a load
+that merely fell lowers on (to the planned depth at most), one pressing the object down goes
+on down by ``unload_depth`` at most. RELEASE and RETREAT watch the load: when it rises above
+the band (the bar is lifting the object again), the hand stops, goes back down (stopping when
+it presses), lets the fingers open and withdraws the bar along the hole
+(:func:`~gbh_drake.planning.pick.withdraw_path`) before going up: at most ``relift_tries``
+times. What it sensed and did is in the status's ``set_down_notes``. None of it runs before
+the cage test: the verdict is the same.
 """
 
 from __future__ import annotations
@@ -85,6 +97,8 @@ from gbh_drake.planning.pick import (
     plan_pick,
     reach_refusal,
     release_path,
+    withdraw_path,
+    withdrawn_along,
 )
 from gbh_drake.planning.regrasp import RegraspPlan, plan_regrasp
 from gbh_drake.planning.trajectories import (
@@ -110,6 +124,11 @@ EMPTY_LOAD = 0.2
 #: this close to a failed one's (same kind), are skipped: what came away empty from an object
 #: that barely moved would come away empty again.
 TRIED_RADIUS = 0.02
+#: s: how long the hand's load must stay below the near-zero band before the hand counts as
+#: pressing the object down (a hanging object cannot push the hand up: no swing does that).
+PRESS_DWELL = 0.02
+#: N: the set-down's near-zero band is never narrower than this (:func:`unloaded_band`).
+MIN_BAND = 0.2
 #: deg: when a retry's plan finds nothing else, it goes back over the skipped grasps and skips
 #: only those of a failed grasp's kind within :data:`TRIED_RADIUS` of its origin and turned by
 #: less than this from it: the failed pose and its neighbouring contacts' (GbH's turned
@@ -142,6 +161,18 @@ class _State(CopiedShallowly):
     """Re-scans asked for (regrasps and retries)."""
     scan_request: np.ndarray = field(default_factory=lambda: np.zeros(4))
     """The ``scan_request`` output: [n, x, y, z] (n: scans asked for since the first)."""
+    hold_loads: tuple[float, float, int] = (0.0, 0.0, 0)
+    """The hand's vertical load (N) during HOLD: (sum, sum of squares, samples)."""
+    band: float = 0.0
+    """N: the set-down's near-zero band (:func:`unloaded_band`), fixed after the cage test."""
+    side: int = 1
+    """Which side of the band the load was last on (:func:`load_side`) ..."""
+    since: float = 0.0
+    """... since when (s)."""
+    relifts: int = 0
+    """How often the bar lifted the object again while letting go (and the hand withdrew)."""
+    stopped: bool = False
+    """Whether the current RELEASE or RETREAT already stopped going down (the hand pressed)."""
 
 
 def _check_arguments(*, config, hand, settle_time, period, ground_clearance, max_retries,
@@ -243,6 +274,7 @@ class PickAndCarry(LeafSystem):
         self._seed = int(seed)
         self._bar = float(bar_angle)
         self._gripper = gripper
+        self._hand_mass = gripper.hand_mass + 2.0 * gripper.finger_mass
         self._tiers = tuple(Tier(tier) for tier in tiers)
         if not self._tiers or self._tiers[0] is not Tier.GRASPS:
             raise ValueError(f"PickAndCarry: tiers must start with grasps, got {tiers}")
@@ -564,6 +596,14 @@ class PickAndCarry(LeafSystem):
     def _after_carry(self, context, s: _State, t: float) -> None:
         self._enter(s, Mode.HOLD, t, until=t + self._config.hold_time)
 
+    def _during_hold(self, context, s: _State, t: float) -> bool:
+        """Keeps the hand's vertical load while the object is held still (its mean and noise
+        set the set-down's near-zero band)."""
+        z = float(self._load.Eval(context)[2])
+        total, squares, n = s.hold_loads
+        s.hold_loads = (total + z, squares + z * z, n + 1)
+        return True
+
     def _after_hold(self, context, s: _State, t: float) -> None:
         s.load = float(self._load.Eval(context)[2])
         s.command[1] = self._config.cage_test_force
@@ -576,14 +616,61 @@ class PickAndCarry(LeafSystem):
             s.q_hold, s.arm = np.asarray(plan.q["carry"], dtype=float), None
             self._enter(s, Mode.DONE, t)
             return
+        total, squares, n = s.hold_loads
+        mean = total / n if n else s.load
+        noise = math.sqrt(max(squares / n - mean * mean, 0.0)) if n else 0.0
+        s.band = unloaded_band(mean - s.load_free, noise, self._config.unloaded_band,
+                               self._config.unloaded_fraction)
+        s.side, s.since = 1, t
         self._move(s, Mode.LOWER, t, [plan.q["carry"], plan.q["place"]], velocity_scale=0.15)
 
+    def _hand_load(self, context, s: _State, t: float) -> float:
+        """The hand's vertical load (N) less the empty hand's and less what the hand's own
+        mass takes to follow the arm's commanded vertical acceleration (going up, the flange
+        pulls harder on the hand, as if it carried something): what the object puts on it."""
+        return float(self._load.Eval(context)[2]) - s.load_free - \
+            self._hand_mass * self._accel_z(s, t)
+
+    def _accel_z(self, s: _State, t: float, h: float = 0.01) -> float:
+        """m/s^2: the gripper's vertical acceleration along the arm's trajectory at ``t``
+        (central differences of its height, ``h`` apart; 0 while the arm holds)."""
+        if s.arm is None or not s.arm.start_time() < t < s.arm.end_time():
+            return 0.0
+        hand = HandPose(self._gripper.q_open, s.status.plan.bar)
+        z = [self._near.X_WG(sample(s.arm, t + dt)[0], hand).translation()[2]
+             for dt in (-h, 0.0, h)]
+        return (z[0] - 2.0 * z[1] + z[2]) / (h * h)
+
+    def _load_side(self, context, s: _State, t: float) -> tuple[int, float, bool]:
+        """The hand's vertical load (N, :meth:`_hand_load`) on which side of the band
+        (:func:`load_side`), for how long (s), and whether that side is new (the state changed)."""
+        z = self._hand_load(context, s, t)
+        side = load_side(z, s.band)
+        changed = side != s.side
+        if changed:
+            s.side, s.since = side, t
+        return side, t - s.since, changed
+
+    def _note(self, s: _State, t: float, text: str) -> None:
+        s.status.set_down_notes = [*s.status.set_down_notes, f"t {t:.2f} s: {text}"]
+
     def _during_lower(self, context, s: _State, t: float) -> bool:
-        """Once the object stands on the table (the hand's load drops), goes on down by
-        ``unload_depth`` only, so that the hook hangs free in the hole, and releases there."""
-        if s.release is not None or s.load < MIN_SENSED_LOAD or \
-                self._load.Eval(context)[2] > self._config.unloaded_fraction * s.load:
+        """Once the object stands on the table (the hand's load has stayed near zero, within
+        the band, for ``unloaded_dwell``), goes on down by ``unload_depth`` only, so that the
+        hook hangs free in the hole, and releases there. A load that merely fell (the hook still
+        bears part of the weight) lowers on, to the planned depth at most. A hand pressing the
+        object down (the load below the band for :data:`PRESS_DWELL`) does not count as down
+        either: it goes on down by ``unload_depth`` at most, then releases."""
+        if s.release is not None or s.load - s.load_free < MIN_SENSED_LOAD:
             return False
+        side, held, changed = self._load_side(context, s, t)
+        if side > 0 or held < (self._config.unloaded_dwell if side == 0 else PRESS_DWELL):
+            return changed
+        z = self._hand_load(context, s, t)
+        depth = f"{self._config.unload_depth * 100:.1f} cm"
+        self._note(s, t, f"set down (load {z:+.2f} N, band {s.band:.2f} N): {depth} on down"
+                   if side == 0 else f"the hand presses the object down (load {z:+.2f} N, band "
+                   f"{s.band:.2f} N): not down; {depth} on down at most")
         q_now = sample(s.arm, t)[0]
         plan = s.status.plan
         hand = HandPose(self._gripper.q_closed, plan.bar)
@@ -602,22 +689,101 @@ class PickAndCarry(LeafSystem):
     def _after_lower(self, context, s: _State, t: float) -> None:
         """Open as the grasp closed: in place, or about the straight rod (vertical grasps: the
         arm follows the fingers so that the bar leaves from under the material)."""
+        if s.release is None and s.load - s.load_free >= MIN_SENSED_LOAD:
+            z = float(self._load.Eval(context)[2]) - s.load_free
+            self._note(s, t, f"lowered to the planned depth, the load not near zero "
+                             f"({z:+.2f} N, band {s.band:.2f} N)")
         q = s.release or s.status.plan.q
         g = self._gripper
         travel = g.q_open - 0.5 * g.rod_width
         s.command[:2] = [g.q_open, self._hand.force]
         duration = (g.q_open - g.q_closed) / self._hand.speed
+        s.side, s.since = 0, t
         self._enter(s, Mode.RELEASE, t, arm=linear_move(q["place"], q["opened"], t, duration),
                     until=t + travel / self._hand.speed + 0.2)
 
     def _after_release(self, context, s: _State, t: float) -> None:
         q = s.release or s.status.plan.q
+        s.side, s.since, s.stopped = 0, t, False  # the load is watched afresh
         self._move(s, Mode.RETREAT, t, [q["opened"], q["down"], q["slide"], q["retreat"]],
                    velocity_scale=0.2)
 
     def _after_retreat(self, context, s: _State, t: float) -> None:
         s.q_hold = (s.release or s.status.plan.q)["retreat"]
         self._enter(s, Mode.DONE, t)
+
+    def _during_letting_go(self, context, s: _State, t: float) -> bool:
+        """RELEASE and RETREAT: once the hand's vertical load has stayed above the near-zero
+        band for ``unloaded_dwell`` (the bar is lifting the object again), stops, goes back
+        down (``relift_drop`` times the try), lets the fingers open, withdraws the bar out of
+        the hole along the way it went in (:func:`~gbh_drake.planning.pick.withdraw_path`) and
+        only then goes up; at most ``relift_tries`` times. A hand that presses the object down
+        (the load below the band for :data:`PRESS_DWELL`) while it goes back down (a
+        withdrawal's RELEASE) stops going down there and withdraws from there."""
+        cfg = self._config
+        if s.load - s.load_free < MIN_SENSED_LOAD:
+            return False
+        side, held, changed = self._load_side(context, s, t)
+        z = self._hand_load(context, s, t)
+        going_down = s.relifts > 0 and s.status.mode is Mode.RELEASE
+        if going_down and side < 0 and held >= PRESS_DWELL and not s.stopped:
+            s.stopped = True
+            self._note(s, t, f"the hand presses the object down ({z:+.2f} N) going back down: "
+                             "stopped there")
+            self._withdraw(s, t, z, drop=0.0, mode=Mode.RELEASE)
+            return True
+        if going_down or side <= 0 or held < cfg.unloaded_dwell:
+            return changed  # a withdrawal's own RELEASE goes down and opens, whatever the load
+        if s.relifts >= cfg.relift_tries:
+            if s.relifts == cfg.relift_tries:
+                s.relifts += 1  # said once
+                self._note(s, t, f"the bar lifts the object again ({z:+.2f} N) in "
+                                 f"{s.status.mode.value}; {cfg.relift_tries} tries used, going on")
+            return True
+        s.relifts += 1
+        self._note(s, t, f"the bar lifts the object again ({z:+.2f} N, band {s.band:.2f} N) in "
+                         f"{s.status.mode.value}: down {cfg.relift_drop * s.relifts * 100:.1f} "
+                         f"cm, open, out along the hole, then up (try {s.relifts} of "
+                         f"{cfg.relift_tries})")
+        self._withdraw(s, t, z, drop=cfg.relift_drop * s.relifts, mode=Mode.RELEASE)
+        return True
+
+    def _withdraw(self, s: _State, t: float, z: float, *, drop: float, mode: Mode) -> None:
+        """From the arm where it is now: ``drop`` (m) down, out along the hole's axis (what is
+        left of it), then back along -z_G (:func:`withdraw_path`); in ``mode``: RELEASE goes
+        down and lets the fingers open first, RETREAT goes on out and up at once."""
+        cfg, g = self._config, self._gripper
+        plan = s.status.plan
+        q = s.release or plan.q
+        q_now = sample(s.arm, t)[0]
+        open_hand = HandPose(g.q_open, plan.bar)
+        X_now = self._near.X_WG(q_now, open_hand)
+        if GraspKind(plan.kind).keeps_straight_rod:  # what is left of the opening's own move
+            done = withdrawn_along(self._near.X_WG(q["place"], open_hand), X_now)
+            shift = max(g.q_open - g.q_closed - done, 0.0)
+        elif plan.kind == GraspKind.PARALLEL:  # what is left of the bar's way out of the hole
+            shift = max(cfg.withdraw_shift - withdrawn_along(
+                self._near.X_WG(q["opened"], open_hand), X_now), 0.0)
+        else:
+            shift = 0.0
+        path = withdraw_path(self._near, q_now, cfg, plan.bar, g, drop=drop, shift=shift)
+        s.release = {**q, "place": path["lowered"], "opened": path["lowered"],
+                     "down": path["lowered"], "slide": path["out"], "retreat": path["retreat"]}
+        s.command[:2] = [g.q_open, self._hand.force]
+        s.side, s.since = 0, t
+        if mode is Mode.RELEASE and s.stopped:  # stop going down: stay here while it opens
+            s.arm = joint_path([q_now, q_now], t, min_duration=0.1)
+            s.arm_dot = s.arm.derivative(1)
+            return
+        if mode is Mode.RETREAT:
+            self._move(s, Mode.RETREAT, t, [q_now, path["lowered"], path["out"],
+                                            path["retreat"]], velocity_scale=0.2)
+            return
+        s.stopped = False
+        arm = joint_path([q_now, path["lowered"]], t, velocity_scale=0.1, min_duration=0.3)
+        travel = g.q_open - 0.5 * g.rod_width
+        self._enter(s, Mode.RELEASE, t, arm=arm,
+                    until=max(arm.end_time() + DWELL, t + travel / self._hand.speed + 0.2))
 
     # The machine: what each mode does once its time is up (it chooses the next mode), and
     # what some modes watch while they run (True: the state changed). Every mode but the final
@@ -651,7 +817,10 @@ class PickAndCarry(LeafSystem):
     DURING = {
         Mode.REGRASP_LOWER: _during_regrasp_lower,
         Mode.INSERT: _during_insert,
+        Mode.HOLD: _during_hold,
         Mode.LOWER: _during_lower,
+        Mode.RELEASE: _during_letting_go,
+        Mode.RETREAT: _during_letting_go,
     }
 
     # ---- planning -------------------------------------------------------------------------------
@@ -761,6 +930,24 @@ class PickAndCarry(LeafSystem):
         return PickSetup(self._near, far, points, com, self._config, self._seed,
                          table_level=self._table_level, unseen_W=scan_unseen(scan),
                          gripper=self._gripper)
+
+
+def unloaded_band(carried: float, noise: float, fraction: float, widest: float = 0.4) -> float:
+    """N: how near zero the hand's vertical load must be for the object's weight to be off the
+    hand: ``fraction`` of the load ``carried`` (N) while it was held still, or twice that load's
+    ``noise`` (N, its standard deviation then: a swinging object's is large), or
+    :data:`MIN_BAND`, whichever is most, but never wider than ``widest`` of the carried load
+    (the ``unloaded_fraction`` that counted the object as set down before; at least
+    :data:`MIN_BAND`)."""
+    return min(max(fraction * carried, 2.0 * noise, MIN_BAND), max(widest * carried, MIN_BAND))
+
+
+def load_side(z: float, band: float) -> int:
+    """Where the hand's vertical load ``z`` (N, the empty hand's taken off: up is the object
+    hanging on the hand) lies for a near-zero ``band`` (N): 1 above it (the hand bears some of
+    the object's weight), 0 within it (set down), -1 below it (the hand presses the object
+    down)."""
+    return 1 if z > band else (-1 if z < -band else 0)
 
 
 def _pinch_point(grasp) -> np.ndarray | None:
