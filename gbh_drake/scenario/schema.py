@@ -168,7 +168,8 @@ class PickConfig:
     """How long (s) the load must stay in the near-zero band before the object counts as set
     down, or above it before the bar counts as lifting the object again (a swing of the hanging
     object, a bounce on the table, passes quicker; the machine looks every 10 ms). A load below
-    the band (the hand pressing the object down) stops the hand going down at once (20 ms)."""
+    the band for 20 ms (the hand pressing the object down) never counts as set down (LOWER goes
+    on down ``unload_depth`` at most), and stops a hand going back down to withdraw."""
     relift_tries: int = ranged(2, Int(0, 5, "each try goes down, opens and withdraws anew"))
     """How often RELEASE and RETREAT, when the bar lifts the object again (the load rises above
     the near-zero band), stop, go back down ``relift_drop``, open, and withdraw the bar out of
