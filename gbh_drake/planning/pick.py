@@ -661,14 +661,8 @@ def release_path(model: PlanningModel, q_place: np.ndarray, kind: str, cfg: Pick
     X = model.X_WG(q_place, closed_hand)
     R = X.rotation()
 
-    def step(q_from, X_from, moves, hand=open_hand):
-        """The first of ``moves`` (W offsets) with an IK solution and a free edge."""
-        for d_W in moves:
-            X_to = shifted(X_from, d_W)
-            q = model.ik(X_to, q_from, hand)
-            if q is not None and model.edge_free(q_from, q, hand):
-                return q, X_to
-        return q_from, X_from
+    def step(q_from, X_from, moves):
+        return first_free_move(model, q_from, X_from, moves, open_hand)
 
     q = {"opened": q_place}
     if GraspKind(kind).keeps_straight_rod:
@@ -707,12 +701,7 @@ def withdraw_path(model: PlanningModel, q_from: np.ndarray, cfg: PickConfig, bar
     R = X.rotation()
 
     def step(q0, X0, moves):
-        for d_W in moves:
-            X_to = shifted(X0, d_W)
-            q = model.ik(X_to, q0, hand)
-            if q is not None and model.edge_free(q0, q, hand):
-                return q, X_to
-        return q0, X0
+        return first_free_move(model, q0, X0, moves, hand)
 
     q = {}
     q["lowered"], X = step(q_from, X, [[0.0, 0.0, -f * drop] for f in BACKOFF_FRACTIONS]
@@ -723,6 +712,19 @@ def withdraw_path(model: PlanningModel, q_from: np.ndarray, cfg: PickConfig, bar
                                            for f in BACKOFF_FRACTIONS),
                                          [0.0, 0.0, cfg.retreat_distance]])
     return q
+
+
+def first_free_move(model: PlanningModel, q_from: np.ndarray, X_from: RigidTransform, moves,
+                    hand: HandPose) -> tuple[np.ndarray, RigidTransform]:
+    """(q, X_WG) after the first of ``moves`` (offsets in W, m) of the gripper at ``X_from``
+    (the arm at ``q_from``) with an IK solution and a collision-free edge; ``(q_from, X_from)``
+    (the arm stays) when none has."""
+    for d_W in moves:
+        X_to = shifted(X_from, d_W)
+        q = model.ik(X_to, q_from, hand)
+        if q is not None and model.edge_free(q_from, q, hand):
+            return q, X_to
+    return q_from, X_from
 
 
 def withdrawn_along(X_from: RigidTransform, X_to: RigidTransform) -> float:
