@@ -641,15 +641,16 @@ class PickAndCarry(LeafSystem):
              for dt in (-h, 0.0, h)]
         return (z[0] - 2.0 * z[1] + z[2]) / (h * h)
 
-    def _load_side(self, context, s: _State, t: float) -> tuple[int, float, bool]:
+    def _load_side(self, context, s: _State, t: float) -> tuple[int, float, bool, float]:
         """The hand's vertical load (N, :meth:`_hand_load`) on which side of the band
-        (:func:`load_side`), for how long (s), and whether that side is new (the state changed)."""
+        (:func:`load_side`), for how long (s), whether that side is new (the state changed),
+        and the load itself (N)."""
         z = self._hand_load(context, s, t)
         side = load_side(z, s.band)
         changed = side != s.side
         if changed:
             s.side, s.since = side, t
-        return side, t - s.since, changed
+        return side, t - s.since, changed, z
 
     def _note(self, s: _State, t: float, text: str) -> None:
         s.status.set_down_notes = [*s.status.set_down_notes, f"t {t:.2f} s: {text}"]
@@ -663,10 +664,9 @@ class PickAndCarry(LeafSystem):
         either: it goes on down by ``unload_depth`` at most, then releases."""
         if s.release is not None or s.load - s.load_free < MIN_SENSED_LOAD:
             return False
-        side, held, changed = self._load_side(context, s, t)
+        side, held, changed, z = self._load_side(context, s, t)
         if side > 0 or held < (self._config.unloaded_dwell if side == 0 else PRESS_DWELL):
             return changed
-        z = self._hand_load(context, s, t)
         depth = f"{self._config.unload_depth * 100:.1f} cm"
         self._note(s, t, f"set down (load {z:+.2f} N, band {s.band:.2f} N): {depth} on down"
                    if side == 0 else f"the hand presses the object down (load {z:+.2f} N, band "
@@ -723,8 +723,7 @@ class PickAndCarry(LeafSystem):
         cfg = self._config
         if s.load - s.load_free < MIN_SENSED_LOAD:
             return False
-        side, held, changed = self._load_side(context, s, t)
-        z = self._hand_load(context, s, t)
+        side, held, changed, z = self._load_side(context, s, t)
         going_down = s.relifts > 0 and s.status.mode is Mode.RELEASE
         if going_down and side < 0 and held >= PRESS_DWELL and not s.stopped:
             s.stopped = True
