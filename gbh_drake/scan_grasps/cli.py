@@ -192,6 +192,7 @@ def write_together(files: list[tuple[Path, str]]) -> None:
 
 def summary_text(result) -> str:
     """What ``gbh grasps`` found, in a few lines."""
+    from gbh_drake.core.words import counted
     from gbh_drake.scan_grasps.table import plane_text
 
     lines = [f"input {result.input_path} ({result.input_kind.replace('_', ' ')}; free space: "
@@ -199,8 +200,9 @@ def summary_text(result) -> str:
              f"({result.table_source})"]
     lines += [f"  note: {n}" for n in result.notes]
     lines += [f"  warning: {w}" for w in result.warnings]
-    lines.append(f"grasps: {len(result.structures)} hanging structures, {result.n_candidates} "
-                 f"candidates, {len(result.grasps)} ranked (poses in B, Franka's panda_link0)")
+    lines.append(f"grasps: {counted(len(result.structures), 'hanging structure')}, "
+                 f"{counted(result.n_candidates, 'candidate')}, {len(result.grasps)} ranked "
+                 "(poses in B, Franka's panda_link0)")
     for g in result.grasps:
         p, y = g.X_B_link8[:3, 3], g.X_BG[:3, 1]
         lines.append(f"  #{g.rank} {g.kind:8s} score {g.score:.3f}  flange at "

@@ -7,6 +7,7 @@ from __future__ import annotations
 import pandas as pd
 
 from gbh_drake.core.resting import RESTING_POSES
+from gbh_drake.core.words import counted
 from gbh_drake.experiment.report.beyond import beyond, borderline
 from gbh_drake.experiment.report.columns import REACH_CLASSES, STAGES
 from gbh_drake.experiment.report.facts import (
@@ -361,21 +362,17 @@ def presets_line(frame_or_rows) -> str:
         "values): " + "; ".join(f"{m}: {p} ({n} trials)" for (m, p), n in presets.items())
 
 
-def _count(n: int, noun: str) -> str:
-    return f"{n} {noun}{'' if n == 1 else 's'}"
-
-
 def head(data: ReportInput) -> list[str]:
     """The title, what ran and how much of it, the commits, the GbH rules."""
     frame = data.frame
     expected = len(data.objects) * len(data.methods) * data.trials * len(data.protocols)
     done = f"{len(frame)} of {expected} trials done" if data.expected else f"{len(frame)} trials"
     protocols = "" if data.protocols == [DEFAULT_PROTOCOL] else \
-        f" x {_count(len(data.protocols), 'protocol')} ({', '.join(data.protocols)})"
+        f" x {counted(len(data.protocols), 'protocol')} ({', '.join(data.protocols)})"
     commits = frame.commit.fillna("").value_counts().sort_index()
     lines = [f"# Experiment {data.name}", "",
-             f"{_count(len(data.objects), 'object')} x {_count(data.trials, 'trial')} x "
-             f"{_count(len(data.methods), 'method')}{protocols}: {done}. Rebuilt from "
+             f"{counted(len(data.objects), 'object')} x {counted(data.trials, 'trial')} x "
+             f"{counted(len(data.methods), 'method')}{protocols}: {done}. Rebuilt from "
              f"`{ROWS_FILE}` by `gbh report`."]
     if len(frame) and len(frame) < expected:
         lines += ["", "**Incomplete**: run the same `gbh experiment` command again to finish "
