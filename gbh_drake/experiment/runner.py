@@ -185,7 +185,7 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
             if not interrupted and len(done) == len(tasks):
                 _sort_rows(store, experiment, replay_errors)
             with _said_if(failed is not None, warn):
-                write_report(folder, warn=log)
+                write_report(folder, warn=log, command="gbh experiment")
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
 
 
