@@ -4,6 +4,7 @@ object it cannot simulate before any trial runs, and its report names the manife
 runs here: the rows are the worker's base rows of the tasks, as if every trial had finished."""
 
 import hashlib
+import json
 
 import pytest
 import trimesh
@@ -127,6 +128,23 @@ def test_rows_of_another_version_are_not_reused(user_set):
     assert reuse_rows(user_set / "new", RowStore(user_set / "new"), tasks, done,
                       [user_set / "out"], log=lambda _: None) == 1
     assert [key[0] for key in done] == ["teapot"]
+
+
+def test_a_run_that_only_reuses_logs_its_run(user_set, capsys):
+    """``--reuse`` into a new folder that took every trial ran none and wrote no runs.jsonl;
+    its line is written as a run's, with the trials it reused, and the summary's head names
+    ``gbh experiment``."""
+    finish_every_trial(user_set)
+    new = user_set / "new"
+    assert main(["experiment", str(user_set / "exp.yaml"), "--out", str(new), "--reuse",
+                 str(user_set / "out"), "--workers", "1", "--no-progress"]) == 0
+    assert "0 trials run" in capsys.readouterr().out
+    [run] = [json.loads(line) for line in (new / "runs.jsonl").read_text().splitlines()]
+    assert run["trials"] == 0 and run["reused"] == 2 and not run["interrupted"]
+    summary = (new / "summary.md").read_text()
+    assert "Rebuilt from `trials.jsonl` by `gbh experiment`." in summary
+    assert ": 0 trials on 1 local worker in 0.0 min (0.00 trials/min); 2 trials reused from " \
+           "other folders" in summary
 
 
 def test_the_report_names_the_manifest_of_the_natural_rests(user_set, capsys):

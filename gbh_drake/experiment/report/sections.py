@@ -357,10 +357,13 @@ def timings(data: ReportInput, runs: list[dict]) -> list[str]:
                   "sampler) and plan happen inside the simulation."]
     for run in runs:
         trials, wall = run.get("trials") or 0, run.get("wall") or 0.0
+        reused = run.get("reused") or 0
         lines.append(f"- {run.get('started') or '?'}: {trials} trials on "
                      f"{run.get('engine') or '?'} in {wall / 60:.1f} min "
                      f"({60.0 * trials / wall if wall else 0.0:.2f} trials/min)"
-                     f"{' (interrupted)' if run.get('interrupted') else ''}")
+                     + (f"; {counted(reused, 'trial')} reused from other folders" if reused
+                        else "")
+                     + (" (interrupted)" if run.get("interrupted") else ""))
     return lines
 
 
