@@ -147,6 +147,24 @@ def test_a_run_that_only_reuses_logs_its_run(user_set, capsys):
            "other folders" in summary
 
 
+def test_an_entry_without_a_natural_rest_is_named_where_the_user_chose_it(user_set):
+    """With ``objects`` left out (every object of the set) it said ``objects[0] 'block'``, an
+    index of no list in the experiment file: now the set's entry; a listed object is named by
+    its entry of the experiment's ``objects``."""
+    (user_set / "set.yaml").write_text(SET.replace("    rest: {as_given: true, reason: on "
+                                                   "its base}\n", ""))
+    with pytest.raises(ExperimentError) as error:
+        load_experiment(user_set / "exp.yaml")
+    assert str(error.value).startswith(
+        f"{user_set / 'exp.yaml'}: protocols[0] (line 4): natural: object_set "
+        f"{user_set / 'set.yaml'}: objects[0] (block) (line 2) has no natural rest declared in "
+        "the object set (1 object without: block)")
+    (user_set / "exp.yaml").write_text((user_set / "exp.yaml").read_text()
+                                       + "objects: [teapot, block]\n")
+    with pytest.raises(ExperimentError, match=r"natural: objects\[1\] 'block' \(line 7\) has "):
+        load_experiment(user_set / "exp.yaml")
+
+
 def test_the_report_names_the_manifest_of_the_natural_rests(user_set, capsys):
     """summary.md said the rests were declared in gbh_drake/objects/catalog.py."""
     finish_every_trial(user_set)
