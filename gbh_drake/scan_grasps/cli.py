@@ -88,7 +88,7 @@ def run_command(args, parser) -> int:
     all."""
     import numpy as np
 
-    from gbh_drake.scan_grasps.api import grasps
+    from gbh_drake.scan_grasps.api import grasps_as
     from gbh_drake.scan_grasps.document import document, to_json, to_yaml
     from gbh_drake.scan_grasps.poses import parse_pose
 
@@ -110,9 +110,9 @@ def run_command(args, parser) -> int:
             check_writable(path, flag)
         if len(files) == 2 and files["--html"].resolve() == files["--out"].resolve():
             raise ValueError(f"--html {args.html}: the same file as --out")
-        result = grasps(args.input, scale=args.scale, table_z=args.table_z, table_plane=plane,
-                        frame=frame, target=target, preset=args.preset, seed=args.seed,
-                        top=args.top)
+        result = grasps_as(True, args.input, scale=args.scale, table_z=args.table_z,
+                           table_plane=plane, frame=frame, target=target, preset=args.preset,
+                           seed=args.seed, top=args.top)
     except ValueError as e:
         from gbh_drake.scan_grasps.errors import GraspsInputError
 
