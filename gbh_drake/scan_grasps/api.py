@@ -45,8 +45,8 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
     :class:`~gbh_drake.scan_grasps.errors.GraspsInputError` for an input that cannot be used
     (e.g. an object smaller than 5 mm or larger than 1.2 m, as ``gbh run``; a given table
     above most of the object; its hints name these arguments: ``give scale=0.001``). An empty
-    scan, nothing hangable or no collision-free grasp are
-    results (``result.none`` says which and why)."""
+    scan, nothing hangable or no collision-free grasp are results (``result.none`` says which
+    and why)."""
     return grasps_as(False, input, scale=scale, table_z=table_z, table_plane=table_plane,
                      frame=frame, target=target, params=params, preset=preset, seed=seed,
                      top=top, pick=pick)
