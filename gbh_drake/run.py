@@ -20,6 +20,7 @@ import yaml
 from pydrake.geometry import Meshcat
 
 from gbh_drake.core.resting import rest_in_words
+from gbh_drake.core.words import counted
 from gbh_drake.outputs import RunOutputs, plain
 from gbh_drake.scan_grasps.run_export import trial_export
 from gbh_drake.scenario import Scenario, dump_resolved
@@ -64,8 +65,9 @@ class RunSummary:
             lines.append(f"  warning: {w}")
         if self.task == "pick":
             lines.append(f"  scan: {r.scan_faces} triangles {r.scan_message}".rstrip())
-            lines.append(f"  grasps: {r.n_structures} hanging structures, {r.n_candidates} "
-                         f"candidates, {r.n_ranked} ranked; {r.n_grasps_offered} offered")
+            lines.append(f"  grasps: {counted(r.n_structures, 'hanging structure')}, "
+                         f"{counted(r.n_candidates, 'candidate')}, {r.n_ranked} ranked; "
+                         f"{r.n_grasps_offered} offered")
             for text in r.refusal_texts:
                 lines.append(f"  refused {text}")
             for note in r.plan_notes:

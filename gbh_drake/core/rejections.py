@@ -29,6 +29,7 @@ import numpy as np
 from gbh_drake.core.enclosure import LoopMaterial
 from gbh_drake.core.params import GbhParams
 from gbh_drake.core.results import GraspCandidate
+from gbh_drake.core.words import counted
 
 #: The rules, in the order they apply.
 RULES = ("collision N_c", "closing sweep", "table clearance")
@@ -98,8 +99,8 @@ def count_rejections(candidates: list[GraspCandidate], params: GbhParams) -> Rej
 def no_grasp_message(n_candidates: int, n_structures: int, rejections: Rejections) -> str:
     """Why no candidate was ranked, in words (the trial's ``no_grasp_found`` reason)."""
     why = rejections.summary()
-    return (f"no collision-free grasp among {n_candidates} candidates on {n_structures} hanging "
-            f"structures{': ' + why if why else ''}")
+    return (f"no collision-free grasp among {counted(n_candidates, 'candidate')} on "
+            f"{counted(n_structures, 'hanging structure')}{': ' + why if why else ''}")
 
 
 def removed_by(candidates: list[GraspCandidate], params: GbhParams

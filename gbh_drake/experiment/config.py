@@ -67,6 +67,7 @@ from gbh_drake.core.ranges import (
     format_path,
     ranged,
 )
+from gbh_drake.core.words import counted
 from gbh_drake.experiment.report import PAPER_TABLE1
 from gbh_drake.experiment.task import TrialTask
 from gbh_drake.scenario import (
@@ -397,6 +398,26 @@ def field_error(experiment: Experiment, field_path: str | tuple, message: str,
                            format_path(path), line, message)
 
 
+def _object_where(experiment: Experiment, object_set, j: int) -> str:
+    """Where the experiment's object ``j`` was chosen: its entry of ``objects`` (``objects[1]
+    'block' (line 7)``, naming the layer when another than the protocols' wrote it), or, with
+    ``objects`` left out (every object of ``object_set``), the set's entry (``object_set
+    set.yaml: objects[1] (block) (line 3)``)."""
+    name = experiment.objects[j]
+    if _layers(experiment).node(("objects", j)) is not None or object_set is None:
+        written, line = _layers(experiment).wrote(("objects", j))
+        where = f"line {line}" if line else ""
+        if written and written != _layers(experiment).wrote(("protocols",))[0]:
+            where = f"{written}, {where}"  # (another layer than the error's: --set)
+        return f"objects[{j}] {name!r}" + (f" ({where})" if where else "")
+    from gbh_drake.objects.sets import written_line
+
+    index = object_set.names.index(name)
+    line = written_line(object_set.root, ("objects", index))
+    return f"object_set {object_set.given or object_set.path}: objects[{index}] ({name})" + (
+        f" (line {line})" if line else "")
+
+
 def validate_experiment(experiment: Experiment, origin: str) -> None:
     """Checks that the schema cannot express (the scenarios themselves are checked by
     :func:`method_scenarios`). Raises :class:`ExperimentError` naming the field and, for an
@@ -481,12 +502,12 @@ def validate_experiment(experiment: Experiment, origin: str) -> None:
         missing = [(j, o.name) for j, o in enumerate(objects) if not o.has_natural_rest]
         if missing:
             j, name = missing[0]
-            fail(f"protocols[{i}]", f"natural: objects[{j}] {name!r} has no natural rest "
-                                    f"declared in the object set ({len(missing)} objects "
-                                    "without: " + ", ".join(o for _, o in missing) + "); "
-                                    "declare one (rest: in its object set's entry, or rest=... "
-                                    "where a built-in object is registered) or drop the "
-                                    "protocol")
+            fail(f"protocols[{i}]", f"natural: {_object_where(experiment, object_set, j)} has "
+                                    f"no natural rest declared in the object set "
+                                    f"({counted(len(missing), 'object')} without: "
+                                    + ", ".join(o for _, o in missing) + "); declare one (rest: "
+                                    "in its object set's entry, or rest=... where a built-in "
+                                    "object is registered) or drop the protocol")
     problem = address_problem(experiment.ray_address)
     if problem:
         fail("ray_address", problem)

@@ -22,7 +22,8 @@ The folder::
     scenarios/<m>.yaml    each method's scenario (rerun a trial with gbh run and --set)
     replays/<o>__<m>__<t>.html   a Meshcat replay of every failed trial (``__<protocol>``
                           before ``.html`` for a protocol other than ``stable``)
-    runs.jsonl            when each run started, on what, how long it took
+    runs.jsonl            when each run started, on what, how long it took (and the trials
+                          it reused from other folders, if any)
 """
 
 from __future__ import annotations
@@ -129,7 +130,7 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
         store = RowStore(folder)
         done = _finished(store, tasks, warn=log)
         read_runs(folder, warn=log, repair=True)  # a damaged log refuses before any trial runs
-        reuse_rows(folder, store, tasks, done, reuse, log=log)
+        reused = reuse_rows(folder, store, tasks, done, reuse, log=log)
         pending = [t for t in tasks if t.key not in done]
         _write_definition(folder, experiment, scenarios)
         engine = (f"Ray ({ray_address}" + (f", {workers} CPUs)" if ray_address == "local"
@@ -179,13 +180,13 @@ def run_experiment(experiment: Experiment, *, out: Path | None = None, workers: 
             # Stopped by an error or a signal: what follows must not hide it (a full disk fails
             # these too): their own failures are warnings then, every row written is kept.
             with _said_if(failed is not None, warn):
-                if ran or interrupted:
+                if ran or reused or interrupted:  # (a run that only reused rows is a run)
                     _log_run(folder, started=started, wall=wall, trials=ran, engine=engine,
-                             interrupted=interrupted)
+                             interrupted=interrupted, **({"reused": reused} if reused else {}))
             if not interrupted and len(done) == len(tasks):
                 _sort_rows(store, experiment, replay_errors)
             with _said_if(failed is not None, warn):
-                write_report(folder, warn=log)
+                write_report(folder, warn=log, command="gbh experiment")
     return ExperimentRun(folder, len(tasks), len(tasks) - len(pending), ran, wall)
 
 

@@ -110,8 +110,9 @@ def scale_hint(extent: float, scale: float = 1.0, *, field: str = FIELD_SCALE,
                within: tuple[float, float] = (MIN_EXTENT, MAX_EXTENT)) -> str:
     """The hint for a mesh of largest ``extent`` (m) read at ``scale``: which total scale
     brings it ``within`` the plausible range (m; default a hand-held object's), e.g.
-    ``"looks like centimetres: give scale: 0.01"``. ``field`` names the setting: a scenario's
-    field (``scale: 0.01``) or a command's option (``--scale``: ``--scale 0.01``)."""
+    ``"looks like centimetres: give scale: 0.01"``. ``field`` names the setting as its caller
+    writes it: a scenario's field (``scale``: ``scale: 0.01``), a command's option (``--scale``:
+    ``--scale 0.01``) or a Python argument (``scale=``: ``scale=0.01``)."""
     low, high = within
     if extent > high:
         options = [(name, f) for name, f in UNITS_TOO_BIG]
@@ -120,10 +121,11 @@ def scale_hint(extent: float, scale: float = 1.0, *, field: str = FIELD_SCALE,
     fitting = [(abs(np.log(extent * f / TYPICAL_EXTENT)), name, f) for name, f in options
                if low <= extent * f <= high]
     if not fitting:
-        return f"check the file's unit and give {field} (now {scale:g})"
+        return f"check the file's unit and give {field.removesuffix('=')} (now {scale:g})"
     _, name, factor = min(fitting)
     looks = f"looks like {name}" if extent > high else f"looks {name}"
-    give = f"{field} " if field.startswith("--") else f"{field}: "
+    give = f"{field} " if field.startswith("--") else field if field.endswith("=") else \
+        f"{field}: "
     return f"{looks}: give {give}{scale * factor:g} (then {_length(extent * factor)})"
 
 

@@ -44,11 +44,22 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
     Raises ValueError for a bad argument (naming it), and
     :class:`~gbh_drake.scan_grasps.errors.GraspsInputError` for an input that cannot be used
     (e.g. an object smaller than 5 mm or larger than 1.2 m, as ``gbh run``; a given table
-    above most of the object). An empty scan, nothing hangable or no collision-free grasp are
-    results (``result.none`` says which and why)."""
+    above most of the object; its hints name these arguments: ``give scale=0.001``). An empty
+    scan, nothing hangable or no collision-free grasp are results (``result.none`` says which
+    and why)."""
+    return grasps_as(False, input, scale=scale, table_z=table_z, table_plane=table_plane,
+                     frame=frame, target=target, params=params, preset=preset, seed=seed,
+                     top=top, pick=pick)
+
+
+def grasps_as(cli: bool, input, *, scale: float = 1.0, table_z: float | None = None,
+              table_plane=None, frame=None, target=None, params=None, preset: str | None = None,
+              seed: int | None = None, top: int | None = None, pick=None) -> GraspsResult:
+    """:func:`grasps`, the input's problems naming ``gbh grasps``' flags (``--scale``) when
+    ``cli``, else the arguments (``scale=``: :func:`~.inputs.setting`)."""
     from gbh_drake.core.gripper import HOOK_GRIPPER
     from gbh_drake.core.pipeline import plan_grasps
-    from gbh_drake.scan_grasps.inputs import InputOptions, load_input
+    from gbh_drake.scan_grasps.inputs import InputOptions, load_input, setting
     from gbh_drake.scan_grasps.result import make_result
 
     start = time.perf_counter()
@@ -62,7 +73,8 @@ def grasps(input, *, scale: float = 1.0, table_z: float | None = None, table_pla
                            _table(table_z, table_plane),
                            None if target is None else np.asarray(target, dtype=float),
                            float(scale),
-                           "--table-z" if table_z is not None else "--table-plane")
+                           setting("table_z" if table_z is not None else "table_plane", cli),
+                           cli)
     scan_input = load_input(path, options)
     scan = scan_input.scan
     read = time.perf_counter()

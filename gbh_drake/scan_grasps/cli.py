@@ -88,7 +88,7 @@ def run_command(args, parser) -> int:
     all."""
     import numpy as np
 
-    from gbh_drake.scan_grasps.api import grasps
+    from gbh_drake.scan_grasps.api import grasps_as
     from gbh_drake.scan_grasps.document import document, to_json, to_yaml
     from gbh_drake.scan_grasps.poses import parse_pose
 
@@ -110,9 +110,9 @@ def run_command(args, parser) -> int:
             check_writable(path, flag)
         if len(files) == 2 and files["--html"].resolve() == files["--out"].resolve():
             raise ValueError(f"--html {args.html}: the same file as --out")
-        result = grasps(args.input, scale=args.scale, table_z=args.table_z, table_plane=plane,
-                        frame=frame, target=target, preset=args.preset, seed=args.seed,
-                        top=args.top)
+        result = grasps_as(True, args.input, scale=args.scale, table_z=args.table_z,
+                           table_plane=plane, frame=frame, target=target, preset=args.preset,
+                           seed=args.seed, top=args.top)
     except ValueError as e:
         from gbh_drake.scan_grasps.errors import GraspsInputError
 
@@ -192,6 +192,7 @@ def write_together(files: list[tuple[Path, str]]) -> None:
 
 def summary_text(result) -> str:
     """What ``gbh grasps`` found, in a few lines."""
+    from gbh_drake.core.words import counted
     from gbh_drake.scan_grasps.table import plane_text
 
     lines = [f"input {result.input_path} ({result.input_kind.replace('_', ' ')}; free space: "
@@ -199,8 +200,9 @@ def summary_text(result) -> str:
              f"({result.table_source})"]
     lines += [f"  note: {n}" for n in result.notes]
     lines += [f"  warning: {w}" for w in result.warnings]
-    lines.append(f"grasps: {len(result.structures)} hanging structures, {result.n_candidates} "
-                 f"candidates, {len(result.grasps)} ranked (poses in B, Franka's panda_link0)")
+    lines.append(f"grasps: {counted(len(result.structures), 'hanging structure')}, "
+                 f"{counted(result.n_candidates, 'candidate')}, {len(result.grasps)} ranked "
+                 "(poses in B, Franka's panda_link0)")
     for g in result.grasps:
         p, y = g.X_B_link8[:3, 3], g.X_BG[:3, 1]
         lines.append(f"  #{g.rank} {g.kind:8s} score {g.score:.3f}  flange at "

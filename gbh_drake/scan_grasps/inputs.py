@@ -42,8 +42,16 @@ BELOW_TABLE = 0.005
 #: the object, or lies elsewhere); above at least :data:`BELOW_TABLE_WARNING` of them, warned of.
 BELOW_TABLE_REFUSAL = 0.5
 BELOW_TABLE_WARNING = 0.01
-#: The option that scales an input, as the size hints name it.
-SCALE_OPTION = "--scale"
+
+
+def setting(name: str, cli: bool, *, given: bool = False) -> str:
+    """The setting ``name`` (``table_z``) as its caller names it: the flag ``--table-z`` of
+    ``gbh grasps`` (``cli``), else the argument ``table_z`` of ``gbh_drake.grasps``
+    (``given``: as a value is given to it, ``table_z=``)."""
+    if cli:
+        return "--" + name.replace("_", "-")
+    return f"{name}=" if given else name
+
 
 #: The note when there is no free space (a mesh, a point cloud).
 NO_FREE_SPACE = ("no free space: the input says where the surface is, not what the camera saw "
@@ -88,7 +96,10 @@ class InputOptions:
     scale: float = 1.0
     """The file's units in metres (a mesh's or a point cloud's; applied before ``X_BI``)."""
     table_option: str = "table"
-    """What gave ``table``, as a refusal of it names it (``--table-z``, ``--table-plane``)."""
+    """What gave ``table``, as a refusal of it names it (``table_z``, ``--table-plane``)."""
+    cli: bool = False
+    """The caller is ``gbh grasps``: problems name its flags (``--scale``), else the arguments
+    of ``gbh_drake.grasps`` (``scale``; :func:`setting`)."""
 
 
 def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
@@ -96,7 +107,8 @@ def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
     path = Path(path)
     if path.is_dir() or path.suffix.lower() in (".yaml", ".yml"):
         if options.scale != 1.0:
-            raise GraspsInputError(path, SCALE_OPTION, "scales a mesh or a point cloud; depth "
+            raise GraspsInputError(path, setting("scale", options.cli), "scales a mesh or a "
+                                   "point cloud; depth "
                                    "images are scaled by depth_scale in views.yaml")
         return _depth_images(path, options)
     if not path.exists():
@@ -111,7 +123,7 @@ def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
 
     if suffix in (".pcd", ".npy") or (suffix == ".ply" and not _ply_has_faces(path)):
         points = read_cloud(path) * options.scale
-        check_units(path, points, "points", options.scale)
+        check_units(path, points, "points", options.scale, cli=options.cli)
         return _point_cloud(path, _transformed(points, options.X_BI), options)
     return _mesh(path, options)
 
@@ -130,40 +142,43 @@ def _transformed(points: np.ndarray, X_BI: np.ndarray | None) -> np.ndarray:
     return points @ X_BI[:3, :3].T + X_BI[:3, 3]
 
 
-def check_units(path: Path, points: np.ndarray, what: str, scale: float = 1.0) -> None:
+def check_units(path: Path, points: np.ndarray, what: str, scale: float = 1.0, *,
+                cli: bool) -> None:
     """Refuses a point cloud whose coordinates (``points`` (n, 3), m after ``scale``) are not
-    metres: a largest extent over :data:`MAX_INPUT_EXTENT`, with the ``--scale`` that brings it
-    under (``objects.plausibility.scale_hint``)."""
+    metres: a largest extent over :data:`MAX_INPUT_EXTENT`, with the scale that brings it
+    under (``objects.plausibility.scale_hint``), named as ``cli`` says (:func:`setting`)."""
     from gbh_drake.objects.plausibility import MIN_EXTENT, scale_hint
 
     extent = points.max(axis=0) - points.min(axis=0)
     if float(extent.max()) > MAX_INPUT_EXTENT:
         units = "its units" if scale == 1.0 else f"its units x {scale:g}"
-        hint = scale_hint(float(extent.max()), scale, field=SCALE_OPTION,
+        hint = scale_hint(float(extent.max()), scale, field=setting("scale", cli, given=True),
                           within=(MIN_EXTENT, MAX_INPUT_EXTENT))
         raise GraspsInputError(path, what, f"spans {' x '.join(f'{e:.4g}' for e in extent)} "
                                            f"({units}): not metres; {hint}")
 
 
-def check_object_size(path: Path, mesh, what: str, scale: float = 1.0) -> None:
+def check_object_size(path: Path, mesh, what: str, scale: float = 1.0, *,
+                      cli: bool) -> None:
     """Refuses an object (``mesh``, m after ``scale``, in B) ``gbh run`` refuses: smaller than
     the scan and the gripper sense or larger than the workspace
-    (``objects.plausibility.size_refusal``), with the ``--scale`` that fixes it."""
+    (``objects.plausibility.size_refusal``), with the scale that fixes it, named as ``cli``
+    says (:func:`setting`)."""
     from gbh_drake.objects.plausibility import size_refusal
 
-    refusal = size_refusal(mesh, scale, field=SCALE_OPTION)
+    refusal = size_refusal(mesh, scale, field=setting("scale", cli, given=True))
     if refusal:
         raise GraspsInputError(path, what, refusal)
 
 
-def check_table_under(path: Path, option: str, table, points: np.ndarray, what: str
-                      ) -> list[str]:
+def check_table_under(path: Path, option: str, table, points: np.ndarray, what: str, *,
+                      cli: bool) -> list[str]:
     """Refuses a given ``table`` that lies above most of the object's ``points`` (n, 3, m, in
     B; more than :data:`BELOW_TABLE_REFUSAL` of them over :data:`BELOW_TABLE` under it): a
     table in another frame or at the wrong height, which GbH would take the object for lying
     under. Returns the warning when it cuts off fewer (at least
     :data:`BELOW_TABLE_WARNING`), else none. ``option`` names what gave the table, ``what``
-    the points."""
+    the points; ``cli``: how the frame's setting is named (:func:`setting`)."""
     if not len(points):
         return []
     heights = table.heights(points)
@@ -178,7 +193,8 @@ def check_table_under(path: Path, option: str, table, points: np.ndarray, what: 
     if share > BELOW_TABLE_REFUSAL:
         raise GraspsInputError(path, option, f"{where}: a table under the object lies at its "
                                              f"lowest point or below (z = {z.min():.4f} m); or "
-                                             "give the input's pose in B with --frame")
+                                             "give the input's pose in B with "
+                                             f"{setting('frame', cli, given=True)}")
     return [f"{where}: GbH takes that part for under the table; is {option} where the object "
             "stands?"]
 
@@ -199,19 +215,19 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
         objects_log.setLevel(level)
     if options.X_BI is not None:
         mesh.apply_transform(options.X_BI)
-    check_object_size(path, mesh, "vertices", options.scale)
+    check_object_size(path, mesh, "vertices", options.scale, cli=options.cli)
     vertices = np.asarray(mesh.vertices, dtype=float)
     table = table_plane(options.table) if options.table is not None else under(vertices)
     warnings = [w for w in mesh.metadata.get("gbh_warnings", []) if "extent" not in w]
     if options.table is not None:
         warnings += check_table_under(path, options.table_option, table, vertices,
-                                      "the mesh's vertices")
+                                      "the mesh's vertices", cli=options.cli)
     scan = ScanResult(mesh, vertices, table=table, warnings=warnings)
     notes = [NO_FREE_SPACE]
     if table.source == "lowest point":
         notes.append(f"the table: horizontal, under the mesh's lowest point (z = "
-                     f"{table.height:.4f} m in B); give --table-z or --table-plane if it is "
-                     "elsewhere")
+                     f"{table.height:.4f} m in B); give {setting('table_z', options.cli)} or "
+                     f"{setting('table_plane', options.cli)} if it is elsewhere")
     return ScanInput("mesh", str(path), scan, table.source, notes)
 
 
@@ -225,11 +241,11 @@ def _point_cloud(path: Path, points: np.ndarray, options: InputOptions) -> ScanI
     warnings = [] if table is None else check_table_under(
         path, options.table_option, table, found.column,
         "the object's points (with the cloud's under it)" if found.object_points is not None
-        else "the cloud's points")
+        else "the cloud's points", cli=options.cli)
     fused = fuse_object(found, config)
     fused.scan.warnings += warnings
     if not fused.scan.empty:
-        check_object_size(path, fused.scan.mesh_W, "points", options.scale)
+        check_object_size(path, fused.scan.mesh_W, "points", options.scale, cli=options.cli)
     return ScanInput("point_cloud", str(path), fused.scan, fused.table_source,
                      [NO_FREE_SPACE] + ([fused.note] if fused.note else []))
 

@@ -15,6 +15,7 @@ import numpy as np
 from pydrake.geometry import Meshcat
 
 from gbh_drake.core.gripper import GRIPPERS
+from gbh_drake.core.words import counted
 from gbh_drake.replay import draw_cameras, extent, frame
 from gbh_drake.viz import gbh_meshcat as draw
 
@@ -130,7 +131,7 @@ def detection_lines(detection) -> list[str]:
     structures = result.structures
     if structures:
         ms = ", ".join(f"{s.m:.2f}" for s in structures[:4])
-        lines.append(f"detect: {len(structures)} hanging structures (m {ms})")
+        lines.append(f"detect: {counted(len(structures), 'hanging structure')} (m {ms})")
     lines += list(result.notes)  # e.g. a method that runs no GbH
     if result.none is not None and not result.notes:
         lines.append(f"{result.none.outcome}: {result.none.message}")

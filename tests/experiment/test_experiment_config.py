@@ -229,7 +229,8 @@ def test_an_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
     monkeypatch.delitem(catalog._RESTS, "kettle")  # as an object registered without rest=
     path = write(tmp_path, "base: BASE\nobjects: [box, kettle]\nprotocols: [stable, natural]\n")
     with pytest.raises(ExperimentError, match=r"exp\.yaml: protocols\[1\] \(line 3\): natural: "
-                                              r"objects\[1\] 'kettle' has no natural rest"):
+                                              r"objects\[1\] 'kettle' \(line 2\) has no natural "
+                                              r"rest"):
         load_experiment(path)
     load_experiment(path, overrides="protocols: [stable]")  # the stable protocol needs none
 

@@ -103,8 +103,9 @@ def test_a_set_object_without_a_natural_rest_is_refused_by_the_natural_protocol(
     text = (user_set / "set.yaml").read_text().replace(
         "    rest: {as_given: true, reason: lying flat}\n", "")
     (user_set / "set.yaml").write_text(text)
-    with pytest.raises(ExperimentError, match=r"protocols\[0\].*natural: objects\[0\] 'ring' has "
-                                              r"no natural rest"):
+    with pytest.raises(ExperimentError, match=r"protocols\[0\].*natural: object_set .*set\.yaml: "
+                                              r"objects\[0\] \(ring\) \(line 3\) has no "
+                                              r"natural rest"):
         load_experiment(user_set / "exp.yaml")
 
 

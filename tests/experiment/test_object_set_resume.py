@@ -4,6 +4,7 @@ object it cannot simulate before any trial runs, and its report names the manife
 runs here: the rows are the worker's base rows of the tasks, as if every trial had finished."""
 
 import hashlib
+import json
 
 import pytest
 import trimesh
@@ -127,6 +128,41 @@ def test_rows_of_another_version_are_not_reused(user_set):
     assert reuse_rows(user_set / "new", RowStore(user_set / "new"), tasks, done,
                       [user_set / "out"], log=lambda _: None) == 1
     assert [key[0] for key in done] == ["teapot"]
+
+
+def test_a_run_that_only_reuses_logs_its_run(user_set, capsys):
+    """``--reuse`` into a new folder that took every trial ran none and wrote no runs.jsonl;
+    its line is written as a run's, with the trials it reused, and the summary's head names
+    ``gbh experiment``."""
+    finish_every_trial(user_set)
+    new = user_set / "new"
+    assert main(["experiment", str(user_set / "exp.yaml"), "--out", str(new), "--reuse",
+                 str(user_set / "out"), "--workers", "1", "--no-progress"]) == 0
+    assert "0 trials run" in capsys.readouterr().out
+    [run] = [json.loads(line) for line in (new / "runs.jsonl").read_text().splitlines()]
+    assert run["trials"] == 0 and run["reused"] == 2 and not run["interrupted"]
+    summary = (new / "summary.md").read_text()
+    assert "Rebuilt from `trials.jsonl` by `gbh experiment`." in summary
+    assert ": 0 trials on 1 local worker in 0.0 min (0.00 trials/min); 2 trials reused from " \
+           "other folders" in summary
+
+
+def test_an_entry_without_a_natural_rest_is_named_where_the_user_chose_it(user_set):
+    """With ``objects`` left out (every object of the set) it said ``objects[0] 'block'``, an
+    index of no list in the experiment file: now the set's entry; a listed object is named by
+    its entry of the experiment's ``objects``."""
+    (user_set / "set.yaml").write_text(SET.replace("    rest: {as_given: true, reason: on "
+                                                   "its base}\n", ""))
+    with pytest.raises(ExperimentError) as error:
+        load_experiment(user_set / "exp.yaml")
+    assert str(error.value).startswith(
+        f"{user_set / 'exp.yaml'}: protocols[0] (line 4): natural: object_set "
+        f"{user_set / 'set.yaml'}: objects[0] (block) (line 2) has no natural rest declared in "
+        "the object set (1 object without: block)")
+    (user_set / "exp.yaml").write_text((user_set / "exp.yaml").read_text()
+                                       + "objects: [teapot, block]\n")
+    with pytest.raises(ExperimentError, match=r"natural: objects\[1\] 'block' \(line 7\) has "):
+        load_experiment(user_set / "exp.yaml")
 
 
 def test_the_report_names_the_manifest_of_the_natural_rests(user_set, capsys):

@@ -493,3 +493,35 @@ def test_gbh_report_prints_table_1_per_protocol_as_the_summary_has_it(tmp_path, 
     assert "| gbh-10 | 10 | 2 | 0 | 2 | 0.0 % |" in stable
     assert "| gbh-10 | 10 | 2 | 2 | 0 | 100.0 % |" in natural
     assert "| gbh-10 | 10 | 4 |" not in out  # no table pooling the protocols
+
+
+def test_per_object_says_the_widths_of_its_own_intervals(made_up):
+    """It said 'with 5 trials an interval spans some 50 points' whatever the trials: here 2
+    trials per cell, intervals of 0/2 and 2/2 (66 points) and 1/2 (81 points)."""
+    folder, rows = made_up
+    per_object = flat(summary_markdown(read_input(folder))).split("## Per object")[1]
+    assert "(with 2 trials each, these intervals span 66 to 81 points: tell objects apart " \
+           "with care)." in per_object and "5 trials" not in per_object
+    RowStore(folder).rewrite([r for r in rows if r["trial"] == 0])  # 1 trial each so far
+    per_object = flat(summary_markdown(read_input(folder))).split("## Per object")[1]
+    assert "(with 1 trial each, these intervals span 79 points:" in per_object
+
+
+def test_the_head_names_the_command_that_wrote_it(made_up):
+    """It said 'by `gbh report`' when `gbh experiment` wrote it too."""
+    folder, _ = made_up
+    head = summary_markdown(read_input(folder), command="gbh experiment").splitlines()[2]
+    assert head.endswith("Rebuilt from `trials.jsonl` by `gbh experiment`.")
+    assert main(["report", str(folder)]) == 0
+    assert "by `gbh report`." in (folder / "summary.md").read_text()
+
+
+def test_a_protocol_without_trials_has_no_detail_table(made_up):
+    """A protocol no trial of which has run gave a table of headers alone."""
+    folder, _ = made_up
+    experiment = Experiment(name="made_up", objects=["mug_classic", "kettle", "box"], trials=2,
+                            methods=METHODS, protocols=["stable", "natural"])
+    (folder / "experiment.yaml").write_text(experiment_yaml(experiment))
+    text = flat(summary_markdown(read_input(folder)))
+    detail = text.split("## Per object, in detail, protocol `natural`")[1].split("##")[0]
+    assert detail.strip() == "No trials yet." and "| Object | Method | Trials |" in text

@@ -296,6 +296,26 @@ def test_an_input_that_is_not_a_path_is_named():
         gbh_drake.grasps(trimesh.creation.torus(0.04, 0.008))
 
 
+def test_the_python_call_names_its_arguments_not_the_flags(tmp_path):
+    """``gbh_drake.grasps`` told its caller to give ``--scale`` (the command's flag): its size
+    and units hints name ``scale=``, as the call takes it."""
+    path = _box_file(tmp_path / "box.stl", (82.0, 121.6, 100.0))
+    with pytest.raises(GraspsInputError) as error:
+        gbh_drake.grasps(path, scale=0.1)
+    assert str(error.value) == (f"{path}: vertices: largest extent 12.2 m is larger than the "
+                                "workspace (> 1.2 m): looks like centimetres: give scale=0.001 "
+                                "(then 12.2 cm)")
+    box = trimesh.creation.box([82.0, 121.6, 100.0])
+    points = np.vstack([box.vertices, trimesh.sample.sample_surface(box, 200, seed=0)[0]])
+    np.save(tmp_path / "cloud.npy", points + [550.0, 0.0, 50.0])
+    with pytest.raises(GraspsInputError, match=r"not metres; looks like millimetres: give "
+                                               r"scale=0\.001 \(then 12\.2 cm\)$"):
+        gbh_drake.grasps(tmp_path / "cloud.npy")
+    _write(tmp_path, _views(tmp_path))
+    with pytest.raises(GraspsInputError, match=f"^{tmp_path}: scale: scales a mesh"):
+        gbh_drake.grasps(tmp_path, scale=0.001)
+
+
 def test_scale_on_depth_images_is_refused(tmp_path, capsys):
     _write(tmp_path, _views(tmp_path))
     assert main(["grasps", str(tmp_path), "--scale", "0.001"]) == 2
@@ -312,10 +332,11 @@ def test_a_table_above_the_object_is_refused_naming_the_option(tmp_path, capsys)
         "mesh's vertices (z 0.000 to 0.100 m in B; down to 500 mm below it): a table under the "
         "object lies at its lowest point or below (z = 0.0000 m); or give the input's pose in B "
         "with --frame")
-    with pytest.raises(GraspsInputError) as error:  # the plane names its own option
+    with pytest.raises(GraspsInputError) as error:  # the plane names its own argument
         gbh_drake.grasps(path, table_plane=[0.0, 0.0, 2.0, -1.0])
-    assert str(error.value).startswith(f"{path}: --table-plane: the table z = 0.5000 m lies "
+    assert str(error.value).startswith(f"{path}: table_plane: the table z = 0.5000 m lies "
                                        "above 100 % of the mesh's vertices")
+    assert str(error.value).endswith("give the input's pose in B with frame=")
 
 
 def test_a_table_above_a_cloud_is_refused(tmp_path, capsys):

@@ -60,8 +60,9 @@ def test_structures_without_a_grasp_count_the_candidates_each_rule_removed():
 
 
 def test_no_candidates_at_all_is_said_without_rules():
+    """One structure is said in the singular (it read '1 hanging structures')."""
     search = explain_no_grasp(SCAN, Hangability(None, [STRUCTURE], ""), [])
-    assert search.reason == "no collision-free grasp among 0 candidates on 1 hanging structures"
+    assert search.reason == "no collision-free grasp among 0 candidates on 1 hanging structure"
     assert search.rejected_by == {"collision N_c": 0, "closing sweep": 0, "table clearance": 0,
                                   "empty loop": 0}
 

@@ -92,17 +92,18 @@ TRIALS_CSV = "trials.csv"
 TABLE1_CSV = "table1.csv"
 
 
-def write_report(folder: Path, *, warn=None, data: ReportInput | None = None
-                 ) -> tuple[Path, Path]:
+def write_report(folder: Path, *, warn=None, data: ReportInput | None = None,
+                 command: str = "gbh report") -> tuple[Path, Path]:
     """Writes ``summary.md``, ``trials.csv``, ``table1.csv`` and the plots (``success`` and
     ``causes``, PNG and SVG) into ``folder`` from its rows (``data``: as read already by
-    :func:`read_input`); returns the summary and ``success.png``. Everything is read (and
-    checked) before anything is written."""
+    :func:`read_input`); returns the summary and ``success.png``. ``command``: the command
+    writing it (``gbh experiment`` passes its name), named in the summary's head. Everything is
+    read (and checked) before anything is written."""
     folder = Path(folder)
     data = data or read_input(folder, warn=warn)
     runs = read_runs(folder, warn=warn)
     summary = folder / SUMMARY_FILE
-    write_atomically(summary, summary_markdown(data, runs=runs))
+    write_atomically(summary, summary_markdown(data, runs=runs, command=command))
     write_atomically(folder / TRIALS_CSV, trials_frame(data).to_csv(index=False))
     write_atomically(folder / TABLE1_CSV, table1_frame(data).to_csv(index=False))
     plot = folder / PLOT_FILE

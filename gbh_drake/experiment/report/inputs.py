@@ -198,14 +198,15 @@ def read_saved_experiment(path: Path) -> dict:
 def read_runs(folder: Path, *, warn: Warn = None, repair: bool = False) -> list[dict]:
     """The runs of ``runs.jsonl`` (one JSON object a line; damage as for the rows:
     :func:`~gbh_drake.experiment.rows.read_jsonl`), each field checked: ``started``,
-    ``engine`` (text), ``trials`` (an integer), ``wall`` (s), ``interrupted``; one of the wrong
-    type is missing (``warn`` is told, naming the file and line)."""
+    ``engine`` (text), ``trials`` (an integer), ``wall`` (s), ``interrupted``, ``reused`` (rows
+    taken from other folders: an integer, only when there were some); one of the wrong type is
+    missing (``warn`` is told, naming the file and line)."""
     path = Path(folder) / RUNS_FILE
     runs = read_jsonl(path, warn=warn, repair=repair,
                       check=lambda v: None if isinstance(v, dict) else
                       f"not a run (a JSON object), got {type(v).__name__}")
     kinds = {"started": "str", "engine": "str", "trials": "int", "wall": "float",
-             "interrupted": "bool"}
+             "interrupted": "bool", "reused": "int"}
     out = []
     for i, run in enumerate(runs):
         checked = dict(run)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import pandas as pd
 
 from gbh_drake.core.resting import RESTING_POSES
+from gbh_drake.core.words import counted
 from gbh_drake.experiment.report.beyond import beyond, borderline
 from gbh_drake.experiment.report.columns import REACH_CLASSES, STAGES
 from gbh_drake.experiment.report.facts import (
@@ -34,7 +35,7 @@ from gbh_drake.experiment.report.tables import (
     viewpoints,
 )
 from gbh_drake.experiment.rows import DEFAULT_PROTOCOL, ROWS_FILE
-from gbh_drake.experiment.stats import holm, mcnemar
+from gbh_drake.experiment.stats import holm, mcnemar, wilson
 
 #: The causes plot's file (named in the causes section).
 CAUSES_PLOT_FILE = "causes.png"
@@ -156,17 +157,33 @@ def _by_object_and_method(data: ReportInput, *columns: str) -> dict[tuple, pd.Da
 def per_object(data: ReportInput) -> list[str]:
     """Per object and method: successes / trials and the Wilson interval."""
     tags, rows = object_tags(data.frame), []
-    counted = data.frame.groupby(["object", "method"]).success.agg(["size", "sum"])
+    tallies = data.frame.groupby(["object", "method"]).success.agg(["size", "sum"])
     for obj in data.objects:
         cells = []
         for method in data.methods:
-            total, success = counted.loc[(obj, method)] if (obj, method) in counted.index \
+            total, success = tallies.loc[(obj, method)] if (obj, method) in tallies.index \
                 else (0, 0)
             cells.append(f"{success}/{total} {interval(success, total, 0)}" if total else "-")
         rows.append([obj + (" (control)" if "control" in tags.get(obj, ()) else ""), *cells])
     return table(["Object", *data.methods], rows) + [
-        "", "Successes / trials and the rate's Wilson 95 % interval (with 5 trials an interval "
-        "spans some 50 points: tell objects apart with care)."]
+        "", "Successes / trials and the rate's Wilson 95 % interval"
+        f"{_widths(list(tallies.itertuples(index=False)))}."]
+
+
+def _widths(cells: list) -> str:
+    """`` (with 5 trials each, these intervals span 43 to 65 points: ...)``: the widths of
+    the Wilson intervals (:func:`~gbh_drake.experiment.stats.wilson`) of the cells' (trials,
+    successes); "" without cells."""
+    if not cells:
+        return ""
+    sizes = sorted({int(n) for n, _ in cells})
+    widths = sorted({round(100.0 * (hi - lo)) for lo, hi in
+                     (wilson(int(k), int(n)) for n, k in cells)})
+    trials = counted(sizes[0], "trial") if len(sizes) == 1 else \
+        f"{sizes[0]} to {sizes[-1]} trials"
+    span = f"{widths[0]}" if len(widths) == 1 else f"{widths[0]} to {widths[-1]}"
+    return f" (with {trials} each, these intervals span {span} points: tell objects apart " \
+        "with care)"
 
 
 def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
@@ -192,6 +209,8 @@ def per_object_detail(data: ReportInput, suffix: str = "") -> list[str]:
                      counts(mine.grasp_kind.fillna("").replace("", "none")),
                      f"{int(mine.success.sum())}/{len(mine)}",
                      f"{held(mine, 'cage')} / {held(mine, 'pinch')}", counts(mine.outcome)])
+    if not rows:
+        return ["", f"## Per object, in detail{suffix}", "", "No trials yet."]
     return ["", f"## Per object, in detail{suffix}", "",
             "Over each object's trials (its random resting poses): *part found*, trials in which "
             "a hanging structure lay on a true hangable part (the object's ground truth); "
@@ -338,10 +357,13 @@ def timings(data: ReportInput, runs: list[dict]) -> list[str]:
                   "sampler) and plan happen inside the simulation."]
     for run in runs:
         trials, wall = run.get("trials") or 0, run.get("wall") or 0.0
+        reused = run.get("reused") or 0
         lines.append(f"- {run.get('started') or '?'}: {trials} trials on "
                      f"{run.get('engine') or '?'} in {wall / 60:.1f} min "
                      f"({60.0 * trials / wall if wall else 0.0:.2f} trials/min)"
-                     f"{' (interrupted)' if run.get('interrupted') else ''}")
+                     + (f"; {counted(reused, 'trial')} reused from other folders" if reused
+                        else "")
+                     + (" (interrupted)" if run.get("interrupted") else ""))
     return lines
 
 
@@ -361,22 +383,19 @@ def presets_line(frame_or_rows) -> str:
         "values): " + "; ".join(f"{m}: {p} ({n} trials)" for (m, p), n in presets.items())
 
 
-def _count(n: int, noun: str) -> str:
-    return f"{n} {noun}{'' if n == 1 else 's'}"
-
-
-def head(data: ReportInput) -> list[str]:
-    """The title, what ran and how much of it, the commits, the GbH rules."""
+def head(data: ReportInput, command: str = "gbh report") -> list[str]:
+    """The title, what ran and how much of it (rebuilt by ``command``), the commits, the GbH
+    rules."""
     frame = data.frame
     expected = len(data.objects) * len(data.methods) * data.trials * len(data.protocols)
     done = f"{len(frame)} of {expected} trials done" if data.expected else f"{len(frame)} trials"
     protocols = "" if data.protocols == [DEFAULT_PROTOCOL] else \
-        f" x {_count(len(data.protocols), 'protocol')} ({', '.join(data.protocols)})"
+        f" x {counted(len(data.protocols), 'protocol')} ({', '.join(data.protocols)})"
     commits = frame.commit.fillna("").value_counts().sort_index()
     lines = [f"# Experiment {data.name}", "",
-             f"{_count(len(data.objects), 'object')} x {_count(data.trials, 'trial')} x "
-             f"{_count(len(data.methods), 'method')}{protocols}: {done}. Rebuilt from "
-             f"`{ROWS_FILE}` by `gbh report`."]
+             f"{counted(len(data.objects), 'object')} x {counted(data.trials, 'trial')} x "
+             f"{counted(len(data.methods), 'method')}{protocols}: {done}. Rebuilt from "
+             f"`{ROWS_FILE}` by `{command}`."]
     if len(frame) and len(frame) < expected:
         lines += ["", "**Incomplete**: run the same `gbh experiment` command again to finish "
                       "(finished trials are not redone)."]
@@ -389,9 +408,11 @@ def head(data: ReportInput) -> list[str]:
     return lines
 
 
-def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None) -> str:
-    """The whole ``summary.md`` (see the package docstring)."""
-    lines = head(data)
+def summary_markdown(data: ReportInput, *, runs: list[dict] | None = None,
+                     command: str = "gbh report") -> str:
+    """The whole ``summary.md`` (see the package docstring); ``command``: the one writing it
+    (``gbh report`` or ``gbh experiment``), as its head says."""
+    lines = head(data, command)
     parts = per_protocol(data)
     for suffix, one in parts:
         said = [protocol_text(one.protocols[0], data.object_set), ""] if suffix else []
