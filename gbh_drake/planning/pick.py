@@ -78,6 +78,9 @@ CARRY_CHECK_STEP = 0.02
 SLIDE_VOXEL = 0.5
 #: A slide longer than this (m) is said in the plan's notes.
 SLIDE_NOTE = 0.01
+#: The plan's note when the arm cannot lower the object at the place (no set-down planned).
+NO_SET_DOWN = ("no set-down: the arm cannot lower the object at the place; the trial ends "
+               "holding it after the cage test")
 #: IK restarts for the grasp pose (from the measured arm; the reach check's too).
 GRASP_IK_RESTARTS = 3
 #: IK tolerances (m, rad) of the poses where the rods meet the object: the grasp, the closed
@@ -128,13 +131,15 @@ class PickPlan:
     """From the start configuration to ``approach`` (RRT-Connect waypoints, ends included)."""
     q: dict[str, np.ndarray] = field(default_factory=dict)
     """``approach``, ``grasp``, ``closed``, ``lift``, ``carry``, ``place``, then the release's
-    ``opened``, ``down``, ``slide`` and ``retreat`` (:func:`release_path`)."""
+    ``opened``, ``down``, ``slide`` and ``retreat`` (:func:`release_path`); without ``place``
+    and the release's when the arm cannot lower the object at the place (:attr:`sets_down`)."""
     lift: float = 0.0
     """How far (m) the gripper rises after closing."""
     hook_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
     """The point (W, m) the object hangs from when closed, before the lift."""
     place_W: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    """Where (W, m) the hook point is when the object is released."""
+    """Where (W, m) the hook point is when the object is released (without a set-down: at the
+    carry's end)."""
     keep_straight_rod: bool = False
     carry: list[np.ndarray] = field(default_factory=list)
     """The carry's waypoints (rad, 7 each), ``lift`` to ``carry``: the two ends, or Cartesian
@@ -163,6 +168,12 @@ class PickPlan:
     opening: float = float("nan")
     """m: one finger's position for the approach and the insert (the gripper's ``q_open``, or
     a pinch's narrower ``q_pregrasp``); nan in a plan made without it: ``q_open``."""
+
+    @property
+    def sets_down(self) -> bool:
+        """Whether the plan can set the object down after the cage test (the arm lowers it at
+        the place); without, the trial ends holding it, as with ``pick.set_down`` false."""
+        return "place" in self.q
 
     @property
     def lift_short(self) -> float:
@@ -395,8 +406,12 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
             q["place"] = q_place
             break
     if q["place"] is None:
-        return refuse("ik", "place")
-    q.update(release_path(setup.near, q["place"], kind, cfg, bar))
+        # The set-down comes after the verdict (the cage test ends it): a pick whose object
+        # the arm cannot lower at the place is still a pick and carry. It ends holding it.
+        del q["place"]
+        notes.append(NO_SET_DOWN)
+    else:
+        q.update(release_path(setup.near, q["place"], kind, cfg, bar))
 
     if cfg.plan_paths:
         # "descend": from the grasp pose to the closed one as the hand closes (a vertical grasp's
@@ -423,8 +438,8 @@ def plan_pick(setup: PickSetup, X_WG: np.ndarray, kind: str, rank: int, q_start:
         return refuse(transfer, "transfer" if transfer == "planner" else "grasp")
     transfer, descent = transfer
     q["approach"] = transfer[-1]
-    place_W = setup.near.X_WG(q["place"], closed_hand).multiply(
-        X_closed.inverse().multiply(hook_W))  # the hook point at the release
+    place_W = setup.near.X_WG(q.get("place", q["carry"]), closed_hand).multiply(
+        X_closed.inverse().multiply(hook_W))  # the hook point at the release (or the carry's end)
     return PickPlan(rank, kind, bar, transfer, q, lift, np.asarray(hook_W), np.asarray(place_W),
                     keep_straight_rod, carry=carry, descent=descent, carry_low=carry_low,
                     lift_needed=need,

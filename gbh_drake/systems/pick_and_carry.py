@@ -612,7 +612,8 @@ class PickAndCarry(LeafSystem):
     def _after_cage_test(self, context, s: _State, t: float) -> None:
         plan = s.status.plan
         s.command[1] = self._hand.force
-        if self._config.set_down is False:  # the verdict is final: end holding the object
+        if self._config.set_down is False or not plan.sets_down:
+            # The verdict is final: end holding the object (no set-down asked, or none planned).
             s.q_hold, s.arm = np.asarray(plan.q["carry"], dtype=float), None
             self._enter(s, Mode.DONE, t)
             return

@@ -29,3 +29,23 @@ def test_a_mug_set_down_on_its_side_is_left_free_on_the_table_not_carried_off(tm
     assert status.mode is Mode.DONE
     notes = "\n".join(status.set_down_notes)
     assert "set down (load" in notes and "the bar lifts the object again" in notes, notes
+
+
+@pytest.mark.trial
+def test_a_trial_whose_set_down_cannot_be_planned_ends_holding_the_object(tmp_path):
+    """The default mug carried to a place beside the robot's base, where the arm reaches the
+    carry but cannot lower the mug: the grasp is executed (it was refused, 'no IK solution at
+    place', and the trial had no grasp), the verdict is decided at the cage test, and the
+    trial ends there holding the mug, the plan saying why."""
+    scenario = load_scenario(SCENARIOS_DIR / "default.yaml")
+    scenario.output_dir = str(tmp_path / "out")
+    scenario.pick.place_position = [0.1, 0.2]
+    trial = build_trial(scenario)
+    simulator, record = simulate_trial(trial)
+    assert record.success and record.held_by == "cage", record.reason
+    assert any(note.startswith("no set-down") for note in record.plan_notes), record.plan_notes
+    assert "lower" not in record.phases and "cage_test" in record.phases
+    assert not record.verdict.released_on_table
+    status = trial.pick.GetOutputPort("status").Eval(
+        trial.pick.GetMyContextFromRoot(simulator.get_context()))
+    assert status.mode is Mode.DONE and not status.set_down_notes
