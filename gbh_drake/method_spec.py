@@ -110,7 +110,7 @@ def method_names() -> tuple[str, ...]:
 
 for _spec in (
     MethodSpec("gbh", "Grasping by Hanging (the paper): hanging structures, hook grasps, the "
-               "ranked top 10"),
+               "ranked best"),
     MethodSpec("antipodal", "the learning-free antipodal baseline: two straight rods (the bar "
                "folded)", bar_angle=BAR_RETRACTED, hooks=False),
     MethodSpec("gbh_fallback", "GbH first; when it offers nothing reachable, the best antipodal "

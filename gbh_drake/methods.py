@@ -207,7 +207,7 @@ def _gbh_source(systems: dict[str, System], report, *tiers: GraspTier) -> GraspS
 
 
 class Gbh(GraspMethod):
-    """Grasping by Hanging (the paper): hanging structures, hook grasps, the ranked top 10."""
+    """Grasping by Hanging (the paper): hanging structures, hook grasps, the ranked best."""
 
     spec = method_spec("gbh")
 

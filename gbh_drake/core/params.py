@@ -322,11 +322,12 @@ class GbhParams:
     """*paper*, rad^2: S_alpha = exp(-alpha^2 / gamma_alpha)."""
     gamma_beta: float = ranged(2.0, Pos(100.0, "rad^2"))
     """*paper*, rad^2: S_beta = exp(-beta^2 / gamma_beta) when m_i < 1."""
-    top_k: int = ranged(10, Int(1, 100))
-    """*paper*: number of best grasps returned for execution. Preset ``robust``: 40, of which
-    the planner tries the best ``pick.max_grasps`` (10) the arm reaches (``pick.reach_check``):
-    the paper's ten may all lie out of reach (a pot on its side, every one of them on the far
-    handle: scores 1e-6 to 1e-16) while the near handle's rank lower (docs/robustness.md)."""
+    top_k: int = ranged(40, Int(1, 100))
+    """Number of best grasps returned for execution (the paper's ten: preset ``paper``). Of
+    these the planner tries the best ``pick.max_grasps`` (10) the arm reaches
+    (``pick.reach_check``): the paper's ten may all lie out of reach (a pot on its side, every
+    one of them on the far handle: scores 1e-6 to 1e-16) while the near handle's rank lower;
+    the ten reachable of forty are planned instead (docs/robustness.md, "More grasps offered")."""
     distinct_distance: float = ranged(0.005, NonNeg(0.05, "m", "0 with distinct_angle_deg 0: "
                                                              "no de-duplication"))
     """Ours (beyond the paper), metres: the ranked list holds distinct grasps. A grasp whose
@@ -397,17 +398,15 @@ class GbhParams:
 #: the closed loop holds material, ties ranked as made, a refused cluster given up). ``robust``:
 #: the provisional rules of issue 42 on at their provisional values, opt-in until swept over
 #: both object sets (docs/robustness.md): the hang's slide in the score, four hanging positions
-#: per cluster, the rods' 2.5 mm clearance, the best 40 grasps ranked (the planner tries the
-#: ten best the arm reaches).
+#: per cluster, the rods' 2.5 mm clearance.
 PRESETS: dict[str, dict] = {
     "": {},
     "paper": {"snap_tilt_max_deg": 0.0, "approach_rotations_deg": [0.0],
               "contact_angle_deg": 30.0, "unknown_is_occupied": False,
               "distinct_distance": 0.0, "distinct_angle_deg": 0.0, "d1_centred": False,
               "loop_must_enclose": False, "ties_by_collisions": False,
-              "cluster_fallback": False},
-    "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025,
-               "top_k": 40},
+              "cluster_fallback": False, "top_k": 10},
+    "robust": {"hang_slide_scale": 0.02, "positions_per_cluster": 4, "rod_clearance": 0.0025},
 }
 #: The fields a preset may set.
 _PRESET_FIELDS = tuple(dict.fromkeys(k for values in PRESETS.values() for k in values))

@@ -24,7 +24,7 @@ hold where the first slipped off), rather than ending the trial with grasps untr
 **The cut by reach** (beyond the paper): with ``reach``, a cheap check (the IK of the grasp
 pose from the measured arm, the first step of planning it) runs first, and a grasp the arm
 cannot reach is refused without counting toward ``max_grasps``: of a tier's ranked grasps (GbH
-offers ``GbhParams.top_k``: 10, preset ``robust`` 40), the best ``max_grasps`` the arm reaches
+offers ``GbhParams.top_k``: 40, preset ``paper`` 10), the best ``max_grasps`` the arm reaches
 are planned. Without it, the first ``max_grasps`` are (the paper's ten: a pot on its side with
 all ten on the far handle is never hooked by the near one).
 """

@@ -65,7 +65,7 @@ def add_subcommand(sub) -> None:
                    help="also write a static Meshcat page of the scan, its hanging "
                         "structures, the ranked grasps and the closest refused ones")
     p.add_argument("--top", type=int, metavar="K",
-                   help="how many grasps (default GbhParams.top_k: 10; distinct)")
+                   help="how many grasps (default GbhParams.top_k: 40; distinct)")
     p.add_argument("--preset", choices=["paper"],
                    help="'paper': the paper's rules alone (no turned approaches, unseen space "
                         "free, no de-duplication)")

@@ -216,7 +216,7 @@ class PickConfig:
     """Beyond the paper: before a grasp is planned, the IK of its grasp pose from the measured
     arm (the planner's first step) decides whether the arm reaches it; one it does not is
     refused without counting toward ``max_grasps``, so the best ``max_grasps`` *reachable* of
-    the ranked grasps are planned (GbH ranks ``gbh.top_k``: 10, preset ``robust`` 40). With no
+    the ranked grasps are planned (GbH ranks ``gbh.top_k``: 40, preset ``paper`` 10). With no
     more grasps offered than ``max_grasps`` (the defaults: 10 and 10) it refuses exactly what
     planning would (the same IK call, seeded by the pose), so it changes no verdict; it does
     when a tier offers more. False: the first ``max_grasps``, reachable or not."""

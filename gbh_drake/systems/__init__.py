@@ -7,7 +7,7 @@ Perception and grasps:
   on input ports, real or simulated);
 * :class:`ShapeCompleter`: the scan's unseen side completed by symmetry (beyond the paper);
 * :class:`HangabilityDetector` -> :class:`GraspSynthesizer` -> :class:`GraspScorer`: the
-  paper's three stages (hanging structures, hook grasps, the ranked top 10);
+  paper's three stages (hanging structures, hook grasps, the ranked best);
 * :class:`AntipodalGraspSampler`: the two-straight-rod baseline on the same scan;
 * :class:`ScoopSynthesizer` (scoops of flat material) and :class:`RegraspPlanner` (resting
   poses to set the object down in), on the detector's structures (beyond the paper);

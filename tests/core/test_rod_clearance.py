@@ -119,7 +119,7 @@ def test_the_lazy_check_ranks_as_checking_more_would():
     clear (a copy takes no place in the ranking): the ten ranked are the first ten of a
     ranking that checked until a hundred were clear, and every one of them was checked."""
     mesh = make_object("mug_classic").mesh
-    lazy = plan_grasps(mesh, GbhParams(rod_clearance=0.0025), seed=0).ranked
+    lazy = plan_grasps(mesh, GbhParams(rod_clearance=0.0025, top_k=10), seed=0).ranked
     more = plan_grasps(mesh, GbhParams(rod_clearance=0.0025, top_k=100), seed=0).ranked
     assert len(lazy) == 10 and all(g.rod_contacts == 0 for g in lazy)
     assert [g.X_WG.tobytes() for g in lazy] == [g.X_WG.tobytes() for g in more[:10]]

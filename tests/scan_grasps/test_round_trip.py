@@ -94,7 +94,7 @@ def test_gbh_run_writes_its_scan_and_gbh_grasps_ranks_them_the_same(tmp_path, ca
         assert (out / name).is_file(), name
     run_doc = json.loads((out / "grasps.json").read_text())
     jsonschema.validate(run_doc, JSON_SCHEMA)
-    assert run_doc["input"]["kind"] == "simulation" and len(run_doc["grasps"]) == 10
+    assert run_doc["input"]["kind"] == "simulation" and len(run_doc["grasps"]) > 10
     again = tmp_path / "again.json"
     assert main(["grasps", str(out / "views"), "--out", str(again)]) == 0
     doc = json.loads(again.read_text())

@@ -7,6 +7,7 @@ import pytest
 
 import gbh_drake
 from gbh_drake import REPO_ROOT
+from gbh_drake.core.params import GbhParams
 from gbh_drake.scan_grasps.inputs import NO_FREE_SPACE, load_input
 
 pytestmark = pytest.mark.sim
@@ -25,7 +26,7 @@ def sample():
 def test_the_sample_views_hook_the_handle(sample):
     assert sample.input_kind == "depth_images" and sample.free_space
     assert sample.scan.table.source == "verified" or sample.table_source == "given"
-    assert len(sample.grasps) == 10 and sample.hangability.exit_proof
+    assert 10 < len(sample.grasps) <= GbhParams().top_k and sample.hangability.exit_proof
     c = sample.structures[sample.grasps[0].structure].c
     assert np.linalg.norm(c - HANDLE_B) < 0.01
     assert sample.grasps[0].terms["alpha_deg"] < 20.0  # from above
