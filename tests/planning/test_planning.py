@@ -84,6 +84,24 @@ def test_ik_restarts_find_what_one_seed_misses():
     np.testing.assert_array_equal(found, model.ik(X_WG, q_home, OPEN, restarts=3))
 
 
+def test_an_ik_solution_in_which_the_arm_meets_itself_is_no_solution():
+    """A pose (found by a seeded search over the workspace) for which SNOPT, from the home
+    configuration, folds the arm into the hand: that configuration is refused (without
+    restarts, no solution), and the restarts find one in which the robot does not meet
+    itself, deterministically."""
+    model = PlanningModel(Scenario().directives, padding=0.002)
+    X_WG = RigidTransform(RollPitchYaw([-0.249, 0.047, 1.82]), [0.603, -0.146, 0.228])
+    q_home = np.asarray(Scenario().robot.q_home)
+    folded = model._ik_from(X_WG, q_home, OPEN, 1e-3, 1e-2)
+    assert folded is not None and model.self_colliding(folded, OPEN)
+    assert model.ik(X_WG, q_home, OPEN, restarts=0) is None
+    found = model.ik(X_WG, q_home, OPEN, restarts=3)
+    assert found is not None and not model.self_colliding(found, OPEN)
+    np.testing.assert_allclose(model.X_WG(found, OPEN).translation(), X_WG.translation(),
+                               atol=1.01e-3)
+    np.testing.assert_array_equal(found, model.ik(X_WG, q_home, OPEN, restarts=3))
+
+
 def test_an_edge_can_move_the_hand_with_the_arm():
     """``edge_free(q_a, q_b, hand, hand_b)`` interpolates the fingers with the arm: a block where
     the open straight rod is blocks the open hand and a closing one (it starts open), not the
