@@ -96,7 +96,10 @@ def test_report_rebuilds_the_same_summary(first_run, tmp_path, capsys):
     (copy / "summary.md").unlink()
     (copy / "success.png").unlink()
     assert main(["report", str(copy)]) == 0
-    assert (copy / "summary.md").read_text() == (folder / "summary.md").read_text()
+    rebuilt, written = (copy / "summary.md").read_text(), (folder / "summary.md").read_text()
+    # The same summary, but for the command its head says wrote it.
+    assert "by `gbh experiment`" in written and "by `gbh report`" in rebuilt
+    assert rebuilt.replace("by `gbh report`", "by `gbh experiment`") == written
     assert (copy / "success.png").is_file()
     assert "| gbh-10 | 10 | 4 |" in re.sub(" +", " ", capsys.readouterr().out)
 
