@@ -147,15 +147,20 @@ def test_a_run_that_only_reuses_logs_its_run(user_set, capsys):
            "other folders" in summary
 
 
+def _refused(experiment) -> str:
+    """The text of the ExperimentError that loading the file ``experiment`` raises."""
+    with pytest.raises(ExperimentError) as error:
+        load_experiment(experiment)
+    return str(error.value)
+
+
 def test_an_entry_without_a_natural_rest_is_named_where_the_user_chose_it(user_set):
     """With ``objects`` left out (every object of the set) it said ``objects[0] 'block'``, an
     index of no list in the experiment file: now the set's entry; a listed object is named by
     its entry of the experiment's ``objects``."""
     (user_set / "set.yaml").write_text(SET.replace("    rest: {as_given: true, reason: on "
                                                    "its base}\n", ""))
-    with pytest.raises(ExperimentError) as error:
-        load_experiment(user_set / "exp.yaml")
-    assert str(error.value).startswith(
+    assert _refused(user_set / "exp.yaml").startswith(
         f"{user_set / 'exp.yaml'}: protocols[0] (line 4): natural: object_set "
         f"{user_set / 'set.yaml'}: objects[0] (block) (line 2) has no natural rest declared in "
         "the object set (1 object without: block)")
@@ -183,9 +188,7 @@ def test_an_object_that_cannot_be_simulated_is_refused_before_any_trial(user_set
     trimesh.creation.box((60.0, 80.0, 100.0)).export(user_set / "big_mm.stl")
     (user_set / "set.yaml").write_text(SET + "  - {name: big, mesh: big_mm.stl, mass: 0.3}\n")
     (user_set / "exp.yaml").write_text((user_set / "exp.yaml").read_text() + objects)
-    with pytest.raises(ExperimentError) as error:
-        load_experiment(user_set / "exp.yaml")
-    assert str(error.value).startswith(
+    assert _refused(user_set / "exp.yaml").startswith(
         f"{user_set / 'exp.yaml'}: {field}: {user_set / 'set.yaml'}: objects[2] (big).scale "
         f"(line 9): {user_set / 'big_mm.stl'}: largest extent 100 m is larger than the "
         "workspace (> 1.2 m): looks like millimetres: give scale: 0.001 (then 10 cm)")
