@@ -108,10 +108,12 @@ def cloud_spacing(points: np.ndarray) -> float:
     return float(np.median(distance[:, 1]))
 
 
-def find_object(points: np.ndarray, config, *, table=None, target=None) -> CloudObject:
+def find_object(points: np.ndarray, config, *, table=None, target=None,
+                cli: bool = True) -> CloudObject:
     """The table and the object's points in the cloud ``points`` (n, 3, m), as a scan segments
     them. ``table``: a ``TablePlane`` (None: fitted, else under the lowest point); ``target``
-    (3,): where the object is (None: the median of the points above the table)."""
+    (3,): where the object is (None: the median of the points above the table). ``cli``: its
+    messages name ``gbh grasps``' flags (``--target``), else ``gbh_drake.grasps``' arguments."""
     from gbh_drake.perception.crop import CropBox
     from gbh_drake.perception.segment import segment_points
     from gbh_drake.perception.table import fit_table_plane
@@ -134,14 +136,15 @@ def find_object(points: np.ndarray, config, *, table=None, target=None) -> Cloud
     if len(inside) == 0:
         return CloudObject(table, f"empty scan: no point of the cloud lies in the workspace "
                            f"round {where} {point_text(target)} (+-{config.crop_half_size_xy:g} "
-                           f"m in x and y; the points: {_span(points)}): give --target where "
-                           "the object is", none, target, inside)
+                           f"m in x and y; the points: {_span(points)}): give "
+                           f"{_setting('target', cli)} where the object is", none, target, inside)
     segmentation = segment_points(inside, table, config, target, box)
     if not segmentation.found:
         return CloudObject(table, f"empty scan: no cluster of the cloud stands on the table "
                            f"within {config.object_search_radius:g} m of {where} "
                            f"{point_text(target)}"
-                           + _dropped_text(segmentation.dropped, config), none, target, inside)
+                           + _dropped_text(segmentation.dropped, config, cli), none, target,
+                           inside)
     object_points = inside[segmentation.object_mask]
     column = np.vstack([object_points, under_footprint(points, object_points, table)])
     return CloudObject(table, "", column, target, inside, object_points)
@@ -185,19 +188,28 @@ def _span(points: np.ndarray) -> str:
     return f"{point_text(points.min(axis=0))} to {point_text(points.max(axis=0))} in B"
 
 
-def _dropped_text(dropped: dict[str, int], config) -> str:
+def _setting(name: str, cli: bool) -> str:
+    """The setting ``name`` as the caller gives it (:func:`~.inputs.setting`)."""
+    from gbh_drake.scan_grasps.inputs import setting
+
+    return setting(name, cli, given=True)
+
+
+def _dropped_text(dropped: dict[str, int], config, cli: bool = True) -> str:
     """The clusters ``segment_points`` dropped, each reason with what it means and the option
-    that may fix it ("" when none was)."""
+    that may fix it ("" when none was), named as the caller gives it (``cli``: a flag)."""
     base = ", ".join(f"{v:g}" for v in config.robot_base_xy)
     means = {
         "too small": f"under {config.min_cluster_points} points",
         "robot": f"within {config.robot_clearance:g} m of the robot's base at x, y = {base} m "
                  "in B, taken for the robot's own points: a cloud in another frame, e.g. the "
-                 "object's own, centred at its origin? give its pose in B with --frame",
+                 f"object's own, centred at its origin? give its pose in B with "
+                 f"{_setting('frame', cli)}",
         "not on the table": f"their lowest point over {config.support_gap * 1e3:g} mm above the "
-                            "table: give --table-z or --table-plane if it is elsewhere",
-        "too far": f"over {config.object_search_radius:g} m from it: give --target where the "
-                   "object is",
+                            f"table: give {_setting('table_z', cli)} or "
+                            f"{_setting('table_plane', cli)} if it is elsewhere",
+        "too far": f"over {config.object_search_radius:g} m from it: give "
+                   f"{_setting('target', cli)} where the object is",
     }
     said = [f"{n} {reason} ({means[reason]})" for reason, n in dropped.items() if n]
     return f"; clusters dropped: {'; '.join(said)}" if said else ""

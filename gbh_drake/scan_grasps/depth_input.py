@@ -68,6 +68,7 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
     )
     from gbh_drake.perception.self_filter import without_pixels
     from gbh_drake.perception.table import fit_table_plane
+    from gbh_drake.scan_grasps.inputs import setting
     from gbh_drake.scan_grasps.table import table_plane
 
     config = scan_config(views)
@@ -111,7 +112,9 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
     source = "given" if given is not None else scan.table.source if scan.table else "assumed"
     if source == "assumed":
         notes.append(f"no table plane found in the depth images: assumed at z = "
-                     f"{config.table_height:g} m in B; give --table-z or --table-plane")
+                     f"{config.table_height:g} m in B; give "
+                     f"{setting('table_z', options.cli, given=True)} or "
+                     f"{setting('table_plane', options.cli, given=True)}")
     return scan, source, notes
 
 

@@ -237,7 +237,7 @@ def _point_cloud(path: Path, points: np.ndarray, options: InputOptions) -> ScanI
 
     config = ScanConfig()
     table = table_plane(options.table) if options.table is not None else None
-    found = find_object(points, config, table=table, target=options.target)
+    found = find_object(points, config, table=table, target=options.target, cli=options.cli)
     warnings = [] if table is None else check_table_under(
         path, options.table_option, table, found.column,
         "the object's points (with the cloud's under it)" if found.object_points is not None

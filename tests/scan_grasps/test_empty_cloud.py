@@ -1,5 +1,6 @@
 """A point cloud in which no object is found is a result, not a crash: ``none: empty_scan`` with
-why (and the option that may fix it), exit 0, the document valid and holding the table."""
+why (and the option that may fix it: the argument, ``target=``, or the flag, ``--target``),
+exit 0, the document valid and holding the table."""
 
 import json
 
@@ -47,7 +48,7 @@ def test_a_cloud_in_the_objects_own_frame_says_give_its_pose(tmp_path):
     np.save(tmp_path / "c.npy", box_cloud((0.0, 0.0)))
     r = gbh_drake.grasps(tmp_path / "c.npy", target=[0.0, 0.0, 0.05])
     _empty(r, "empty scan: no cluster of the cloud stands on the table within 0.3 m of the "
-              f"target (0.000, 0.000, 0.050) m; {ROBOT}")
+              f"target (0.000, 0.000, 0.050) m; {ROBOT.replace('--frame', 'frame=')}")
 
 
 def test_the_command_exits_0_with_the_reason(tmp_path, capsys):
@@ -77,7 +78,7 @@ def test_a_target_away_from_the_cloud_says_where_its_points_are(tmp_path):
     r = gbh_drake.grasps(tmp_path / "c.npy", target=[5.0, 5.0, 5.0])
     _empty(r, "empty scan: no point of the cloud lies in the workspace round the target "
               "(5.000, 5.000, 5.000) m (+-0.6 m in x and y; the points: (0.510, -0.040, 0.000) "
-              "m to (0.590, 0.040, 0.100) m in B): give --target where the object is")
+              "m to (0.590, 0.040, 0.100) m in B): give target= where the object is")
 
 
 def test_a_cloud_in_millimetres_scaled_reads_in_metres(tmp_path):
