@@ -56,10 +56,11 @@ def grasps_as(cli: bool, input, *, scale: float = 1.0, table_z: float | None = N
               table_plane=None, frame=None, target=None, params=None, preset: str | None = None,
               seed: int | None = None, top: int | None = None, pick=None) -> GraspsResult:
     """:func:`grasps`, the input's problems naming ``gbh grasps``' flags (``--scale``) when
-    ``cli``, else the arguments (``scale=``: :func:`~.inputs.setting`)."""
+    ``cli``, else the arguments (``scale=``: :func:`~.errors.setting`)."""
     from gbh_drake.core.gripper import HOOK_GRIPPER
     from gbh_drake.core.pipeline import plan_grasps
-    from gbh_drake.scan_grasps.inputs import InputOptions, load_input, setting
+    from gbh_drake.scan_grasps.errors import setting
+    from gbh_drake.scan_grasps.inputs import InputOptions, load_input
     from gbh_drake.scan_grasps.result import make_result
 
     start = time.perf_counter()

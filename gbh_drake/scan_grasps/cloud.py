@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gbh_drake.scan_grasps.errors import GraspsInputError
+from gbh_drake.scan_grasps.errors import GraspsInputError, setting
 from gbh_drake.scan_grasps.table import plane_text, point_text, under
 
 #: Points below this count are not an object.
@@ -189,9 +189,7 @@ def _span(points: np.ndarray) -> str:
 
 
 def _setting(name: str, cli: bool) -> str:
-    """The setting ``name`` as the caller gives it (:func:`~.inputs.setting`)."""
-    from gbh_drake.scan_grasps.inputs import setting
-
+    """The setting ``name`` as the caller gives it a value (:func:`~.errors.setting`)."""
     return setting(name, cli, given=True)
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gbh_drake.scan_grasps.errors import GraspsInputError
+from gbh_drake.scan_grasps.errors import GraspsInputError, setting
 from gbh_drake.scan_grasps.views import ViewSet, ViewsFile
 
 #: Camera axes closer to parallel than this (sin of the angle) do not fix a target point.
@@ -68,7 +68,6 @@ def scan_views(views: ViewsFile, options) -> tuple[object, str, list[str]]:
     )
     from gbh_drake.perception.self_filter import without_pixels
     from gbh_drake.perception.table import fit_table_plane
-    from gbh_drake.scan_grasps.inputs import setting
     from gbh_drake.scan_grasps.table import table_plane
 
     config = scan_config(views)

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gbh_drake.scan_grasps.errors import GraspsInputError
+from gbh_drake.scan_grasps.errors import GraspsInputError, setting
 from gbh_drake.scan_grasps.table import plane_text, table_plane, under
 
 #: Suffixes read as meshes, and as point clouds (a .ply is a cloud when it has no faces).
@@ -42,15 +42,6 @@ BELOW_TABLE = 0.005
 #: the object, or lies elsewhere); above at least :data:`BELOW_TABLE_WARNING` of them, warned of.
 BELOW_TABLE_REFUSAL = 0.5
 BELOW_TABLE_WARNING = 0.01
-
-
-def setting(name: str, cli: bool, *, given: bool = False) -> str:
-    """The setting ``name`` (``table_z``) as its caller names it: the flag ``--table-z`` of
-    ``gbh grasps`` (``cli``), else the argument ``table_z`` of ``gbh_drake.grasps``
-    (``given``: as a value is given to it, ``table_z=``)."""
-    if cli:
-        return "--" + name.replace("_", "-")
-    return f"{name}=" if given else name
 
 
 #: The note when there is no free space (a mesh, a point cloud).
@@ -99,7 +90,7 @@ class InputOptions:
     """What gave ``table``, as a refusal of it names it (``table_z``, ``--table-plane``)."""
     cli: bool = False
     """The caller is ``gbh grasps``: problems name its flags (``--scale``), else the arguments
-    of ``gbh_drake.grasps`` (``scale``; :func:`setting`)."""
+    of ``gbh_drake.grasps`` (``scale``; :func:`~.errors.setting`)."""
 
 
 def load_input(path, options: InputOptions = InputOptions()) -> ScanInput:
@@ -146,7 +137,7 @@ def check_units(path: Path, points: np.ndarray, what: str, scale: float = 1.0, *
                 cli: bool) -> None:
     """Refuses a point cloud whose coordinates (``points`` (n, 3), m after ``scale``) are not
     metres: a largest extent over :data:`MAX_INPUT_EXTENT`, with the scale that brings it
-    under (``objects.plausibility.scale_hint``), named as ``cli`` says (:func:`setting`)."""
+    under (``objects.plausibility.scale_hint``), named as ``cli`` says (:func:`~.errors.setting`)."""
     from gbh_drake.objects.plausibility import MIN_EXTENT, scale_hint
 
     extent = points.max(axis=0) - points.min(axis=0)
@@ -163,7 +154,7 @@ def check_object_size(path: Path, mesh, what: str, scale: float = 1.0, *,
     """Refuses an object (``mesh``, m after ``scale``, in B) ``gbh run`` refuses: smaller than
     the scan and the gripper sense or larger than the workspace
     (``objects.plausibility.size_refusal``), with the scale that fixes it, named as ``cli``
-    says (:func:`setting`)."""
+    says (:func:`~.errors.setting`)."""
     from gbh_drake.objects.plausibility import size_refusal
 
     refusal = size_refusal(mesh, scale, field=setting("scale", cli, given=True))
@@ -178,7 +169,7 @@ def check_table_under(path: Path, option: str, table, points: np.ndarray, what: 
     table in another frame or at the wrong height, which GbH would take the object for lying
     under. Returns the warning when it cuts off fewer (at least
     :data:`BELOW_TABLE_WARNING`), else none. ``option`` names what gave the table, ``what``
-    the points; ``cli``: how the frame's setting is named (:func:`setting`)."""
+    the points; ``cli``: how the frame's setting is named (:func:`~.errors.setting`)."""
     if not len(points):
         return []
     heights = table.heights(points)

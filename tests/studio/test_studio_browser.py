@@ -127,8 +127,11 @@ def test_gbh_studio_in_the_browser_scan_keeps_detect_and_reset_stops_execute():
                 stopped = next_line(60)
                 assert stopped.startswith("stopped by Reset after ") and \
                     "s simulated: " in stopped, stopped
+                # The controls are rebuilt after Reset: wait for the page's last state (a
+                # query between the rebuild's steps saw neither the pick nor the rank slider).
                 lines = _wait(page, lambda lines: not any(
-                    line.startswith(("· executing", "· stopped")) for line in lines))
+                    line.startswith(("· executing", "· stopped")) for line in lines)
+                    and RANK in lines and any(line.startswith("· detect:") for line in lines))
                 assert RANK in lines and any(line.startswith("· detect:") for line in lines)
             finally:
                 browser.close()
