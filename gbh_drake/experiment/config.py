@@ -403,11 +403,11 @@ def _object_where(experiment: Experiment, object_set, j: int) -> str:
     'block' (line 7)``, naming the layer when another than the protocols' wrote it), or, with
     ``objects`` left out (every object of ``object_set``), the set's entry (``object_set
     set.yaml: objects[1] (block) (line 3)``)."""
-    name = experiment.objects[j]
-    if _layers(experiment).node(("objects", j)) is not None or object_set is None:
-        written, line = _layers(experiment).wrote(("objects", j))
+    name, layers = experiment.objects[j], _layers(experiment)
+    if layers.node(("objects", j)) is not None or object_set is None:
+        written, line = layers.wrote(("objects", j))
         where = f"line {line}" if line else ""
-        if written and written != _layers(experiment).wrote(("protocols",))[0]:
+        if written and written != layers.wrote(("protocols",))[0]:
             where = f"{written}, {where}"  # (another layer than the error's: --set)
         return f"objects[{j}] {name!r}" + (f" ({where})" if where else "")
     from gbh_drake.objects.sets import written_line

@@ -216,9 +216,10 @@ def _mesh(path: Path, options: InputOptions) -> ScanInput:
     scan = ScanResult(mesh, vertices, table=table, warnings=warnings)
     notes = [NO_FREE_SPACE]
     if table.source == "lowest point":
+        given = [setting(name, options.cli, given=True) for name in ("table_z", "table_plane")]
         notes.append(f"the table: horizontal, under the mesh's lowest point (z = "
-                     f"{table.height:.4f} m in B); give {setting('table_z', options.cli)} or "
-                     f"{setting('table_plane', options.cli)} if it is elsewhere")
+                     f"{table.height:.4f} m in B); give {given[0]} or {given[1]} if it is "
+                     "elsewhere")
     return ScanInput("mesh", str(path), scan, table.source, notes)
 
 

@@ -314,6 +314,10 @@ def test_the_python_call_names_its_arguments_not_the_flags(tmp_path):
     _write(tmp_path, _views(tmp_path))
     with pytest.raises(GraspsInputError, match=f"^{tmp_path}: scale: scales a mesh"):
         gbh_drake.grasps(tmp_path, scale=0.001)
+    # A mesh's table note names the arguments too.
+    small = _box_file(tmp_path / "small.stl", (0.08, 0.08, 0.1))
+    assert any(note.endswith("give table_z= or table_plane= if it is elsewhere")
+               for note in gbh_drake.grasps(small).notes)
 
 
 def test_scale_on_depth_images_is_refused(tmp_path, capsys):
