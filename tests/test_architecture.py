@@ -12,12 +12,13 @@ from gbh_drake import REPO_ROOT
 PACKAGE = REPO_ROOT / "gbh_drake"
 #: Configuration modules: they may import Drake's config structs, never the pipeline.
 CONFIG_MODULES = ("gbh_drake.scenario", "gbh_drake.scenario.schema", "gbh_drake.core.ranges",
-                  "gbh_drake.yamlfiles.layers", "gbh_drake.core.params",
+                  "gbh_drake.yamlfiles.layers", "gbh_drake.core.params", "gbh_drake.core.pick_config",
                   "gbh_drake.perception.config", "gbh_drake.modeling.names",
                   "gbh_drake.modeling.directives", "gbh_drake.modeling.object_config",
                   "gbh_drake.seeds")
 #: Modules that import no Drake at all (the core's rules, the station's names).
-DRAKE_FREE = ("gbh_drake.core.ranges", "gbh_drake.core.params", "gbh_drake.modeling.names")
+DRAKE_FREE = ("gbh_drake.core.ranges", "gbh_drake.core.params", "gbh_drake.core.pick_config",
+              "gbh_drake.modeling.names")
 #: What the configuration must not pull in.
 PIPELINE = ("gbh_drake.perception.", "gbh_drake.planning", "gbh_drake.systems",
             "gbh_drake.station", "gbh_drake.trial", "gbh_drake.run", "gbh_drake.experiment",

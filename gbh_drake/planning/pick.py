@@ -44,13 +44,13 @@ from pydrake.math import RigidTransform, RotationMatrix
 from gbh_drake.core.gripper import HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.hanging_pose import LoopRest, hanging_lowest_height, rest_on_loop
 from gbh_drake.core.params import AntipodalParams
+from gbh_drake.core.pick_config import PickConfig
 from gbh_drake.core.pinch import PinchSwing, lowest_any_turn, pinch_swing
 from gbh_drake.core.results import PARALLEL, GraspKind
 from gbh_drake.core.sliding import MaterialGraph, material_graph
 from gbh_drake.core.unseen import farthest_distance
 from gbh_drake.planning.model import HandPose, PlanningModel
 from gbh_drake.planning.rrt import plan_rrt_connect
-from gbh_drake.scenario.schema import PickConfig
 
 #: Steps (m) by which the approach pose backs off until it is clear of the object's hull.
 APPROACH_STEP = 0.05

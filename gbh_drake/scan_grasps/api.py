@@ -106,9 +106,9 @@ def _check_arguments(input, table_z, frame, target, seed, top, params, pick):
     (4, 4) array or None."""
     from gbh_drake.core.arguments import argument_problem, require
     from gbh_drake.core.params import GbhParams
+    from gbh_drake.core.pick_config import PickConfig
     from gbh_drake.core.ranges import is_number
     from gbh_drake.scan_grasps.poses import check_pose
-    from gbh_drake.scenario.schema import PickConfig
 
     def refuse(name, expected, value):
         raise ValueError(argument_problem("grasps", name, expected, value))

@@ -114,12 +114,12 @@ def make_result(*, structures_W: list[HangingStructure], candidates_W: list[Gras
     ``candidates_W``, ``ranked_W``) with the scan ``scan_B`` and the table ``table_B`` already
     in B, ``X_BW`` (4, 4; None: W is B); ``pick``: a ``PickConfig`` for the waypoints
     (default: the scenario's defaults)."""
+    from gbh_drake.core.pick_config import PickConfig
     from gbh_drake.core.rejections import (
         closest_rejected,
         count_rejections,
         no_grasp_message,
     )
-    from gbh_drake.scenario.schema import PickConfig
 
     pick = PickConfig() if pick is None else pick
     X = np.eye(4) if X_BW is None else np.asarray(X_BW, dtype=float)

@@ -82,6 +82,7 @@ from pydrake.systems.framework import BasicVector, LeafSystem
 
 from gbh_drake.core.gripper import BAR_DEPLOYED, BAR_RETRACTED, HOOK_GRIPPER, HookGripperGeometry
 from gbh_drake.core.params import RegraspParams, ScoopParams
+from gbh_drake.core.pick_config import PickConfig
 from gbh_drake.core.results import GraspKind
 from gbh_drake.messages import FINAL_MODES, Attempt, Mode, PickStatus
 from gbh_drake.method_spec import Tier
@@ -108,7 +109,7 @@ from gbh_drake.planning.trajectories import (
     polyline_path,
     sample,
 )
-from gbh_drake.scenario.schema import HandConfig, PickConfig
+from gbh_drake.scenario.schema import HandConfig
 from gbh_drake.systems.scanner import no_scan, scan_pending
 from gbh_drake.systems.stage import CopiedShallowly
 
