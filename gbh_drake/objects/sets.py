@@ -273,7 +273,10 @@ def _check(manifest: ObjectSetManifest) -> None:
         if entry.source is not None:
             check_fields(entry.source, at + ("source",))
         for j, part in enumerate(entry.hangable_parts):
-            check_fields(part, at + ("hangable_parts", j))
+            try:
+                check_fields(part, at + ("hangable_parts", j))
+            except FieldError as e:
+                raise _with_scale_hint(e, entry) from None
         if entry.builtin:
             from gbh_drake.objects import list_objects
 
@@ -285,6 +288,17 @@ def _check(manifest: ObjectSetManifest) -> None:
             raise FieldError(at + ("name",), f"{name!r} is the name of objects[{seen[name]}] "
                                              "too; give each object its own name")
         seen[name] = i
+
+
+def _with_scale_hint(error: FieldError, entry: SetEntry) -> FieldError:
+    """``error`` of a part's length out of range, with what most often causes it: the part in
+    the file's units (millimetres) where ``scale`` is 1 (parts are in metres after ``scale``)."""
+    length = "clear_diameter" in error.path or "center" in error.path
+    if entry.scale != 1.0 or not length:
+        return error
+    return FieldError(error.path, f"{error.problem}: parts are in metres, after the entry's "
+                                  "scale; a mesh in millimetres needs scale: 0.001 and its "
+                                  "parts in metres", error.other)
 
 
 def set_object(object_set: ObjectSet, index: int) -> SetObject:

@@ -211,6 +211,27 @@ def test_a_set_mesh_whose_size_cannot_be_simulated_is_refused_as_a_plain_mesh_is
     assert max(load_object_set(scaled).rest_mesh("my_mug").extents) == pytest.approx(0.1325)
 
 
+@pytest.mark.parametrize("part, field, scale, hinted", [
+    ("{center: [58, 47.5, 0], axis: [0, 0, 1], clear_diameter: 30}", "center[0]", "", True),
+    ("{center: [0.058, 0.047, 0], axis: [0, 0, 1], clear_diameter: 30}", "clear_diameter", "",
+     True),
+    # scale given: the part's length is wrong by itself, no millimetre hint
+    ("{center: [0.058, 0.047, 0], axis: [0, 0, 1], clear_diameter: 30}", "clear_diameter",
+     "    scale: 0.001\n", False),
+])
+def test_a_part_in_millimetres_names_the_missing_scale(meshes, part, field, scale, hinted):
+    """The mug's handle written in millimetres, as its file is: the part's range refused it
+    before the mesh's size could say "looks like millimetres", with nothing about scale."""
+    path = write(meshes, f"objects:\n  - name: my_mug\n    mesh: mug_mm_yup.stl\n{scale}"
+                         f"    mass: 0.32\n    hangable_parts:\n      - {part}\n")
+    with pytest.raises(ObjectSetError) as refused:
+        load_object_set(path)
+    assert refused.value.field == f"objects[0] (my_mug).hangable_parts[0].{field}"
+    assert refused.value.problem.startswith("must be in ")
+    hint = "parts are in metres, after the entry's scale; a mesh in millimetres needs scale: 0.001"
+    assert (hint in refused.value.problem) is hinted
+
+
 def test_a_hangable_part_off_its_mesh_is_refused_on_its_center(meshes):
     """A handle's centre given in centimetres (5.8, 4.75, 0 for 0.058, 0.0475, 0): inside the
     field's range of +-10 m, it was taken as ground truth 7 m away from the 13-cm mug, and every
