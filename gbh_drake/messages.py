@@ -268,6 +268,9 @@ class Verdict:
     """The object's pose at the end (W: x, y, z m, roll, pitch, yaw rad)."""
     released_on_table: bool = False
     """Whether the object lies on the table, free of the gripper, at the end."""
+    released_standing: bool = False
+    """Whether the object rests on the table at the end, free of the gripper or not (a hand
+    that could not withdraw without lifting it stops round it: ``pick.relift_tries``)."""
     earlier_attempts: list[dict] = field(default_factory=list)
     """For each executed grasp whose lift came away empty (a retry followed): the lift's
     record as it stood then (``lifted_at``, ``dropped_at``, ``dropped_phase``,

@@ -80,7 +80,9 @@ class RunSummary:
             held = f" [{r.held_by}]" if r.held_by else ""
             lines.append(f"  verdict: {verdict}{held}: {r.outcome}: {r.reason}")
             if "release" in r.phases and v.released_pose:
-                lines.append(f"  set down: {set_down_in_words(v.released_pose, v.released_on_table)}")
+                down = set_down_in_words(v.released_pose, v.released_on_table,
+                                         v.released_standing)
+                lines.append(f"  set down: {down}")
             if v.squeeze_force == v.squeeze_force:  # not nan
                 squeeze = f"squeeze {v.squeeze_force:.0f} N while carried"
                 if v.loop_closed and v.squeeze_force < LOOP_SQUEEZE:
@@ -101,10 +103,13 @@ def _lift_in_words(r: TrialRecord) -> str:
     return f"lift {r.lift * 100:.1f} cm planned, not reached (the verdict says where it ended)"
 
 
-def set_down_in_words(pose: list[float], on_table: bool) -> str:
-    """Where the released object ended: ``pose`` (W: x, y, z m, roll, pitch, yaw rad) and
-    whether it lies free on the table."""
+def set_down_in_words(pose: list[float], on_table: bool, standing: bool = False) -> str:
+    """Where the released object ended: ``pose`` (W: x, y, z m, roll, pitch, yaw rad), whether
+    it lies free on the table, and whether it rests there at all (``standing``: the open hand
+    may be left round it)."""
     where = f"at ({pose[0]:.2f}, {pose[1]:.2f}) m"
+    if not on_table and standing:
+        return f"it ended on the table {where}, {rest_in_words(pose)}, the gripper still touching it"
     if not on_table:
         return f"it ended {where}, not free on the table"
     return f"it ended free on the table {where}, {rest_in_words(pose)}"

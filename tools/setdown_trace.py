@@ -7,7 +7,8 @@ LOWER phase on prints, every ``--every`` simulated seconds: the machine's mode, 
 position p_WO (m) and roll-pitch-yaw (deg), its axes x_O and z_O in W, the hand's load (N, W:
 the force the flange exerts on the hand, ``hook_gripper.load``) and every contact on the object
 by body (the force on the object, N, W, and where it acts, m, W). It stops one second after
-the machine has finished. A diagnostic: it writes nothing.
+the machine has finished and prints the machine's set-down notes. A diagnostic: it writes
+nothing.
 """
 
 from __future__ import annotations
@@ -82,6 +83,8 @@ def trace(scenario, every: float) -> None:
               f" load {np.round(load, 1)} | {touching}")
         if status.finished and root.get_time() > status.phase_start[status.mode.value] + 1.0:
             break
+    for note in status.set_down_notes:  # what the machine sensed and did
+        print(f"note: {note}")
 
 
 def main() -> None:

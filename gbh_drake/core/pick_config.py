@@ -74,8 +74,9 @@ class PickConfig:
     relift_tries: int = ranged(2, Int(0, 5, "each try goes down, opens and withdraws anew"))
     """How often RELEASE and RETREAT, when the bar lifts the object again (the load rises above
     the near-zero band), stop, go back down ``relift_drop``, open, and withdraw the bar out of
-    the hole along the way it went in before going up (0: never, the object may be carried
-    away)."""
+    the hole along the way it went in before going up. Once more (0: the first time), the hand
+    goes back down ``relift_drop``, opens and stops there: the object is left standing in the
+    open hand, never carried off."""
     relift_drop: float = ranged(0.01, NonNeg(0.05, "m"))
     """How far (m) the hand goes back down (in W) when the bar lifted the object again, for
     each try (the n-th try goes n times as far), so that the object stands again."""

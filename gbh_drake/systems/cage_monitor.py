@@ -348,7 +348,8 @@ def observe(w: _Watch, status: PickStatus, o: Observation, cfg: MonitorConfig,
     if mode == Mode.DONE:
         v.released_at = list(o.p_WO)
         v.released_pose = list(o.pose)
-        v.released_on_table = bool(table and not gripper and low < cfg.lifted_height)
+        v.released_standing = bool(table and low < cfg.lifted_height)
+        v.released_on_table = v.released_standing and not gripper
     conclude(w, status, cfg, search)
     w.last_phase = mode.value
     return w

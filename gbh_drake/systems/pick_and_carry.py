@@ -62,8 +62,9 @@ on down by ``unload_depth`` at most. RELEASE and RETREAT watch the load: when it
 the band (the bar is lifting the object again), the hand stops, goes back down (stopping when
 it presses), lets the fingers open and withdraws the bar along the hole
 (:func:`~gbh_drake.planning.pick.withdraw_path`) before going up: at most ``relift_tries``
-times. What it sensed and did is in the status's ``set_down_notes``. None of it runs before
-the cage test: the verdict is the same.
+times; once more, it goes back down, opens and stops there (the object left standing in the
+open hand, never carried off). What it sensed and did is in the status's ``set_down_notes``.
+None of it runs before the cage test: the verdict is the same.
 """
 
 from __future__ import annotations
@@ -174,6 +175,9 @@ class _State(CopiedShallowly):
     """How often the bar lifted the object again while letting go (and the hand withdrew)."""
     stopped: bool = False
     """Whether the current RELEASE or RETREAT already stopped going down (the hand pressed)."""
+    left_in_hand: bool = False
+    """Whether the hand, its ``relift_tries`` used, stopped where it is (the object left
+    standing, the open hand round it) rather than carry the object off."""
 
 
 def _check_arguments(*, config, hand, settle_time, period, ground_clearance, max_retries,
@@ -705,6 +709,10 @@ class PickAndCarry(LeafSystem):
                     until=t + travel / self._hand.speed + 0.2)
 
     def _after_release(self, context, s: _State, t: float) -> None:
+        if s.left_in_hand:  # the tries used: the hand stays where it let go
+            s.q_hold, s.arm = np.asarray(sample(s.arm, t)[0], dtype=float), None
+            self._enter(s, Mode.DONE, t)
+            return
         q = s.release or s.status.plan.q
         s.side, s.since, s.stopped = 0, t, False  # the load is watched afresh
         self._move(s, Mode.RETREAT, t, [q["opened"], q["down"], q["slide"], q["retreat"]],
@@ -726,7 +734,7 @@ class PickAndCarry(LeafSystem):
         if s.load - s.load_free < MIN_SENSED_LOAD:
             return False
         side, held, changed, z = self._load_side(context, s, t)
-        going_down = s.relifts > 0 and s.status.mode is Mode.RELEASE
+        going_down = (s.relifts > 0 or s.left_in_hand) and s.status.mode is Mode.RELEASE
         if going_down and side < 0 and held >= PRESS_DWELL and not s.stopped:
             s.stopped = True
             self._note(s, t, f"the hand presses the object down ({z:+.2f} N) going back down: "
@@ -735,11 +743,13 @@ class PickAndCarry(LeafSystem):
             return True
         if going_down or side <= 0 or held < cfg.unloaded_dwell:
             return changed  # a withdrawal's own RELEASE goes down and opens, whatever the load
-        if s.relifts >= cfg.relift_tries:
-            if s.relifts == cfg.relift_tries:
-                s.relifts += 1  # said once
-                self._note(s, t, f"the bar lifts the object again ({z:+.2f} N) in "
-                                 f"{s.status.mode.value}; {cfg.relift_tries} tries used, going on")
+        if s.relifts >= cfg.relift_tries:  # never carry it off: stop, let it stand, open
+            s.left_in_hand = True
+            self._note(s, t, f"the bar lifts the object again ({z:+.2f} N) in "
+                             f"{s.status.mode.value}; {cfg.relift_tries} tries used: down "
+                             f"{cfg.relift_drop * 100:.1f} cm, open and stop there, the object "
+                             "left standing in the hand")
+            self._withdraw(s, t, z, drop=cfg.relift_drop, mode=Mode.RELEASE)
             return True
         s.relifts += 1
         self._note(s, t, f"the bar lifts the object again ({z:+.2f} N, band {s.band:.2f} N) in "

@@ -49,3 +49,22 @@ def test_a_trial_whose_set_down_cannot_be_planned_ends_holding_the_object(tmp_pa
     status = trial.pick.GetOutputPort("status").Eval(
         trial.pick.GetMyContextFromRoot(simulator.get_context()))
     assert status.mode is Mode.DONE and not status.set_down_notes
+
+
+@pytest.mark.trial
+def test_a_hand_that_cannot_withdraw_leaves_the_object_standing_not_carried_off(tmp_path):
+    """The default scenario's teapot hangs on its side and lands on it; each withdrawal along
+    the bar lifted it again, and once the tries were used the retreat carried it off (it ended
+    hanging 16 cm up, its full weight on the bar). Now the hand goes back down, opens and
+    stops there: the teapot rests on the table, the gripper still touching it."""
+    scenario = load_scenario(SCENARIOS_DIR / "default.yaml", overrides="{object: {name: teapot}}")
+    scenario.output_dir = str(tmp_path / "out")
+    trial = build_trial(scenario)
+    simulator, record = simulate_trial(trial)
+    assert record.success and record.held_by == "cage", record.reason
+    status = trial.pick.GetOutputPort("status").Eval(
+        trial.pick.GetMyContextFromRoot(simulator.get_context()))
+    notes = "\n".join(status.set_down_notes)
+    assert status.mode is Mode.DONE and "tries used: down" in notes, notes
+    assert record.verdict.released_standing and not record.verdict.released_on_table
+    assert "retreat" in record.phases  # the tries withdrew before it stopped

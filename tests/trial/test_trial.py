@@ -302,6 +302,9 @@ def test_set_down_in_words_says_where_and_how_the_object_rests():
         "it ended free on the table at (0.48, 0.26) m, upright (tilted 0 deg)"
     assert "on its side (tilted 90 deg)" in set_down_in_words(on_side, True)
     assert set_down_in_words(on_side, False) == "it ended at (0.48, 0.26) m, not free on the table"
+    assert set_down_in_words(on_side, False, standing=True) == (
+        "it ended on the table at (0.48, 0.26) m, on its side (tilted 90 deg), the gripper "
+        "still touching it")
 
 
 def test_a_trial_cut_off_before_its_lift_prints_the_lift_as_planned_not_done():
